@@ -1,0 +1,1 @@
+//! Frustum culling per patch (lead).

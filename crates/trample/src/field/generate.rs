@@ -1,0 +1,1 @@
+//! Field generation (lead).

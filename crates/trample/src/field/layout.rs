@@ -1,0 +1,136 @@
+//! Patches, cells and the global cell grid (paper §3.1, Fig. 2; DESIGN §2).
+//!
+//! Storage order: patch-major, cells row-major (z then x) inside a patch,
+//! blades of a cell contiguous. Cells also have global grid coordinates
+//! `(gx, gz)` that run across patch borders, so propagation (Eq. 4) crosses
+//! patches.
+
+use glam::Vec3;
+
+/// Marks a missing neighbour (field border) in [`FieldLayout::neighbours`].
+pub const NO_NEIGHBOUR: u32 = u32::MAX;
+
+/// One patch: the unit of frustum culling.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Patch {
+    /// Patch coordinates (px, pz).
+    pub coord: [u32; 2],
+    /// Lower corner of the patch's box (includes terrain and maximum blade height).
+    pub aabb_min: Vec3,
+    /// Upper corner of the patch's box.
+    pub aabb_max: Vec3,
+    /// First blade of the patch in storage order; its blades are
+    /// `first_blade .. first_blade + blades`.
+    pub first_blade: u32,
+    /// Number of blades in the patch.
+    pub blades: u32,
+    /// First cell of the patch in storage order.
+    pub first_cell: u32,
+}
+
+/// Index arithmetic of the field: how patches, cells and blades are numbered.
+#[derive(Clone, Debug)]
+pub struct FieldLayout {
+    /// Patches along x and z.
+    pub patches: [u32; 2],
+    /// Cells along a patch side.
+    pub cells_per_patch: u32,
+    /// Blades per cell.
+    pub blades_per_cell: u32,
+    /// Cell side, metres.
+    pub cell_size: f32,
+    /// World x, z of the field's lower corner (the field is centred on the origin).
+    pub origin: [f32; 2],
+    /// Every patch, in storage order.
+    pub patch_list: Vec<Patch>,
+    /// For each blade: the blades in the same slot of the 4-neighbour cells
+    /// (Definition 6), in the fixed order −x, +x, −z, +z; [`NO_NEIGHBOUR`] at
+    /// the field border.
+    pub neighbours: Vec<[u32; 4]>,
+}
+
+/// Index of the neighbour in −x direction inside a `neighbours` entry.
+pub const NEG_X: usize = 0;
+/// Index of the neighbour in +x direction.
+pub const POS_X: usize = 1;
+/// Index of the neighbour in −z direction.
+pub const NEG_Z: usize = 2;
+/// Index of the neighbour in +z direction.
+pub const POS_Z: usize = 3;
+
+impl FieldLayout {
+    /// Cells along x and z of the whole field.
+    #[must_use]
+    pub fn grid_size(&self) -> [u32; 2] {
+        [self.patches[0] * self.cells_per_patch, self.patches[1] * self.cells_per_patch]
+    }
+
+    /// Number of cells.
+    #[must_use]
+    pub fn cell_count(&self) -> usize {
+        let [gx, gz] = self.grid_size();
+        gx as usize * gz as usize
+    }
+
+    /// Number of blades.
+    #[must_use]
+    pub fn blade_count(&self) -> usize {
+        self.cell_count() * self.blades_per_cell as usize
+    }
+
+    /// Cells per patch.
+    #[must_use]
+    pub fn cells_in_patch(&self) -> usize {
+        (self.cells_per_patch * self.cells_per_patch) as usize
+    }
+
+    /// Storage index of the cell at global grid coordinates `(gx, gz)`.
+    #[must_use]
+    pub fn cell_index(&self, gx: u32, gz: u32) -> usize {
+        let cpp = self.cells_per_patch;
+        let (px, lx) = (gx / cpp, gx % cpp);
+        let (pz, lz) = (gz / cpp, gz % cpp);
+        let patch = (pz * self.patches[0] + px) as usize;
+        patch * self.cells_in_patch() + (lz * cpp + lx) as usize
+    }
+
+    /// Global grid coordinates of the cell with storage index `cell`.
+    #[must_use]
+    pub fn cell_coord(&self, cell: usize) -> [u32; 2] {
+        let cpp = self.cells_per_patch as usize;
+        let per_patch = self.cells_in_patch();
+        let patch = cell / per_patch;
+        let local = cell % per_patch;
+        let (px, pz) = (patch % self.patches[0] as usize, patch / self.patches[0] as usize);
+        let (lx, lz) = (local % cpp, local / cpp);
+        [(px * cpp + lx) as u32, (pz * cpp + lz) as u32]
+    }
+
+    /// Cell that holds blade `b`.
+    #[must_use]
+    pub fn cell_of_blade(&self, b: usize) -> usize {
+        b / self.blades_per_cell as usize
+    }
+
+    /// World (x, z) of the centre of cell `(gx, gz)`.
+    #[must_use]
+    pub fn cell_centre(&self, gx: u32, gz: u32) -> [f32; 2] {
+        [
+            self.origin[0] + (gx as f32 + 0.5) * self.cell_size,
+            self.origin[1] + (gz as f32 + 0.5) * self.cell_size,
+        ]
+    }
+
+    /// Global cell coordinates containing world point (x, z), if inside the field.
+    #[must_use]
+    pub fn cell_at(&self, x: f32, z: f32) -> Option<[u32; 2]> {
+        let fx = (x - self.origin[0]) / self.cell_size;
+        let fz = (z - self.origin[1]) / self.cell_size;
+        let [gx, gz] = self.grid_size();
+        if fx < 0.0 || fz < 0.0 || !fx.is_finite() || !fz.is_finite() {
+            return None;
+        }
+        let (ix, iz) = (fx as u32, fz as u32);
+        (ix < gx && iz < gz).then_some([ix, iz])
+    }
+}

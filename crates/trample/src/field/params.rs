@@ -1,0 +1,118 @@
+//! Field parameters as they appear in a scene file's `[field]` table.
+
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// Shape and size of the grass field. Every field has its unit, its default
+/// and why. Defaults reproduce the paper's experiment: 16×16 patches of 32×32
+/// cells, one blade per cell, 262,144 blades.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FieldParams {
+    /// Patches along x and z. Default `[16, 16]` (paper §7).
+    pub patches: [u32; 2],
+    /// Cells along each side of a patch. Default 32 (paper §7).
+    pub cells_per_patch: u32,
+    /// Blades in each cell. Default 1 (paper §7: "each cell represents a grass blade").
+    pub blades_per_cell: u32,
+    /// Side of a cell, metres. Default 0.1 (ours): the field is 51.2 m square.
+    pub cell_size_m: f32,
+    /// Rigid segments per blade, `n`. Default 4; at most [`super::MAX_SEGMENTS`].
+    pub segments: u32,
+    /// Mean blade height at rest, metres. Default 0.45: knee-high meadow grass.
+    pub blade_height_m: f32,
+    /// Relative height jitter: heights are uniform in `h·(1 ± jitter)`. Default 0.3.
+    pub height_jitter: f32,
+    /// Mean blade width at the root, metres. Default 0.012.
+    pub blade_width_m: f32,
+    /// Relative width jitter. Default 0.3.
+    pub width_jitter: f32,
+    /// Largest lean of a blade's rest shape from vertical at the tip, radians.
+    /// Default 0.35: grass is never quite straight.
+    pub lean_jitter_rad: f32,
+    /// How far a blade's root may move from its slot's centre, as a fraction
+    /// of the slot. Default 0.8 (a regular grid reads as artificial).
+    pub position_jitter: f32,
+    /// Seed of the field's random generator. Same seed → same field, bit for bit.
+    pub seed: u64,
+    /// Ground under the field.
+    pub terrain: TerrainParams,
+}
+
+impl Default for FieldParams {
+    fn default() -> Self {
+        Self {
+            patches: [16, 16],
+            cells_per_patch: 32,
+            blades_per_cell: 1,
+            cell_size_m: 0.1,
+            segments: 4,
+            blade_height_m: 0.45,
+            height_jitter: 0.3,
+            blade_width_m: 0.012,
+            width_jitter: 0.3,
+            lean_jitter_rad: 0.35,
+            position_jitter: 0.8,
+            seed: 1,
+            terrain: TerrainParams::default(),
+        }
+    }
+}
+
+impl FieldParams {
+    /// Total number of blades.
+    #[must_use]
+    pub fn blade_count(&self) -> u64 {
+        self.cell_count() * u64::from(self.blades_per_cell)
+    }
+
+    /// Total number of cells.
+    #[must_use]
+    pub fn cell_count(&self) -> u64 {
+        let cpp = u64::from(self.cells_per_patch);
+        u64::from(self.patches[0]) * u64::from(self.patches[1]) * cpp * cpp
+    }
+
+    /// Side lengths of the field (x, z), metres.
+    #[must_use]
+    pub fn extent_m(&self) -> [f32; 2] {
+        let patch = self.cells_per_patch as f32 * self.cell_size_m;
+        [self.patches[0] as f32 * patch, self.patches[1] as f32 * patch]
+    }
+}
+
+/// The ground under the field. The field is centred on the origin.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TerrainParams {
+    /// A plane at `height_m`.
+    Flat {
+        /// Height of the plane, metres. Default 0.
+        #[serde(default)]
+        height_m: f32,
+    },
+    /// Smooth value noise: rolling hills.
+    Noise {
+        /// Peak-to-mean height, metres.
+        amplitude_m: f32,
+        /// Typical distance between hills, metres.
+        wavelength_m: f32,
+        /// Seed of the noise.
+        #[serde(default)]
+        seed: u64,
+    },
+    /// A grey-scale image stretched over the whole field: black = 0, white =
+    /// `height_scale_m`. The path is relative to the scene file's folder.
+    Heightmap {
+        /// Image file (PNG), relative to the scene file.
+        path: PathBuf,
+        /// Height of a white pixel, metres.
+        height_scale_m: f32,
+    },
+}
+
+impl Default for TerrainParams {
+    fn default() -> Self {
+        Self::Flat { height_m: 0.0 }
+    }
+}

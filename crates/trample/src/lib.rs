@@ -1,0 +1,27 @@
+//! # trample — grass that bends under moving objects of any shape
+//!
+//! The CPU reference path of the method in *"Simulation of grass–object
+//! interaction with three levels of detail"* (see `shared/reference/paper.txt`),
+//! specified by `DESIGN.md`. One [`step::Simulation::step`] runs the stages of
+//! DESIGN §7 in order:
+//!
+//! poses → LOD per cell and frustum culling per patch ([`field`]) → broad phase
+//! → narrow phase ([`collision`], through the OBB tree of [`obb`]) → DBG forces
+//! (Eq. 2, [`force`]) → propagation (Eq. 4) → deformation (Eq. 5–8,
+//! [`deform`]) → transitions (Eq. 9–13) → recovery ([`recovery`]).
+//!
+//! Units: metres, seconds, radians; y is up, the ground is the x–z plane.
+
+pub mod camera;
+pub mod collision;
+pub mod deform;
+pub mod field;
+pub mod force;
+pub mod npy;
+pub mod obb;
+pub mod object;
+pub mod recovery;
+pub mod scene;
+pub mod step;
+
+pub use step::{Simulation, StepTimings};

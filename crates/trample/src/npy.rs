@@ -1,0 +1,1 @@
+//! .npy writer (lead).

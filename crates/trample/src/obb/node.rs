@@ -1,0 +1,88 @@
+//! OBB and tree node types (paper §4.2: centre C, orthonormal basis
+//! [u, v, w], half extents (hu, hv, hw)).
+
+use glam::Vec3;
+
+/// Marks a leaf in [`ObbNode::children`].
+pub const NO_CHILD: u32 = u32::MAX;
+
+/// An oriented bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Obb {
+    /// Centre C.
+    pub center: Vec3,
+    /// Orthonormal axes u, v, w (right-handed).
+    pub axes: [Vec3; 3],
+    /// Half extents (hu, hv, hw) along the axes, metres, ≥ 0.
+    pub half: Vec3,
+}
+
+impl Obb {
+    /// Coordinates of world/parent-frame point `p` in the box frame.
+    #[must_use]
+    pub fn to_box(&self, p: Vec3) -> Vec3 {
+        let d = p - self.center;
+        Vec3::new(d.dot(self.axes[0]), d.dot(self.axes[1]), d.dot(self.axes[2]))
+    }
+
+    /// Half the length of the box diagonal: R in Eq. 8.
+    #[must_use]
+    pub fn half_diagonal(&self) -> f32 {
+        self.half.length()
+    }
+
+    /// The eight corners.
+    #[must_use]
+    pub fn corners(&self) -> [Vec3; 8] {
+        let mut out = [Vec3::ZERO; 8];
+        for (i, c) in out.iter_mut().enumerate() {
+            let s = |bit: usize| if i & (1 << bit) != 0 { 1.0 } else { -1.0 };
+            *c = self.center
+                + self.axes[0] * (s(0) * self.half.x)
+                + self.axes[1] * (s(1) * self.half.y)
+                + self.axes[2] * (s(2) * self.half.z);
+        }
+        out
+    }
+}
+
+/// A node of the OBB tree.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObbNode {
+    /// The node's box, object-local frame.
+    pub obb: Obb,
+    /// Equivalent normal, Eq. 3: area-weighted mean of the node's triangle
+    /// normals (not normalised; its length says how one-sided the node is).
+    pub eqn: Vec3,
+    /// Left and right child indices, [`NO_CHILD`] for a leaf.
+    pub children: [u32; 2],
+    /// The node's triangles are `tree.triangles[first_tri .. first_tri + tri_count]`.
+    pub first_tri: u32,
+    /// Number of triangles under the node.
+    pub tri_count: u32,
+    /// Depth: the root is 1 (paper §4.2: "when the value of depth is one, the
+    /// judgment stops at the root node").
+    pub depth: u32,
+}
+
+impl ObbNode {
+    /// True for a leaf.
+    #[must_use]
+    pub fn is_leaf(&self) -> bool {
+        self.children[0] == NO_CHILD
+    }
+}
+
+/// A binary OBB tree over a mesh, object-local frame. Node 0 is the root.
+#[derive(Clone, Debug)]
+pub struct ObbTree {
+    /// Nodes; node 0 is the root, children come after their parent.
+    pub nodes: Vec<ObbNode>,
+    /// The mesh's triangles reordered so that every node's are contiguous.
+    pub triangles: Vec<[Vec3; 3]>,
+    /// True when the mesh is closed (every edge shared by exactly two
+    /// triangles): then "inside the mesh" is defined and tested.
+    pub closed: bool,
+    /// Depth of the deepest leaf (root = 1).
+    pub max_depth: u32,
+}

@@ -1,0 +1,5 @@
+//! Simulation::step (lead).
+/// Placeholder.
+pub struct Simulation;
+/// Placeholder.
+pub struct StepTimings;
