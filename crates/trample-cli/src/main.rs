@@ -1,1 +1,63 @@
-fn main() {}
+//! `trample`: simulate a grass field bending under moving objects.
+//!
+//! Subcommands: `simulate` (run a scene without rendering, write a summary
+//! and dumps), `collide` (hit flags of every blade at rest at one instant),
+//! `check` (validate a scene file and say what it describes).
+
+mod check;
+mod collide;
+mod common;
+mod simulate;
+mod summary;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Grass that bends under moving objects of any shape (CPU reference path).
+#[derive(Parser, Debug)]
+#[command(name = "trample", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scene without rendering; write DIR/summary.json and optional dumps.
+    Simulate(simulate::Args),
+    /// Hit flags of every blade segment at rest with the objects posed at one time.
+    Collide(collide::Args),
+    /// Validate a scene file and print what it describes.
+    Check(check::Args),
+}
+
+fn main() -> ExitCode {
+    // A bug must still end in one line, not a panic trace.
+    std::panic::set_hook(Box::new(|info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        let at = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!("trample: internal error{at}: {msg} (please report it)");
+    }));
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Simulate(a) => simulate::run(&a),
+        Command::Collide(a) => collide::run(&a),
+        Command::Check(a) => check::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let chain: Vec<String> = e.chain().map(ToString::to_string).collect();
+            eprintln!("error: {}", chain.join(": ").replace('\n', " "));
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,1 +1,85 @@
-//! Frustum culling per patch (lead).
+//! View-frustum culling per patch (paper §3.1: patches are "the unit of view
+//! frustum culling"). Culling decides what the renderer draws; the
+//! simulation keeps running in culled patches so a track made out of view is
+//! still there when the camera turns (ours).
+
+use super::layout::Patch;
+use glam::{Mat4, Vec3, Vec4};
+
+/// The six planes of a view frustum, pointing inwards (`n·p + d ≥ 0` inside).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frustum {
+    /// left, right, bottom, top, near, far as (n, d).
+    pub planes: [Vec4; 6],
+}
+
+impl Frustum {
+    /// Planes of a view-projection matrix with clip z in [0, 1] (wgpu/D3D
+    /// convention; Gribb & Hartmann's extraction).
+    #[must_use]
+    pub fn from_view_proj(m: Mat4) -> Self {
+        let (r0, r1, r2, r3) = (m.row(0), m.row(1), m.row(2), m.row(3));
+        let planes = [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2].map(|p| {
+            let len = p.truncate().length();
+            if len > 0.0 { p / len } else { p }
+        });
+        Self { planes }
+    }
+
+    /// False only when the box is wholly outside one plane (conservative).
+    #[must_use]
+    pub fn intersects_aabb(&self, min: Vec3, max: Vec3) -> bool {
+        self.planes.iter().all(|p| {
+            let n = p.truncate();
+            // The box corner farthest along the plane normal.
+            let v = Vec3::select(n.cmpge(Vec3::ZERO), max, min);
+            n.dot(v) + p.w >= 0.0
+        })
+    }
+}
+
+/// Marks each patch visible or not; returns how many are visible.
+pub fn cull_patches(patches: &[Patch], frustum: &Frustum, visible: &mut Vec<bool>) -> u32 {
+    visible.clear();
+    visible.extend(
+        patches
+            .iter()
+            .map(|p| frustum.intersects_aabb(p.aabb_min, p.aabb_max)),
+    );
+    visible.iter().filter(|v| **v).count() as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::camera::rh::{proj::directx::perspective, view::look_at_mat4};
+
+    #[test]
+    fn boxes_in_front_are_visible_behind_are_not() {
+        let view = look_at_mat4(
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::new(0.0, 2.0, -10.0),
+            Vec3::Y,
+        );
+        let proj = perspective(60f32.to_radians(), 1.5, 0.1, 100.0);
+        let f = Frustum::from_view_proj(proj * view);
+        assert!(f.intersects_aabb(Vec3::new(-1.0, 0.0, -11.0), Vec3::new(1.0, 1.0, -9.0)));
+        assert!(
+            !f.intersects_aabb(Vec3::new(-1.0, 0.0, 9.0), Vec3::new(1.0, 1.0, 11.0)),
+            "behind"
+        );
+        assert!(
+            !f.intersects_aabb(Vec3::new(-1.0, 0.0, -300.0), Vec3::new(1.0, 1.0, -200.0)),
+            "beyond far"
+        );
+        assert!(
+            !f.intersects_aabb(Vec3::new(50.0, 0.0, -11.0), Vec3::new(52.0, 1.0, -9.0)),
+            "far right"
+        );
+        // A box around the eye is visible.
+        assert!(f.intersects_aabb(
+            Vec3::splat(-1.0) + Vec3::Y * 2.0,
+            Vec3::splat(1.0) + Vec3::Y * 2.0
+        ));
+    }
+}

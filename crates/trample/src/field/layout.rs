@@ -62,7 +62,10 @@ impl FieldLayout {
     /// Cells along x and z of the whole field.
     #[must_use]
     pub fn grid_size(&self) -> [u32; 2] {
-        [self.patches[0] * self.cells_per_patch, self.patches[1] * self.cells_per_patch]
+        [
+            self.patches[0] * self.cells_per_patch,
+            self.patches[1] * self.cells_per_patch,
+        ]
     }
 
     /// Number of cells.
@@ -101,7 +104,10 @@ impl FieldLayout {
         let per_patch = self.cells_in_patch();
         let patch = cell / per_patch;
         let local = cell % per_patch;
-        let (px, pz) = (patch % self.patches[0] as usize, patch / self.patches[0] as usize);
+        let (px, pz) = (
+            patch % self.patches[0] as usize,
+            patch / self.patches[0] as usize,
+        );
         let (lx, lz) = (local % cpp, local / cpp);
         [(px * cpp + lx) as u32, (pz * cpp + lz) as u32]
     }

@@ -17,7 +17,10 @@ pub struct LodParams {
 
 impl Default for LodParams {
     fn default() -> Self {
-        Self { geometry_m: 12.0, billboard_m: 30.0 }
+        Self {
+            geometry_m: 12.0,
+            billboard_m: 30.0,
+        }
     }
 }
 
@@ -31,4 +34,165 @@ pub enum Lod {
     Billboard = 1,
     /// Ground texture only: no animation.
     Texture = 2,
+}
+
+use super::cells::Cells;
+use super::layout::FieldLayout;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// A cell whose level of detail changed this step (input of the transitions, Eq. 9–13).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LodChange {
+    /// Cell index (storage order).
+    pub cell: u32,
+    /// Level before.
+    pub from: Lod,
+    /// Level now.
+    pub to: Lod,
+}
+
+/// How many cells are at each level.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct LodCounts {
+    /// Cells drawn as geometric blades.
+    pub geometry: u32,
+    /// Cells drawn as billboards.
+    pub billboard: u32,
+    /// Cells drawn as ground texture.
+    pub texture: u32,
+}
+
+impl LodParams {
+    /// Level of a cell whose centre is `distance` metres from the viewpoint.
+    #[must_use]
+    pub fn level(&self, distance: f32) -> Lod {
+        if distance < self.geometry_m {
+            Lod::Geometry
+        } else if distance < self.billboard_m {
+            Lod::Billboard
+        } else {
+            Lod::Texture
+        }
+    }
+}
+
+/// Sets every cell's level from its centre's distance to `viewpoint`
+/// (paper Fig. 1) and appends the cells that changed level to `changes`, in
+/// storage order. Patches wholly inside one distance band are settled
+/// without visiting their cells, so the cost follows the band edges, not the
+/// field size.
+pub fn classify_cells(
+    layout: &FieldLayout,
+    cells: &mut Cells,
+    viewpoint: Vec3,
+    params: &LodParams,
+    changes: &mut Vec<LodChange>,
+) -> LodCounts {
+    let per_patch = layout.cells_in_patch();
+    let results: Vec<(LodCounts, Vec<LodChange>)> = cells
+        .lod
+        .par_chunks_mut(per_patch)
+        .zip(cells.base.par_chunks(per_patch))
+        .zip(cells.patch_lod.par_iter_mut())
+        .zip(cells.patch_bounds.par_iter())
+        .enumerate()
+        .map(|(p, (((lod, base), uniform), &(lo, hi)))| {
+            let mut counts = LodCounts::default();
+            let mut local = Vec::new();
+            let near = viewpoint.clamp(lo, hi).distance(viewpoint);
+            let far = (viewpoint - lo).abs().max((viewpoint - hi).abs()).length();
+            let (l_near, l_far) = (params.level(near), params.level(far));
+            let first = p * per_patch;
+            if l_near == l_far && *uniform == Some(l_near) {
+                add(&mut counts, l_near, per_patch as u32);
+                return (counts, local);
+            }
+            for (i, (l, b)) in lod.iter_mut().zip(base).enumerate() {
+                let new = if l_near == l_far {
+                    l_near
+                } else {
+                    params.level(b.distance(viewpoint))
+                };
+                if new != *l {
+                    local.push(LodChange {
+                        cell: (first + i) as u32,
+                        from: *l,
+                        to: new,
+                    });
+                    *l = new;
+                }
+                add(&mut counts, new, 1);
+            }
+            *uniform = (l_near == l_far).then_some(l_near);
+            (counts, local)
+        })
+        .collect();
+    let mut total = LodCounts::default();
+    for (c, local) in results {
+        total.geometry += c.geometry;
+        total.billboard += c.billboard;
+        total.texture += c.texture;
+        changes.extend(local);
+    }
+    total
+}
+
+fn add(c: &mut LodCounts, l: Lod, k: u32) {
+    match l {
+        Lod::Geometry => c.geometry += k,
+        Lod::Billboard => c.billboard += k,
+        Lod::Texture => c.texture += k,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::{Field, FieldParams, Terrain};
+
+    #[test]
+    fn levels_follow_distance_and_changes_are_reported() {
+        let p = FieldParams {
+            patches: [4, 4],
+            cells_per_patch: 8,
+            ..FieldParams::default()
+        };
+        let mut f = Field::generate(&p, Terrain::Flat(0.0)).unwrap();
+        let lod = LodParams {
+            geometry_m: 0.5,
+            billboard_m: 1.2,
+        };
+        let mut changes = Vec::new();
+        let eye = Vec3::new(0.3, 1.0, -0.4);
+        let counts = classify_cells(&f.layout, &mut f.cells, eye, &lod, &mut changes);
+        assert_eq!(
+            (counts.geometry + counts.billboard + counts.texture) as usize,
+            f.layout.cell_count()
+        );
+        for c in 0..f.layout.cell_count() {
+            assert_eq!(
+                f.cells.lod[c],
+                lod.level(f.cells.base[c].distance(eye)),
+                "cell {c}"
+            );
+        }
+        // Everything started as texture: the changes are exactly the non-texture cells.
+        assert_eq!(changes.len() as u32, counts.geometry + counts.billboard);
+        assert!(changes.windows(2).all(|w| w[0].cell < w[1].cell));
+        // Same viewpoint again: nothing changes.
+        changes.clear();
+        let again = classify_cells(&f.layout, &mut f.cells, eye, &lod, &mut changes);
+        assert_eq!(again, counts);
+        assert!(changes.is_empty());
+        // Move away: every cell becomes texture, and each change is reported once.
+        let far = Vec3::new(100.0, 0.0, 0.0);
+        classify_cells(&f.layout, &mut f.cells, far, &lod, &mut changes);
+        assert_eq!(changes.len() as u32, counts.geometry + counts.billboard);
+        assert!(
+            changes
+                .iter()
+                .all(|c| c.to == Lod::Texture && c.from != Lod::Texture)
+        );
+    }
 }

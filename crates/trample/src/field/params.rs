@@ -77,7 +77,10 @@ impl FieldParams {
     #[must_use]
     pub fn extent_m(&self) -> [f32; 2] {
         let patch = self.cells_per_patch as f32 * self.cell_size_m;
-        [self.patches[0] as f32 * patch, self.patches[1] as f32 * patch]
+        [
+            self.patches[0] as f32 * patch,
+            self.patches[1] as f32 * patch,
+        ]
     }
 }
 
@@ -114,5 +117,153 @@ pub enum TerrainParams {
 impl Default for TerrainParams {
     fn default() -> Self {
         Self::Flat { height_m: 0.0 }
+    }
+}
+
+/// A field parameter out of range. The message names the scene key.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("field.{key} = {value}: {allowed}")]
+pub struct FieldError {
+    /// Key under `[field]`, e.g. `segments` or `terrain.wavelength_m`.
+    pub key: &'static str,
+    /// The offending value, as written.
+    pub value: String,
+    /// What is allowed.
+    pub allowed: &'static str,
+}
+
+/// Most blades a field may have: 2^28 (268 M). Beyond, u32 indices of the
+/// vertex buffers would overflow.
+pub const MAX_BLADES: u64 = 1 << 28;
+
+impl FieldParams {
+    /// Checks every value; the first bad one is reported.
+    pub fn validate(&self) -> Result<(), FieldError> {
+        let err = |key, value: String, allowed| {
+            Err(FieldError {
+                key,
+                value,
+                allowed,
+            })
+        };
+        let pos = |x: f32| x.is_finite() && x > 0.0;
+        if self.patches[0] == 0 || self.patches[1] == 0 {
+            return err(
+                "patches",
+                format!("{:?}", self.patches),
+                "both counts must be at least 1",
+            );
+        }
+        if self.cells_per_patch == 0 {
+            return err("cells_per_patch", "0".into(), "must be at least 1");
+        }
+        if !(1..=64).contains(&self.blades_per_cell) {
+            return err(
+                "blades_per_cell",
+                self.blades_per_cell.to_string(),
+                "must be 1..=64",
+            );
+        }
+        if self.blade_count() > MAX_BLADES {
+            return err(
+                "patches",
+                format!("{:?}", self.patches),
+                "the field would have more than 2^28 blades",
+            );
+        }
+        if !pos(self.cell_size_m) {
+            return err(
+                "cell_size_m",
+                self.cell_size_m.to_string(),
+                "must be a finite number > 0",
+            );
+        }
+        if !(1..=super::MAX_SEGMENTS as u32).contains(&self.segments) {
+            return err("segments", self.segments.to_string(), "must be 1..=15");
+        }
+        if !pos(self.blade_height_m) {
+            return err(
+                "blade_height_m",
+                self.blade_height_m.to_string(),
+                "must be a finite number > 0",
+            );
+        }
+        if !(0.0..1.0).contains(&self.height_jitter) {
+            return err(
+                "height_jitter",
+                self.height_jitter.to_string(),
+                "must be in [0, 1)",
+            );
+        }
+        if !pos(self.blade_width_m) {
+            return err(
+                "blade_width_m",
+                self.blade_width_m.to_string(),
+                "must be a finite number > 0",
+            );
+        }
+        if !(0.0..1.0).contains(&self.width_jitter) {
+            return err(
+                "width_jitter",
+                self.width_jitter.to_string(),
+                "must be in [0, 1)",
+            );
+        }
+        if !(0.0..=1.2).contains(&self.lean_jitter_rad) {
+            return err(
+                "lean_jitter_rad",
+                self.lean_jitter_rad.to_string(),
+                "must be in [0, 1.2] radians",
+            );
+        }
+        if !(0.0..=1.0).contains(&self.position_jitter) {
+            return err(
+                "position_jitter",
+                self.position_jitter.to_string(),
+                "must be in [0, 1]",
+            );
+        }
+        match &self.terrain {
+            TerrainParams::Flat { height_m } if !height_m.is_finite() => {
+                err("terrain.height_m", height_m.to_string(), "must be finite")
+            }
+            TerrainParams::Noise { amplitude_m, .. }
+                if !amplitude_m.is_finite() || *amplitude_m < 0.0 =>
+            {
+                err(
+                    "terrain.amplitude_m",
+                    amplitude_m.to_string(),
+                    "must be a finite number >= 0",
+                )
+            }
+            TerrainParams::Noise { wavelength_m, .. } if !pos(*wavelength_m) => err(
+                "terrain.wavelength_m",
+                wavelength_m.to_string(),
+                "must be a finite number > 0",
+            ),
+            TerrainParams::Heightmap { height_scale_m, .. }
+                if !height_scale_m.is_finite() || *height_scale_m < 0.0 =>
+            {
+                err(
+                    "terrain.height_scale_m",
+                    height_scale_m.to_string(),
+                    "must be a finite number >= 0",
+                )
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Bytes the simulation state of this field needs (blades, neighbours,
+    /// per-blade forces, cells), estimated before allocating.
+    #[must_use]
+    pub fn memory_estimate_bytes(&self) -> u64 {
+        let verts = u64::from(self.segments) + 1;
+        // pos + rest (16 B each per vertex), seg_len/width/tint (12), neighbours
+        // (16), force + generation + class + bookkeeping (~24).
+        let per_blade = verts * 32 + 12 + 16 + 24;
+        // lod, base, height, slope_origin, slope.
+        let per_cell = 1 + 12 + 4 + 12 + 12;
+        self.blade_count() * per_blade + self.cell_count() * per_cell
     }
 }

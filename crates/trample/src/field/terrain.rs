@@ -69,23 +69,35 @@ impl Terrain {
     ) -> Result<Self, TerrainError> {
         Ok(match params {
             TerrainParams::Flat { height_m } => Terrain::Flat(*height_m),
-            TerrainParams::Noise { amplitude_m, wavelength_m, seed } => Terrain::Noise {
+            TerrainParams::Noise {
+                amplitude_m,
+                wavelength_m,
+                seed,
+            } => Terrain::Noise {
                 amplitude: *amplitude_m,
                 wavelength: *wavelength_m,
                 seed: *seed,
             },
-            TerrainParams::Heightmap { path, height_scale_m } => {
+            TerrainParams::Heightmap {
+                path,
+                height_scale_m,
+            } => {
                 let full = base_dir.join(path);
                 let shown = full.display().to_string();
                 let img = image::open(&full)
-                    .map_err(|e| TerrainError::Unreadable { path: shown.clone(), reason: e.to_string() })?
+                    .map_err(|e| TerrainError::Unreadable {
+                        path: shown.clone(),
+                        reason: e.to_string(),
+                    })?
                     .into_luma16();
                 let (w, h) = img.dimensions();
                 if w < 2 || h < 2 {
                     return Err(TerrainError::TooSmall { path: shown, w, h });
                 }
-                let heights =
-                    img.pixels().map(|p| f32::from(p.0[0]) / 65535.0 * height_scale_m).collect();
+                let heights = img
+                    .pixels()
+                    .map(|p| f32::from(p.0[0]) / 65535.0 * height_scale_m)
+                    .collect();
                 Terrain::Heightmap(HeightGrid {
                     dims: [w as usize, h as usize],
                     heights,
@@ -101,7 +113,11 @@ impl Terrain {
     pub fn height_at(&self, x: f32, z: f32) -> f32 {
         match self {
             Terrain::Flat(h) => *h,
-            Terrain::Noise { amplitude, wavelength, seed } => {
+            Terrain::Noise {
+                amplitude,
+                wavelength,
+                seed,
+            } => {
                 // Two octaves of value noise, smoothstep-interpolated.
                 let n1 = value_noise(x / wavelength, z / wavelength, *seed);
                 let n2 = value_noise(x * 2.0 / wavelength, z * 2.0 / wavelength, seed ^ 0x9E37);
@@ -145,7 +161,9 @@ fn smooth(t: f32) -> f32 {
 
 /// Deterministic lattice value in [-1, 1] (splitmix64 of the coordinates).
 fn lattice(i: i64, j: i64, seed: u64) -> f32 {
-    let mut h = seed ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+    let mut h = seed
+        ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
     h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     h = (h ^ (h >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     h ^= h >> 31;
@@ -164,7 +182,11 @@ mod tests {
 
     #[test]
     fn noise_is_bounded_continuous_and_seeded() {
-        let t = Terrain::Noise { amplitude: 2.0, wavelength: 8.0, seed: 7 };
+        let t = Terrain::Noise {
+            amplitude: 2.0,
+            wavelength: 8.0,
+            seed: 7,
+        };
         let mut prev = t.height_at(0.0, 0.0);
         for i in 1..2000 {
             let h = t.height_at(i as f32 * 0.01, 3.0);
@@ -172,13 +194,22 @@ mod tests {
             assert!((h - prev).abs() < 0.05, "noise jumps at step {i}");
             prev = h;
         }
-        let u = Terrain::Noise { amplitude: 2.0, wavelength: 8.0, seed: 8 };
+        let u = Terrain::Noise {
+            amplitude: 2.0,
+            wavelength: 8.0,
+            seed: 8,
+        };
         assert_ne!(t.height_at(1.3, 2.7), u.height_at(1.3, 2.7));
     }
 
     #[test]
     fn heightmap_is_bilinear() {
-        let g = HeightGrid { dims: [2, 2], heights: vec![0.0, 1.0, 2.0, 3.0], origin: [0.0, 0.0], size: [1.0, 1.0] };
+        let g = HeightGrid {
+            dims: [2, 2],
+            heights: vec![0.0, 1.0, 2.0, 3.0],
+            origin: [0.0, 0.0],
+            size: [1.0, 1.0],
+        };
         assert!((g.sample(0.5, 0.5) - 1.5).abs() < 1e-6);
         assert!((g.sample(1.0, 0.0) - 1.0).abs() < 1e-6);
         assert!((g.sample(-5.0, 9.0) - 2.0).abs() < 1e-6, "clamped outside");

@@ -7,4 +7,4 @@ pub mod fit;
 pub mod node;
 pub mod validation;
 
-pub use node::{Obb, ObbNode, ObbTree, NO_CHILD};
+pub use node::{NO_CHILD, Obb, ObbNode, ObbTree};

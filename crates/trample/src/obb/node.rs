@@ -22,7 +22,11 @@ impl Obb {
     #[must_use]
     pub fn to_box(&self, p: Vec3) -> Vec3 {
         let d = p - self.center;
-        Vec3::new(d.dot(self.axes[0]), d.dot(self.axes[1]), d.dot(self.axes[2]))
+        Vec3::new(
+            d.dot(self.axes[0]),
+            d.dot(self.axes[1]),
+            d.dot(self.axes[2]),
+        )
     }
 
     /// Half the length of the box diagonal: R in Eq. 8.

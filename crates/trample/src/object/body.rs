@@ -120,9 +120,22 @@ pub enum Anchor {
     File,
 }
 
-/// A ready object (behaviour: object helper).
+/// STUB
 #[derive(Clone, Debug)]
 pub struct Object {
-    /// Name from the scene.
     pub name: String,
+    pub mesh: super::TriMesh,
+    pub closed: bool,
+}
+impl Object {
+    pub fn from_params(
+        _p: &ObjectParams,
+        _i: usize,
+        _b: &std::path::Path,
+    ) -> Result<Object, String> {
+        todo!()
+    }
+    pub fn pose_at(&self, _t: f32) -> super::Pose {
+        todo!()
+    }
 }

@@ -80,6 +80,10 @@ pub struct Path {
 }
 
 impl Path {
+    /// STUB
+    pub fn new(p: PathParams) -> Result<Path, String> {
+        Ok(Path { params: p })
+    }
     /// Position at time `t`, metres.
     #[must_use]
     pub fn position(&self, _t: f32) -> Vec3 {

@@ -1,0 +1,34 @@
+//! Per-cell state: level of detail and the billboard that stands for the
+//! cell's blades at mid distance (paper §3.1, §6.2–6.3).
+
+use super::lod::Lod;
+use glam::Vec3;
+
+/// Structure-of-arrays over cells, in storage order (see [`super::FieldLayout`]).
+#[derive(Clone, Debug)]
+pub struct Cells {
+    /// Current level of detail of each cell.
+    pub lod: Vec<Lod>,
+    /// Centre of the cell on the ground (billboard base centre), metres.
+    pub base: Vec<Vec3>,
+    /// Billboard height: the mean rest height of the cell's blades, metres.
+    pub height: Vec<f32>,
+    /// Rest slope of the billboard, `slope_origin_b`: the mean rest
+    /// `(Vn − V0) / height` of the cell's blades (dimensionless, length ≈ 1).
+    pub slope_origin: Vec<Vec3>,
+    /// Current billboard slope `slope_b` (Eq. 8, 12), dimensionless direction.
+    pub slope: Vec<Vec3>,
+    /// Per patch: the level shared by all its cells, if they share one
+    /// (lets [`super::lod::classify_cells`] skip settled patches).
+    pub patch_lod: Vec<Option<Lod>>,
+    /// Per patch: bounds (min, max) of its cells' base centres.
+    pub patch_bounds: Vec<(Vec3, Vec3)>,
+}
+
+impl Cells {
+    /// True when cell `c`'s billboard is exactly at its rest slope.
+    #[must_use]
+    pub fn slope_at_rest(&self, c: usize) -> bool {
+        self.slope[c] == self.slope_origin[c]
+    }
+}

@@ -1,5 +1,0 @@
-//! Simulation::step (lead).
-/// Placeholder.
-pub struct Simulation;
-/// Placeholder.
-pub struct StepTimings;

@@ -1,0 +1,11 @@
+//! One simulation step (DESIGN §7) and the parameters and timings around it.
+
+pub mod params;
+pub mod query;
+pub mod simulation;
+pub mod stages;
+pub mod timings;
+
+pub use params::{SimError, SimParams};
+pub use simulation::{BladeClass, Simulation};
+pub use timings::StepTimings;

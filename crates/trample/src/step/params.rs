@@ -1,0 +1,177 @@
+//! `[sim]` table: parameters of the method, with units, defaults and why.
+
+use serde::{Deserialize, Serialize};
+
+/// Parameters of the simulation step.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SimParams {
+    /// Time step of one frame, seconds. Default 1/60 (a 60 Hz game loop).
+    pub dt_s: f32,
+    /// Collision precision: depth of the OBB tree at which a segment test
+    /// stops (root = 1, paper range 1–7; up to 32). Default 3, the paper's
+    /// setting in its Fig. 10–11 experiments.
+    pub precision: u32,
+    /// Decay factor `att` of propagation (Eq. 4), in [0, 1]. Default 0.5:
+    /// each generation carries half the force of its parent.
+    pub att: f32,
+    /// Threshold `L` of propagation (Definitions 2–3), m/s: a blade whose
+    /// energy |F| is below it propagates no further. Default 0.25.
+    pub threshold: f32,
+    /// Safety cap on generations of propagation (≤ 254). Default 32.
+    pub max_generations: u32,
+    /// Constant `a` of the weight function P(x) (Eq. 7). Default 1.
+    pub weight_a: f32,
+    /// Constant `b` of the weight function P(x) (Eq. 7). Default 2: with
+    /// n = 4 the tip moves 1.24× the offset-base vector, the root segment 0.12×.
+    pub weight_b: f32,
+    /// Recovery time constant, seconds (ours; the paper's future work). A
+    /// bent blade relaxes towards rest as exp(−t/τ). Default `inf`: the
+    /// paper's lasting track.
+    pub recovery_s: f32,
+    /// How much more slowly a flattened blade recovers: τ·(1 + trail·flatness).
+    /// Default 2: a flattened trail lingers three times as long.
+    pub trail: f32,
+    /// Most sub-steps one step may be split into when an object moves
+    /// farther than its own thickness in one step (DESIGN §9). Default 16.
+    pub max_substeps: u32,
+    /// Largest memory the field may take, GiB; a larger field is refused
+    /// before anything is allocated. Default 8.
+    pub memory_limit_gib: f32,
+}
+
+impl Default for SimParams {
+    fn default() -> Self {
+        Self {
+            dt_s: 1.0 / 60.0,
+            precision: 3,
+            att: 0.5,
+            threshold: 0.25,
+            max_generations: 32,
+            weight_a: 1.0,
+            weight_b: 2.0,
+            recovery_s: f32::INFINITY,
+            trail: 2.0,
+            max_substeps: 16,
+            memory_limit_gib: 8.0,
+        }
+    }
+}
+
+/// Highest precision accepted: deeper than any tree the builder makes for a
+/// mesh of up to 2^31 triangles.
+pub const MAX_PRECISION: u32 = 32;
+
+/// A `[sim]` value out of range. The message names the key.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("sim.{key} = {value}: {allowed}")]
+pub struct SimError {
+    /// Key under `[sim]`.
+    pub key: &'static str,
+    /// The offending value.
+    pub value: String,
+    /// What is allowed.
+    pub allowed: &'static str,
+}
+
+impl SimParams {
+    /// Checks every value; the first bad one is reported.
+    pub fn validate(&self) -> Result<(), SimError> {
+        let err = |key, value: f64, allowed| {
+            Err(SimError {
+                key,
+                value: fmt(value),
+                allowed,
+            })
+        };
+        check_dt(self.dt_s)?;
+        if !(1..=MAX_PRECISION).contains(&self.precision) {
+            return err(
+                "precision",
+                f64::from(self.precision),
+                "must be 1..=32 (the paper uses 1..=7)",
+            );
+        }
+        if !(0.0..=1.0).contains(&self.att) {
+            return err("att", f64::from(self.att), "must be in [0, 1]");
+        }
+        if !(self.threshold.is_finite() && self.threshold > 0.0) {
+            return err(
+                "threshold",
+                f64::from(self.threshold),
+                "must be a finite number > 0 (m/s)",
+            );
+        }
+        if !(1..=254).contains(&self.max_generations) {
+            return err(
+                "max_generations",
+                f64::from(self.max_generations),
+                "must be 1..=254",
+            );
+        }
+        if !(self.weight_a.is_finite() && self.weight_a > 0.0) {
+            return err(
+                "weight_a",
+                f64::from(self.weight_a),
+                "must be a finite number > 0",
+            );
+        }
+        if !(self.weight_b.is_finite() && self.weight_b > 0.0) {
+            return err(
+                "weight_b",
+                f64::from(self.weight_b),
+                "must be a finite number > 0",
+            );
+        }
+        if self.recovery_s.is_nan() || self.recovery_s <= 0.0 {
+            return err(
+                "recovery_s",
+                f64::from(self.recovery_s),
+                "must be > 0 seconds, or inf for a lasting track",
+            );
+        }
+        if !(self.trail.is_finite() && self.trail >= 0.0) {
+            return err(
+                "trail",
+                f64::from(self.trail),
+                "must be a finite number >= 0",
+            );
+        }
+        if !(1..=1024).contains(&self.max_substeps) {
+            return err(
+                "max_substeps",
+                f64::from(self.max_substeps),
+                "must be 1..=1024",
+            );
+        }
+        if !(self.memory_limit_gib.is_finite() && self.memory_limit_gib > 0.0) {
+            return err(
+                "memory_limit_gib",
+                f64::from(self.memory_limit_gib),
+                "must be a finite number > 0",
+            );
+        }
+        Ok(())
+    }
+}
+
+/// Checks a time step: finite and > 0.
+pub fn check_dt(dt: f32) -> Result<(), SimError> {
+    if dt.is_finite() && dt > 0.0 && dt <= 10.0 {
+        Ok(())
+    } else {
+        Err(SimError {
+            key: "dt_s",
+            value: fmt(f64::from(dt)),
+            allowed: "must be a finite number of seconds in (0, 10]",
+        })
+    }
+}
+
+fn fmt(v: f64) -> String {
+    if v.fract() == 0.0 && v.is_finite() && v.abs() < 1e15 {
+        format!("{v:.0}")
+    } else {
+        format!("{v}")
+    }
+}

@@ -1,0 +1,232 @@
+//! The simulation state and `Simulation::step` (DESIGN §7).
+
+use super::params::{SimError, SimParams, check_dt};
+use super::stages;
+use super::timings::StepTimings;
+use crate::camera::{Camera, CameraView};
+use crate::collision::broad_phase::world_obb;
+use crate::field::{Field, LodParams, cull_patches};
+use crate::force::propagation::NO_GENERATION;
+use crate::obb::{Obb, ObbTree};
+use crate::object::{Object, Pose};
+use glam::Vec3;
+use std::time::Instant;
+
+/// What happened to a blade over the whole run (the `--dump-classes` values).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum BladeClass {
+    /// Never touched.
+    Untouched = 0,
+    /// Hit directly by an object (DBG) in some frame.
+    Direct = 1,
+    /// Reached only by propagation (PBG).
+    Propagated = 2,
+}
+
+/// An object in the simulation: its mesh and motion, its OBB tree, and its
+/// pose at the current sub-step.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// Mesh, motion and name.
+    pub object: Object,
+    /// The HBV of the mesh (built once, off-line stage of the paper).
+    pub tree: ObbTree,
+    /// Pose at the latest sub-step.
+    pub pose: Pose,
+    /// The tree's root box in world space at that pose.
+    pub world_root: Obb,
+}
+
+impl Body {
+    /// Builds the tree of `object` (to `max_depth`) and poses it at time 0.
+    #[must_use]
+    pub fn new(object: Object, max_depth: u32) -> Self {
+        let tree = ObbTree::build(&object.mesh, max_depth);
+        let pose = object.pose_at(0.0);
+        let world_root = world_obb(&tree.nodes[0].obb, &pose);
+        Self {
+            object,
+            tree,
+            pose,
+            world_root,
+        }
+    }
+
+    /// Moves the body to its pose at time `t`.
+    pub fn set_time(&mut self, t: f32) {
+        self.pose = self.object.pose_at(t);
+        self.world_root = world_obb(&self.tree.nodes[0].obb, &self.pose);
+    }
+}
+
+/// Reusable per-blade and per-cell work memory of a step.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scratch {
+    /// Force on each blade this sub-step (world, m/s); ZERO outside `touched`.
+    pub force: Vec<Vec3>,
+    /// Number of segments of each blade hit this sub-step.
+    pub num: Vec<u8>,
+    /// Blades whose `force`/`num`/`generation` were set in the latest sub-step.
+    pub touched: Vec<u32>,
+    /// Blades away from rest, ascending (recovered each step).
+    pub displaced: Vec<u32>,
+    /// `displaced` as a flag per blade.
+    pub displaced_flag: Vec<bool>,
+    /// Cells whose billboard slope is away from rest, ascending.
+    pub bent_cells: Vec<u32>,
+    /// `bent_cells` as a flag per cell.
+    pub bent_flag: Vec<bool>,
+}
+
+/// A grass field, the objects moving through it, and the camera whose eye
+/// sets the level of detail.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    /// The field (blades, cells, terrain).
+    pub field: Field,
+    /// The objects.
+    pub bodies: Vec<Body>,
+    /// The camera (its eye is the LOD viewpoint).
+    pub camera: Camera,
+    /// LOD distances.
+    pub lod: LodParams,
+    /// Method parameters.
+    pub params: SimParams,
+    /// Simulated time, seconds.
+    pub time: f64,
+    /// Steps taken.
+    pub frame: u64,
+    /// Per blade: [`BladeClass`] over the whole run.
+    pub class: Vec<u8>,
+    /// Per blade: generation in the latest sub-step (0 = DBG, 1.. = PBG,
+    /// `NO_GENERATION` = untouched), for debug views.
+    pub generation: Vec<u8>,
+    /// Per patch: inside the view frustum at the end of the last step.
+    pub visible: Vec<bool>,
+    /// The camera at the end of the last step.
+    pub view: CameraView,
+    /// Timers and counts of the last step.
+    pub timings: StepTimings,
+    pub(crate) scratch: Scratch,
+}
+
+impl Simulation {
+    /// Assembles a simulation at time 0. Parameters must already be valid
+    /// (see [`crate::scene::Scene::build`]).
+    #[must_use]
+    pub fn new(
+        field: Field,
+        bodies: Vec<Body>,
+        camera: Camera,
+        lod: LodParams,
+        params: SimParams,
+    ) -> Self {
+        let blades = field.blades.count;
+        let cells = field.layout.cell_count();
+        let positions: Vec<Vec3> = bodies.iter().map(|b| b.pose.position).collect();
+        let view = camera.view_at(0.0, &positions);
+        let mut sim = Self {
+            field,
+            bodies,
+            camera,
+            lod,
+            params,
+            time: 0.0,
+            frame: 0,
+            class: vec![BladeClass::Untouched as u8; blades],
+            generation: vec![NO_GENERATION; blades],
+            visible: Vec::new(),
+            view,
+            timings: StepTimings::default(),
+            scratch: Scratch {
+                force: vec![Vec3::ZERO; blades],
+                num: vec![0; blades],
+                displaced_flag: vec![false; blades],
+                bent_flag: vec![false; cells],
+                ..Scratch::default()
+            },
+        };
+        // Levels of detail and culling for the starting viewpoint, so a
+        // simulation that is drawn before its first step shows the right thing.
+        let mut changes = Vec::new();
+        sim.timings.lod = crate::field::classify_cells(
+            &sim.field.layout,
+            &mut sim.field.cells,
+            view.eye,
+            &sim.lod,
+            &mut changes,
+        );
+        sim.timings.visible_patches = cull_patches(
+            &sim.field.layout.patch_list,
+            &view.frustum(),
+            &mut sim.visible,
+        );
+        sim
+    }
+
+    /// Advances the simulation by `dt` seconds: poses → LOD and culling →
+    /// broad phase → narrow phase → DBG forces (Eq. 2) → propagation (Eq. 4)
+    /// → deformation (Eq. 5–8) → transitions (Eq. 9–13) → recovery. A fast
+    /// object is sub-stepped so it cannot skip blades (DESIGN §9).
+    pub fn step(&mut self, dt: f32) -> Result<&StepTimings, SimError> {
+        check_dt(dt)?;
+        let start = Instant::now();
+        let mut tm = StepTimings::default();
+        let t_pose = Instant::now();
+        let substeps = stages::plan_substeps(self, dt);
+        tm.poses_ms += ms(t_pose);
+        tm.substeps = substeps;
+        let h = dt / substeps as f32;
+        for i in 1..=substeps {
+            let t = (self.time + f64::from(h) * f64::from(i)) as f32;
+            stages::substep(self, t, h, &mut tm);
+        }
+        self.time += f64::from(dt);
+        self.frame += 1;
+        let t_cull = Instant::now();
+        tm.visible_patches = cull_patches(
+            &self.field.layout.patch_list,
+            &self.view.frustum(),
+            &mut self.visible,
+        );
+        tm.lod_ms += ms(t_cull);
+        tm.displaced_blades = self.scratch.displaced.len() as u32;
+        tm.total_ms = ms(start);
+        self.timings = tm;
+        Ok(&self.timings)
+    }
+
+    /// Runs `frames` steps of the scene's `dt`.
+    pub fn run(&mut self, frames: u64) -> Result<(), SimError> {
+        for _ in 0..frames {
+            self.step(self.params.dt_s)?;
+        }
+        Ok(())
+    }
+
+    /// Every blade's vertices in storage order, blade-major: `(blades, n+1, 3)`
+    /// float32 (the `--dump-blades` layout).
+    #[must_use]
+    pub fn blade_vertices(&self) -> Vec<f32> {
+        let bl = &self.field.blades;
+        let mut out = Vec::with_capacity(bl.count * (bl.segments + 1) * 3);
+        for b in 0..bl.count {
+            for k in 0..=bl.segments {
+                out.extend_from_slice(&bl.vertex(b, k).to_array());
+            }
+        }
+        out
+    }
+
+    /// Number of blades currently hit directly (last sub-step of last step).
+    #[must_use]
+    pub fn blades_away_from_rest(&self) -> usize {
+        self.scratch.displaced.len()
+    }
+}
+
+/// Milliseconds since `t`.
+pub(crate) fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

@@ -1,0 +1,83 @@
+//! Per-stage timers and counts of one step (rapier-style counters).
+
+use crate::field::LodCounts;
+use serde::Serialize;
+use std::fmt;
+
+/// Wall-clock milliseconds spent in each stage of the last step (DESIGN §7
+/// order), and what the step did.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct StepTimings {
+    /// Object poses and sub-step planning.
+    pub poses_ms: f64,
+    /// LOD per cell and frustum culling per patch.
+    pub lod_ms: f64,
+    /// Broad phase (patches against object root boxes).
+    pub broad_ms: f64,
+    /// Narrow phase (segments through the OBB tree).
+    pub narrow_ms: f64,
+    /// DBG forces (Eq. 2).
+    pub forces_ms: f64,
+    /// Propagation (Eq. 4).
+    pub propagation_ms: f64,
+    /// Blade bending and billboard slopes (Eq. 5–8).
+    pub deformation_ms: f64,
+    /// LOD transitions (Eq. 9–13).
+    pub transitions_ms: f64,
+    /// Recovery towards rest.
+    pub recovery_ms: f64,
+    /// The whole step.
+    pub total_ms: f64,
+    /// Blades hit directly (DBG), summed over sub-steps' last.
+    pub dbg_blades: u32,
+    /// Blades reached by propagation only (PBG).
+    pub pbg_blades: u32,
+    /// Generations of propagation in the last sub-step.
+    pub generations: u32,
+    /// Blades tested by the narrow phase.
+    pub narrow_candidates: u32,
+    /// Billboards deflected by an object (BBG).
+    pub bbg_cells: u32,
+    /// Cells that changed level of detail.
+    pub transitions: u32,
+    /// Blades away from rest (being recovered).
+    pub displaced_blades: u32,
+    /// Sub-steps this step was split into.
+    pub substeps: u32,
+    /// Patches in the view frustum.
+    pub visible_patches: u32,
+    /// Cells per level of detail.
+    pub lod: LodCounts,
+}
+
+impl StepTimings {
+    /// (name, milliseconds) of each stage, in step order.
+    #[must_use]
+    pub fn stages(&self) -> [(&'static str, f64); 9] {
+        [
+            ("poses", self.poses_ms),
+            ("lod", self.lod_ms),
+            ("broad", self.broad_ms),
+            ("narrow", self.narrow_ms),
+            ("forces", self.forces_ms),
+            ("propagation", self.propagation_ms),
+            ("deformation", self.deformation_ms),
+            ("transitions", self.transitions_ms),
+            ("recovery", self.recovery_ms),
+        ]
+    }
+}
+
+impl fmt::Display for StepTimings {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "step {:.3} ms (", self.total_ms)?;
+        for (i, (name, ms)) in self.stages().iter().enumerate() {
+            write!(f, "{}{name} {ms:.3}", if i > 0 { ", " } else { "" })?;
+        }
+        write!(
+            f,
+            "); DBG {}, PBG {}, generations {}, sub-steps {}",
+            self.dbg_blades, self.pbg_blades, self.generations, self.substeps
+        )
+    }
+}
