@@ -1,0 +1,57 @@
+//! Small scenes for the integration tests (full-size runs belong to benchmarks).
+#![allow(dead_code)]
+
+use trample::scene::Scene;
+use trample::Simulation;
+
+/// A field of `patches`² patches of 16×16 cells (0.1 m), geometry everywhere,
+/// a sphere of radius 0.5 m rolling along x at z = 0 across it in `duration` s.
+pub fn rolling_ball_toml(patches: u32, recovery: &str, duration: f32) -> String {
+    let half = patches as f32 * 16.0 * 0.1 * 0.5;
+    format!(
+        r#"
+[field]
+patches = [{patches}, {patches}]
+cells_per_patch = 16
+[lod]
+geometry_m = 1000.0
+billboard_m = 2000.0
+[sim]
+recovery_s = {recovery}
+[camera]
+path = {{ kind = "static", position = [0.0, 3.0, {cz}] }}
+look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
+[[objects]]
+name = "ball"
+shape = {{ kind = "sphere", radius_m = 0.5 }}
+orientation = "rolling"
+path = {{ kind = "line", from = [{x0}, 0.5, 0.0], to = [{x1}, 0.5, 0.0], duration_s = {duration} }}
+"#,
+        cz = half + 2.0,
+        x0 = -half - 0.6,
+        x1 = half + 0.6,
+    )
+}
+
+/// Builds a simulation from scene text.
+pub fn sim_from(toml: &str) -> Simulation {
+    Scene::parse(toml, "test.toml", std::path::Path::new(".")).expect("valid scene").build().expect("buildable scene")
+}
+
+/// Height of blade `b`'s tip above its root.
+pub fn tip_height(sim: &Simulation, b: usize) -> f32 {
+    let bl = &sim.field.blades;
+    bl.vertex(b, bl.segments).y - bl.vertex(b, 0).y
+}
+
+/// Rest height of blade `b`'s tip above its root.
+pub fn rest_tip_height(sim: &Simulation, b: usize) -> f32 {
+    let bl = &sim.field.blades;
+    bl.rest[bl.segments * bl.count + b].y - bl.rest[b].y
+}
+
+/// Root (x, z) of blade `b`.
+pub fn root_xz(sim: &Simulation, b: usize) -> (f32, f32) {
+    let r = sim.field.blades.rest[b];
+    (r.x, r.z)
+}

@@ -1,0 +1,49 @@
+//! Frame-rate independence (DESIGN §6): one second of the same motion at
+//! 30 and at 144 steps per second leaves nearly the same field.
+//!
+//! Tolerance: the mean distance between the two runs' tips, over blades that
+//! either run moved, is below 15 % of the mean tip displacement, and 90 % of
+//! the blades bent in one run are bent in the other.
+
+mod common;
+use common::*;
+
+fn run_at(dt: f32) -> trample::Simulation {
+    let mut sim = sim_from(&rolling_ball_toml(2, "inf", 1.0));
+    let frames = (1.0 / dt).round() as u64;
+    for _ in 0..frames {
+        sim.step(dt).unwrap();
+    }
+    assert!((sim.time - 1.0).abs() < 1e-3);
+    sim
+}
+
+#[test]
+fn one_second_at_30_and_144_hz_gives_nearly_the_same_field() {
+    let (a, b) = (run_at(1.0 / 30.0), run_at(1.0 / 144.0));
+    let bl = (&a.field.blades, &b.field.blades);
+    let n = bl.0.segments;
+    let (mut moved, mut diff, mut disp, mut both, mut either) = (0usize, 0.0f64, 0.0f64, 0, 0);
+    for i in 0..bl.0.count {
+        let rest = bl.0.rest[n * bl.0.count + i];
+        let (ta, tb) = (bl.0.vertex(i, n), bl.1.vertex(i, n));
+        let (da, db) = (ta.distance(rest), tb.distance(rest));
+        let bent = (da > 0.05, db > 0.05);
+        if bent.0 || bent.1 {
+            either += 1;
+            if bent.0 && bent.1 {
+                both += 1;
+            }
+        }
+        if da > 1e-6 || db > 1e-6 {
+            moved += 1;
+            diff += f64::from(ta.distance(tb));
+            disp += f64::from(da.max(db));
+        }
+    }
+    assert!(moved > 50);
+    let ratio = diff / disp;
+    println!("frame-rate: {moved} blades moved, mean tip difference / mean displacement = {ratio:.4}, bent in both {both} of {either}");
+    assert!(ratio < 0.15, "tips differ by {ratio:.3} of their displacement");
+    assert!(both as f32 >= 0.9 * either as f32, "bent sets differ: {both} of {either}");
+}
