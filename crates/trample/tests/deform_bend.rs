@@ -307,6 +307,7 @@ fn random_bends_preserve_lengths_root_and_ground() {
     let mut rng = Rng(7);
     let mut bends = 0;
     for terrain in &terrains {
+        let mut on_guard = 0;
         for _ in 0..600 {
             let n = 1 + (rng.next() % MAX_SEGMENTS as u64) as usize;
             let seg_len = rng.f32(0.05, 0.3);

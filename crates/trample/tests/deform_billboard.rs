@@ -249,6 +249,33 @@ fn bend_last_segment_moves_only_the_tip() {
         bend_last_segment(&mut w, 0.25, v1, &Terrain::Flat(0.0), 0.0);
         assert_eq!(w, rest);
     }
+    // A bent blade (coordinates not exact in f32): the lower vertices keep their bits.
+    let mut bent = rest.clone();
+    bend_blade(
+        &mut bent,
+        0.25,
+        Vec3::new(0.07, 0.0, 0.03),
+        1,
+        &weights(3, 1.0, 2.0),
+        &Terrain::Flat(0.0),
+        0.0,
+    );
+    let mut v = bent.clone();
+    bend_last_segment(
+        &mut v,
+        0.25,
+        Vec3::new(-0.05, 0.0, 0.08),
+        &Terrain::Flat(0.0),
+        0.0,
+    );
+    for k in 0..3 {
+        assert_eq!(
+            v[k].to_array().map(f32::to_bits),
+            bent[k].to_array().map(f32::to_bits),
+            "bent vertex {k}"
+        );
+    }
+    assert!((v[3] - bent[3]).length() > 1e-3 && ((v[3] - v[2]).length() - 0.25).abs() < 1e-6);
     let mut root_only = vec![Vec3A::ZERO];
     bend_last_segment(&mut root_only, 0.25, Vec3::X, &Terrain::Flat(0.0), 0.0);
 }
