@@ -341,9 +341,14 @@ fn random_bends_preserve_lengths_root_and_ground() {
                         "vertex {i} at {} below guard {guard}",
                         v[i].y
                     );
+                    on_guard += usize::from(v[i].y < guard + 1e-4);
                 }
             }
         }
+        assert!(
+            on_guard > 100,
+            "ground guard exercised on {terrain:?}: {on_guard}"
+        );
     }
     assert_eq!(bends, 4 * 600 * 3);
 }
