@@ -1,21 +1,191 @@
-//! STUB
+//! Recovery and trails (ours; the paper's future work): DESIGN §6.
+//!
+//! The paper leaves a bent blade bent: the track of an object lasts for
+//! ever. Here every blade (and billboard slope) relaxes towards its rest
+//! shape exponentially, with time constant `recovery_s`: after each step the
+//! deviation from rest is multiplied by `exp(−dt/τ)`, which is frame-rate
+//! independent (two steps of `dt` equal one of `2·dt`). A flattened blade may
+//! recover more slowly, leaving a trail: `τ = recovery_s · (1 + trail ·
+//! flatness)`. `recovery_s = ∞` is the paper's behaviour.
+//!
+//! Positions are blended vertex by vertex and the segment lengths are then
+//! restored with the same length preservation as the bending
+//! ([`preserve_lengths`], Fig. 7). When the largest deviation falls below
+//! [`REST_EPSILON`] the blade snaps to its rest shape bit for bit, so a
+//! recovered field is exactly the rest field and idle blades can be skipped.
+
+use crate::deform::bend::preserve_lengths;
 use crate::field::Terrain;
 use glam::{Vec3, Vec3A};
+
+/// Recovery parameters (DESIGN §6, ours).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RecoveryParams {
+    /// Time constant `τ` of the exponential return to rest, seconds: after
+    /// `τ` a blade keeps `1/e` of its deviation. `f32::INFINITY` is the
+    /// paper's behaviour (a lasting track, no recovery); `≤ 0` snaps back at
+    /// once; NaN means no recovery.
     pub recovery_s: f32,
+    /// Trail strength, ≥ 0 (dimensionless): a blade recovers with time
+    /// constant `recovery_s · (1 + trail · flatness)`, where
+    /// `flatness = 1 − (tip height above root) / (rest tip height above
+    /// root)`, clamped to `[0, 1]`. 0: every blade recovers alike; 4: a
+    /// flattened blade recovers five times more slowly, so a track stays
+    /// visible after the grass brushed aside has stood up again. Negative or
+    /// NaN counts as 0.
     pub trail: f32,
 }
-pub fn recover_blade(
-    _v: &mut [Vec3A],
-    _r: &[Vec3A],
-    _l: f32,
-    _dt: f32,
-    _p: &RecoveryParams,
-    _t: &Terrain,
-    _c: f32,
-) -> bool {
-    todo!()
+
+/// Largest deviation from rest, metres, below which [`recover_blade`] snaps
+/// a blade exactly to its rest shape (0.1 mm: far below a pixel at any
+/// distance where blades are drawn as geometry). An exponential never
+/// reaches rest; without the snap every blade ever touched would stay
+/// slightly off rest for ever. [`recover_slope`] uses the same number per
+/// unit height (so at most `REST_EPSILON · height` metres at a billboard's
+/// top).
+pub const REST_EPSILON: f32 = 1e-4;
+
+/// The fraction of a deviation from rest that remains after `dt` seconds of
+/// recovery with time constant `tau` seconds: `exp(−dt/τ)`.
+///
+/// Frame-rate independent: `recovery_factor(dt, τ)² = recovery_factor(2·dt,
+/// τ)` in exact arithmetic. `τ = ∞`, `dt ≤ 0` or a NaN input give 1 (no
+/// recovery); `τ ≤ 0` gives 0 (instant).
+#[must_use]
+pub fn recovery_factor(dt: f32, tau: f32) -> f32 {
+    match recovery_case(dt, tau) {
+        Some(x) => (-x).exp(),
+        None if tau <= 0.0 && dt > 0.0 => 0.0,
+        None => 1.0,
+    }
 }
-pub fn recover_slope(_s: &mut Vec3, _o: Vec3, _dt: f32, _p: &RecoveryParams) -> bool {
-    todo!()
+
+/// `1 − recovery_factor(dt, tau)`, computed without cancellation
+/// (`−expm1(−dt/τ)`), so a long `τ` still recovers at small `dt` in f32.
+fn recovered_fraction(dt: f32, tau: f32) -> f32 {
+    match recovery_case(dt, tau) {
+        Some(x) => (-(-x).exp_m1()).clamp(0.0, 1.0),
+        None if tau <= 0.0 && dt > 0.0 => 1.0,
+        None => 0.0,
+    }
+}
+
+/// `Some(dt/τ)` for a regular step; `None` for the edge cases handled by
+/// the callers (`dt ≤ 0`, `τ ≤ 0`, NaN).
+fn recovery_case(dt: f32, tau: f32) -> Option<f32> {
+    (dt > 0.0 && tau > 0.0)
+        .then(|| dt / tau)
+        .filter(|x| !x.is_nan())
+}
+
+/// The recovery time constant for a given flatness, seconds (see
+/// [`RecoveryParams::trail`]).
+fn time_constant(p: &RecoveryParams, flatness: f32) -> f32 {
+    // `trail = ∞` with `flatness = 0` must not give NaN.
+    let extra = if p.trail > 0.0 && flatness > 0.0 {
+        p.trail * flatness
+    } else {
+        0.0
+    };
+    p.recovery_s * (1.0 + extra)
+}
+
+/// `1 − height / rest_height`, clamped to `[0, 1]`; 0 when the rest height
+/// is not positive.
+fn flatness(height: f32, rest_height: f32) -> f32 {
+    if rest_height > 0.0 {
+        let f = 1.0 - height / rest_height;
+        if f.is_nan() { 0.0 } else { f.clamp(0.0, 1.0) }
+    } else {
+        0.0
+    }
+}
+
+/// Relaxes a blade towards its rest shape for `dt` seconds, in place; returns
+/// `true` when the blade is now exactly (bit for bit) at rest.
+///
+/// Each vertex above the root moves towards its rest position by the
+/// recovered fraction `1 − exp(−dt/τ)` ([`recovery_factor`]), with `τ` from
+/// [`RecoveryParams`] and the blade's flatness; then [`preserve_lengths`]
+/// restores the segment lengths and the ground guard. When no vertex is
+/// farther than [`REST_EPSILON`] from rest, the blade is set to `rest`.
+///
+/// - `verts`, `rest`: the blade now and at rest, `n + 1` vertices each,
+///   root first, world space, metres. Different lengths: nothing happens,
+///   returns `false`.
+/// - `seg_len`: the rest length of every segment, metres.
+/// - `dt`: the step, seconds.
+///
+/// `recovery_s = ∞` (or `dt ≤ 0`, or NaN parameters) leaves the blade
+/// unchanged and returns whether it is already at rest. A blade with a
+/// non-finite vertex cannot be relaxed and is reset to `rest` (returns
+/// `true`). Allocation-free.
+pub fn recover_blade(
+    verts: &mut [Vec3A],
+    rest: &[Vec3A],
+    seg_len: f32,
+    dt: f32,
+    p: &RecoveryParams,
+    terrain: &Terrain,
+    clearance: f32,
+) -> bool {
+    if verts.len() != rest.len() || verts.is_empty() {
+        return false;
+    }
+    if verts == rest {
+        return true;
+    }
+    if !verts.iter().all(|v| v.is_finite()) {
+        verts.copy_from_slice(rest);
+        return true;
+    }
+    let n = verts.len() - 1;
+    let flat = flatness(verts[n].y - verts[0].y, rest[n].y - rest[0].y);
+    let q = recovered_fraction(dt, time_constant(p, flat));
+    if q == 0.0 {
+        return false;
+    }
+    for (v, r) in verts.iter_mut().zip(rest).skip(1) {
+        *v += (*r - *v) * q;
+    }
+    preserve_lengths(verts, seg_len, terrain, clearance);
+    let at_rest = verts
+        .iter()
+        .zip(rest)
+        .all(|(v, r)| v.distance_squared(*r) < REST_EPSILON * REST_EPSILON);
+    if at_rest {
+        verts.copy_from_slice(rest);
+    }
+    at_rest
+}
+
+/// Relaxes a billboard's slope (Eq. 8, 12) towards its rest slope for `dt`
+/// seconds, with the same law as [`recover_blade`]; returns `true` when the
+/// slope is now exactly `slope_origin`.
+///
+/// Flatness of a slope: `1 − ŝ.y / ô.y` (`ŝ`, `ô` the normalised slope and
+/// rest slope: the top's height over its rest height). The slope snaps to
+/// `slope_origin` when it is within [`REST_EPSILON`] of it (per unit height).
+/// `recovery_s = ∞` leaves it unchanged; a non-finite slope is reset to
+/// `slope_origin`.
+pub fn recover_slope(slope: &mut Vec3, slope_origin: Vec3, dt: f32, p: &RecoveryParams) -> bool {
+    if *slope == slope_origin {
+        return true;
+    }
+    if !slope.is_finite() {
+        *slope = slope_origin;
+        return true;
+    }
+    let height = slope.normalize_or_zero().y;
+    let rest_height = slope_origin.normalize_or_zero().y;
+    let q = recovered_fraction(dt, time_constant(p, flatness(height, rest_height)));
+    if q == 0.0 {
+        return false;
+    }
+    *slope += (slope_origin - *slope) * q;
+    let at_rest = slope.distance_squared(slope_origin) < REST_EPSILON * REST_EPSILON;
+    if at_rest {
+        *slope = slope_origin;
+    }
+    at_rest
 }
