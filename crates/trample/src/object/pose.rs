@@ -19,7 +19,12 @@ impl Pose {
     /// A pose at rest at `position`.
     #[must_use]
     pub fn at_rest(position: Vec3) -> Self {
-        Self { position, rotation: Quat::IDENTITY, velocity: Vec3::ZERO, angular_velocity: Vec3::ZERO }
+        Self {
+            position,
+            rotation: Quat::IDENTITY,
+            velocity: Vec3::ZERO,
+            angular_velocity: Vec3::ZERO,
+        }
     }
 
     /// Local point → world point.
