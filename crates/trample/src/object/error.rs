@@ -184,6 +184,14 @@ pub enum MeshError {
         /// The file.
         source_name: String,
     },
+    /// The glTF file has meshes, but no node of its scene uses one.
+    #[error("{source_name}: the file has {meshes} meshes but no node of its scene uses one")]
+    GltfSceneWithoutMeshes {
+        /// The file.
+        source_name: String,
+        /// How many meshes the file has.
+        meshes: usize,
+    },
     /// A glTF primitive is not made of triangles.
     #[error(
         "{source_name}: mesh {mesh} primitive {primitive} has mode {mode}; allowed: TRIANGLES, TRIANGLE_STRIP, TRIANGLE_FAN"
@@ -212,16 +220,16 @@ pub enum MeshError {
         /// What is wrong, and what is allowed.
         problem: String,
     },
-    /// The glTF node hierarchy is deeper than [`super::gltf::MAX_NODE_DEPTH`]
-    /// (or cyclic).
-    #[error("{source_name}: node {node} is nested deeper than {max_depth} levels (a cycle?)")]
-    GltfNodeDepth {
+    /// A glTF node is reached twice from the scene: it has more than one
+    /// parent, or the hierarchy has a cycle.
+    #[error(
+        "{source_name}: node {node} is reached twice (more than one parent, or a cycle); each node must have at most one parent"
+    )]
+    GltfNodeGraph {
         /// The file.
         source_name: String,
-        /// The node reached too deep.
+        /// The node reached twice.
         node: usize,
-        /// The limit.
-        max_depth: usize,
     },
     /// A third-party parser panicked on the file (a bug in that parser, but
     /// the file is refused rather than the program stopped).

@@ -41,7 +41,7 @@ pub struct SanitizeReport {
 /// # Errors
 /// [`MeshError::IndexCountNotMultipleOf3`] naming `source`.
 pub fn triangles_from_indices(indices: &[u32], source: &str) -> Result<Vec<[u32; 3]>, MeshError> {
-    if indices.len() % 3 != 0 {
+    if !indices.len().is_multiple_of(3) {
         return Err(MeshError::IndexCountNotMultipleOf3 {
             source_name: source.to_owned(),
             count: indices.len(),
