@@ -185,7 +185,9 @@ pub enum MeshError {
         source_name: String,
     },
     /// The glTF file has meshes, but no node of its scene uses one.
-    #[error("{source_name}: the file has {meshes} meshes but no node of its scene uses one")]
+    #[error(
+        "{source_name}: no node of the scene uses a mesh (the file has {meshes}); allowed: a scene whose nodes use at least one mesh"
+    )]
     GltfSceneWithoutMeshes {
         /// The file.
         source_name: String,

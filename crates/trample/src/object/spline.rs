@@ -240,12 +240,23 @@ mod tests {
     #[test]
     fn spline_through_circle_points_has_about_its_curvature_pointing_inwards() {
         let spline = half_circle();
-        assert!((spline.length() - 10.0 * std::f32::consts::PI).abs() < 0.05, "length {}", spline.length());
+        assert!(
+            (spline.length() - 10.0 * std::f32::consts::PI).abs() < 0.05,
+            "length {}",
+            spline.length()
+        );
         for s in [3.3, 10.0, 15.7, 22.1] {
             let k = spline.curvature_vector(s);
             // Catmull-Rom through a 32-gon bends within 5 % of the circle.
-            assert!((k.length() - 0.1).abs() < 0.005, "curvature {} at {s}", k.length());
-            assert!(k.normalize().dot(-spline.point(s).normalize()) > 0.999, "points to the centre");
+            assert!(
+                (k.length() - 0.1).abs() < 0.005,
+                "curvature {} at {s}",
+                k.length()
+            );
+            assert!(
+                k.normalize().dot(-spline.point(s).normalize()) > 0.999,
+                "points to the centre"
+            );
         }
     }
 
@@ -259,7 +270,11 @@ mod tests {
             let (a, b, c) = (spline.point(s - h), spline.point(s), spline.point(s + h));
             let tangent = (c - a) / (2.0 * h);
             let curvature = (a - 2.0 * b + c) / (h * h);
-            assert!(spline.tangent(s).distance(tangent) < 2e-3, "tangent at {s}: {} vs {tangent}", spline.tangent(s));
+            assert!(
+                spline.tangent(s).distance(tangent) < 2e-3,
+                "tangent at {s}: {} vs {tangent}",
+                spline.tangent(s)
+            );
             assert!(
                 spline.curvature_vector(s).distance(curvature) < 2e-3,
                 "curvature at {s}: {} vs {curvature}",
