@@ -7,14 +7,15 @@
 //! or a loop inside a segment, so its tangent never vanishes. Each segment is
 //! written as a cubic Hermite curve on u ∈ [0, 1]; the end segments use
 //! mirrored phantom points, so a two-point spline is a straight line.
-//! Arc length is tabulated ([`SAMPLES_PER_SEGMENT`] chords per segment) to
-//! map distance along the curve to (segment, u).
+//! Arc length is tabulated ([`SAMPLES_PER_SEGMENT`] intervals of u per
+//! segment, each integrated with 3-point Gauss-Legendre) and inverted with a
+//! cubic Hermite interpolant of u(s) whose end slopes are the exact
+//! du/ds = 1 / |dp/du|: the speed along the curve is then constant to about
+//! 1e-4 (a linear inverse would leave ~1 % ripples where |dp/du| varies).
 
 use glam::Vec3;
 
-/// Chords per segment in the arc-length table. With 64 chords the speed along
-/// the curve stays within 0.1 % of the requested one on the test paths (and
-/// the table costs 4 bytes per chord).
+/// Intervals of u per segment in the arc-length table (12 bytes each).
 pub const SAMPLES_PER_SEGMENT: usize = 64;
 
 /// One segment as a cubic Hermite curve from `p1` (u = 0) to `p2` (u = 1)
@@ -58,9 +59,12 @@ impl Hermite {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Spline {
     segments: Vec<Hermite>,
-    /// Distance along the curve at each table sample, metres: sample
-    /// `k` lies on segment `k / SAMPLES_PER_SEGMENT`; starts at 0.
+    /// Distance along the curve at each table sample, metres: interval
+    /// `k` (from sample k to k + 1) lies on segment `k / SAMPLES_PER_SEGMENT`;
+    /// starts at 0.
     distances: Vec<f32>,
+    /// |dp/du| at the start and end of each interval, metres per unit u.
+    rates: Vec<[f32; 2]>,
 }
 
 impl Spline {
@@ -76,6 +80,7 @@ impl Spline {
             return Self {
                 segments: Vec::new(),
                 distances: vec![0.0],
+                rates: Vec::new(),
             };
         }
         let at = |i: isize| -> Vec3 {
@@ -88,21 +93,34 @@ impl Spline {
         let segments: Vec<Hermite> = (0..n as isize - 1)
             .map(|i| centripetal_segment(at(i - 1), at(i), at(i + 1), at(i + 2)))
             .collect();
-        let mut distances = Vec::with_capacity(segments.len() * SAMPLES_PER_SEGMENT + 1);
+        let intervals = segments.len() * SAMPLES_PER_SEGMENT;
+        let (mut distances, mut rates) = (
+            Vec::with_capacity(intervals + 1),
+            Vec::with_capacity(intervals),
+        );
         distances.push(0.0);
         let mut total = 0.0_f64;
+        let width = 1.0 / SAMPLES_PER_SEGMENT as f64;
         for segment in &segments {
-            let mut previous = segment.p1;
-            for k in 1..=SAMPLES_PER_SEGMENT {
-                let p = segment.point(k as f32 / SAMPLES_PER_SEGMENT as f32);
-                total += f64::from(p.distance(previous));
+            let rate = |u: f64| f64::from(segment.first_derivative(u as f32).length());
+            for k in 0..SAMPLES_PER_SEGMENT {
+                let (start, middle) = (k as f64 * width, (k as f64 + 0.5) * width);
+                // 3-point Gauss-Legendre on [start, start + width].
+                let offset = 0.5 * width * (3.0_f64 / 5.0).sqrt();
+                total += 0.5
+                    * width
+                    * (5.0 * rate(middle - offset)
+                        + 8.0 * rate(middle)
+                        + 5.0 * rate(middle + offset))
+                    / 9.0;
                 distances.push(total as f32);
-                previous = p;
+                rates.push([rate(start) as f32, rate(start + width) as f32]);
             }
         }
         Self {
             segments,
             distances,
+            rates,
         }
     }
 
@@ -176,10 +194,11 @@ impl Spline {
         Some((segment, u))
     }
 
-    /// Table chord `k` holding distance `s` (clamped), and how far along it.
+    /// Table interval `k` holding distance `s` (clamped), and the fraction of
+    /// its u-width reached there.
     fn sample_at(&self, s: f32) -> (usize, f32) {
-        let chords = self.distances.len().saturating_sub(1);
-        if chords == 0 {
+        let intervals = self.rates.len();
+        if intervals == 0 {
             return (0, 0.0);
         }
         let s = s.clamp(0.0, self.length());
@@ -187,14 +206,27 @@ impl Spline {
             .distances
             .partition_point(|&d| d <= s)
             .saturating_sub(1)
-            .min(chords - 1);
+            .min(intervals - 1);
+        let [rate0, rate1] = self.rates[k];
         let (a, b) = (self.distances[k], self.distances[k + 1]);
-        let fraction = if b > a {
-            ((s - a) / (b - a)).clamp(0.0, 1.0)
-        } else {
-            0.0
+        if b <= a {
+            return (k, 0.0);
+        }
+        // Cubic Hermite of the u-fraction over x = the distance fraction: its
+        // slopes d(u-fraction)/dx at the ends are (b − a) / (|dp/du| × width).
+        let width = 1.0 / SAMPLES_PER_SEGMENT as f32;
+        let slope = |rate: f32| {
+            if rate > 0.0 {
+                (b - a) / (rate * width)
+            } else {
+                1.0
+            }
         };
-        (k, fraction)
+        let (m0, m1) = (slope(rate0), slope(rate1));
+        let x = ((s - a) / (b - a)).clamp(0.0, 1.0);
+        let (x2, x3) = (x * x, x * x * x);
+        let fraction = (x3 - 2.0 * x2 + x) * m0 + (-2.0 * x3 + 3.0 * x2) + (x3 - x2) * m1;
+        (k, fraction.clamp(0.0, 1.0))
     }
 }
 
