@@ -196,7 +196,7 @@ fn buffer_bytes(positions: &[[f32; 3]], indices: &[u16]) -> Vec<u8> {
         .flat_map(|f| f.to_le_bytes())
         .collect();
     bytes.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
-    while bytes.len() % 4 != 0 {
+    while !bytes.len().is_multiple_of(4) {
         bytes.push(0);
     }
     bytes
@@ -261,7 +261,7 @@ fn base64(bytes: &[u8]) -> String {
 /// A GLB container: header, JSON chunk (space-padded), BIN chunk if any.
 fn glb(json: &str, bin: Option<&[u8]>) -> Vec<u8> {
     let mut json = json.as_bytes().to_vec();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let mut body = Vec::new();
