@@ -241,7 +241,7 @@ impl Object {
             apply_anchor(&mut mesh, *anchor);
         }
         let path = Path::new(params.path.clone()).map_err(|e| error(ObjectErrorKind::Path(e)))?;
-        let roll_radius = mesh.bounds().map_or(0.0, |(lo, _)| -lo.y);
+        let roll_radius = mesh.bounds().map_or(0.0, |(lo, _)| 0.0 - lo.y); // 0 - y: never -0
         let motion = Motion::new(path, params.orientation, params.start_s, roll_radius)
             .map_err(|e| error(ObjectErrorKind::Motion(e)))?;
         let closed = mesh.is_closed();

@@ -123,7 +123,9 @@ pub enum PathError {
         value: f32,
     },
     /// A speed so low that the path would take longer than [`MAX_DURATION_S`].
-    #[error("path.{key} = {value}: the path would take {duration_s:.1e} s; at most 1e9 s is allowed")]
+    #[error(
+        "path.{key} = {value}: the path would take {duration_s:.1e} s; at most 1e9 s is allowed"
+    )]
     TooSlow {
         /// The key (`speed_m_s`).
         key: &'static str,

@@ -35,27 +35,34 @@ const KNOT_RING_VERTICES: u32 = 16;
 /// An icosphere of `radius` metres: the icosahedron (20 triangles) with each
 /// triangle split in four `subdivisions` times, vertices pushed onto the
 /// sphere: 20 × 4^subdivisions triangles (3 → 1,280). `subdivisions` above
-/// [`MAX_SPHERE_SUBDIVISIONS`] is clamped to it. Vertices lie on the sphere,
-/// so the mesh's volume is a little below 4/3 π r³ (1.2 % at level 3).
+/// [`MAX_SPHERE_SUBDIVISIONS`] is clamped to it. The icosahedron stands on a
+/// vertex: there are vertices at (0, ±radius, 0), so the lowest point (the
+/// roll radius of a rolling sphere) is exactly `radius` below the centre.
+/// Vertices lie on the sphere, so the mesh's volume is a little below
+/// 4/3 π r³ (1.2 % at level 3).
 #[must_use]
 pub fn sphere(radius: f32, subdivisions: u32) -> TriMesh {
-    let t = (1.0 + 5.0_f32.sqrt()) / 2.0;
-    #[rustfmt::skip]
-    let mut positions: Vec<Vec3> = [
-        (-1.0, t, 0.0), (1.0, t, 0.0), (-1.0, -t, 0.0), (1.0, -t, 0.0),
-        (0.0, -1.0, t), (0.0, 1.0, t), (0.0, -1.0, -t), (0.0, 1.0, -t),
-        (t, 0.0, -1.0), (t, 0.0, 1.0), (-t, 0.0, -1.0), (-t, 0.0, 1.0),
-    ]
-    .into_iter()
-    .map(|(x, y, z)| Vec3::new(x, y, z).normalize())
-    .collect();
-    #[rustfmt::skip]
-    let mut indices: Vec<[u32; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
-    ];
+    // Poles, then two rings of five at y = ±1/√5, the lower one turned by
+    // 36°: a regular icosahedron of circumradius 1.
+    let (ring_y, ring_radius) = (1.0 / 5.0_f32.sqrt(), 2.0 / 5.0_f32.sqrt());
+    let ring = |y: f32, turn: f32| {
+        (0..5).map(move |i| {
+            let angle = TAU * (i as f32 + turn) / 5.0;
+            Vec3::new(ring_radius * angle.cos(), y, ring_radius * angle.sin())
+        })
+    };
+    let mut positions = vec![Vec3::Y];
+    positions.extend(ring(ring_y, 0.0));
+    positions.extend(ring(-ring_y, 0.5));
+    positions.push(-Vec3::Y);
+    let (upper, lower) = (|i: u32| 1 + i % 5, |i: u32| 6 + i % 5);
+    let mut indices: Vec<[u32; 3]> = Vec::with_capacity(20);
+    for i in 0..5 {
+        indices.push([0, upper(i + 1), upper(i)]);
+        indices.push([upper(i), upper(i + 1), lower(i)]);
+        indices.push([upper(i + 1), lower(i + 1), lower(i)]);
+        indices.push([11, lower(i), lower(i + 1)]);
+    }
     for _ in 0..subdivisions.min(MAX_SPHERE_SUBDIVISIONS) {
         let mut midpoints: HashMap<(u32, u32), u32> = HashMap::with_capacity(indices.len() * 3 / 2);
         let mut midpoint = |a: u32, b: u32, positions: &mut Vec<Vec3>| -> u32 {
@@ -265,6 +272,22 @@ mod tests {
             sphere(1.0, 99).triangle_count(),
             20 * 4usize.pow(MAX_SPHERE_SUBDIVISIONS)
         );
+    }
+
+    #[test]
+    fn icosahedron_is_regular_and_sphere_has_poles() {
+        let mesh = sphere(1.0, 0);
+        for i in 0..20 {
+            let [a, b, c] = mesh.triangle(i);
+            for edge in [a.distance(b), b.distance(c), c.distance(a)] {
+                assert!(
+                    (edge - 1.051_462_2).abs() < 1e-5,
+                    "triangle {i} has an edge of {edge}"
+                );
+            }
+        }
+        let (lo, hi) = sphere(0.5, 3).bounds().expect("non-empty");
+        assert_eq!((lo.y, hi.y), (-0.5, 0.5));
     }
 
     #[test]
