@@ -149,6 +149,39 @@ fn rolling_on_a_polyline_does_not_slip_on_either_leg() {
     assert!(before.angle_between(after) < 0.02);
 }
 
+/// Integrates dR/dt = [ω(t)] R (ω from the poses, 10⁻⁴ s steps, midpoint
+/// rule, f64) and compares with the rotation of the poses at `checks`
+/// (increasing); also checks that the contact point does not slip there.
+fn assert_rotation_matches_integration(ball: &Object, r: f32, checks: &[f64]) {
+    let h = 1e-4_f64;
+    let mut rotation = DQuat::IDENTITY;
+    let mut t = 0.0_f64;
+    for &check in checks {
+        while t + h / 2.0 < check {
+            let omega = ball
+                .pose_at((t + h / 2.0) as f32)
+                .angular_velocity
+                .as_dvec3();
+            if let Some(axis) = omega.try_normalize() {
+                rotation = DQuat::from_axis_angle(axis, omega.length() * h) * rotation;
+            }
+            t += h;
+        }
+        let pose = ball.pose_at(check as f32);
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            let (computed, integrated) = (pose.rotation.as_dquat() * axis, rotation * axis);
+            assert!(
+                (computed - integrated).length() < 2e-3,
+                "t = {check}: {computed} vs {integrated}"
+            );
+        }
+        assert!(
+            pose.point_velocity(contact_point(&pose, r)).length() < 1e-4,
+            "slips at t = {check}"
+        );
+    }
+}
+
 #[test]
 fn rolling_on_a_circle_matches_a_fine_numerical_integration() {
     let r = 0.5;
@@ -159,33 +192,42 @@ fn rolling_on_a_circle_matches_a_fine_numerical_integration() {
         phase_rad: 0.4,
     };
     let ball = object(&params(sphere(r), Orientation::Rolling, path));
-    // dR/dt = [ω(t)] R with ω = (up × v) / r, 10⁻⁴ s steps, midpoint rule, f64.
-    let h = 1e-4_f64;
-    let mut rotation = DQuat::IDENTITY;
-    let mut t = 0.0_f64;
-    for check in [2.5_f64, 7.3, 13.0] {
-        while t + h / 2.0 < check {
-            let omega = ball
-                .pose_at((t + h / 2.0) as f32)
-                .angular_velocity
-                .as_dvec3();
-            let angle = omega.length() * h;
-            if angle > 0.0 {
-                rotation = DQuat::from_axis_angle(omega / omega.length(), angle) * rotation;
-            }
-            t += h;
-        }
-        let pose = ball.pose_at(check as f32);
-        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
-            let (closed_form, integrated) = (pose.rotation.as_dquat() * axis, rotation * axis);
-            assert!(
-                (closed_form - integrated).length() < 2e-3,
-                "t = {check}: {closed_form} vs {integrated}"
-            );
-        }
+    assert_rotation_matches_integration(&ball, r, &[2.5, 7.3, 13.0]);
+}
+
+#[test]
+fn rolling_on_a_spline_matches_a_fine_numerical_integration() {
+    let r = 0.3;
+    let points = vec![[0.0, r, 0.0], [3.0, r, 1.0], [4.0, r, 4.0], [1.0, r, 6.0]];
+    let ball = object(&params(
+        sphere(r),
+        Orientation::Rolling,
+        PathParams::Spline {
+            points,
+            speed_m_s: 2.0,
+        },
+    ));
+    let end = f64::from(ball.motion.path().end_time().expect("finite"));
+    assert_rotation_matches_integration(&ball, r, &[0.7, 2.0, end - 0.01, end + 1.0]);
+}
+
+#[test]
+fn rolling_on_a_very_long_line_stays_exact() {
+    // 0.01 m/s for 10⁵ s: the angle is the distance over the radius even
+    // after 1,000 rad.
+    let r = 0.5;
+    let ball = object(&params(
+        sphere(r),
+        Orientation::Rolling,
+        line([0.0, r, 0.0], [1000.0, r, 0.0], 1e5),
+    ));
+    let pose = ball.pose_at(5e4);
+    let expected = Quat::from_axis_angle(-Vec3::Z, 500.0 / r);
+    for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
         assert!(
-            pose.point_velocity(contact_point(&pose, r)).length() < 1e-4,
-            "slips at t = {check}"
+            close(pose.rotation * axis, expected * axis, 1e-4),
+            "{}",
+            pose.rotation * axis
         );
     }
 }

@@ -15,6 +15,7 @@ pub mod mesh;
 pub mod motion;
 pub mod obj;
 pub mod path;
+mod piecewise;
 pub mod pose;
 pub mod rolling;
 pub mod sanitize;

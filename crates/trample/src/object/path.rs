@@ -6,6 +6,7 @@
 //! any time. Times are path times: seconds since the object's `start_s`.
 //! Every evaluation is a pure function of t.
 
+use super::piecewise::{Piecewise, fill_headings};
 use super::pose::rotation_from_euler_deg;
 use super::spline::Spline;
 use glam::{Quat, Vec3};
@@ -299,6 +300,27 @@ impl Path {
         }
     }
 
+    /// Length of the path, metres; `None` for a circle (endless).
+    #[must_use]
+    pub fn length(&self) -> Option<f32> {
+        match &self.curve {
+            Curve::Piecewise(p) => Some(p.length()),
+            Curve::Circle { .. } => None,
+            Curve::Spline { spline, .. } => Some(spline.length()),
+        }
+    }
+
+    /// For a path of straight segments (static, line, polyline, keyframes):
+    /// the times of its points, seconds, strictly increasing; the velocity
+    /// is constant between two of them. `None` for a circle or a spline.
+    #[must_use]
+    pub fn breakpoints(&self) -> Option<&[f32]> {
+        match &self.curve {
+            Curve::Piecewise(p) => Some(&p.times),
+            _ => None,
+        }
+    }
+
     /// Position of the object's origin at path time `t`, metres.
     /// See also [`Self::velocity`].
     #[must_use]
@@ -434,137 +456,6 @@ fn circle_angle(phase: f32, period: f32, t: f32) -> f32 {
 /// Unit vector at angle θ from +x towards −z (counter-clockwise from above).
 fn circle_direction(theta: f32) -> Vec3 {
     Vec3::new(theta.cos(), 0.0, -theta.sin())
-}
-
-/// Straight segments between points at strictly increasing times.
-#[derive(Clone, Debug, PartialEq)]
-struct Piecewise {
-    /// Path times of the points, seconds, strictly increasing, at least one.
-    times: Vec<f32>,
-    points: Vec<Vec3>,
-    /// One per point, or none.
-    rotations: Option<Vec<Quat>>,
-    /// Horizontal direction of each segment, filled over the segments that
-    /// do not move horizontally; empty when none does.
-    headings: Vec<Vec3>,
-}
-
-/// Where a time falls on a [`Piecewise`] path.
-enum Place {
-    /// Held at point k (before the first key or from the last one on).
-    Held(usize),
-    /// On segment i, fraction u ∈ [0, 1).
-    On(usize, f32),
-}
-
-impl Piecewise {
-    fn new(times: Vec<f32>, points: Vec<Vec3>, rotations: Option<Vec<Quat>>) -> Self {
-        let raw = points
-            .windows(2)
-            .map(|w| {
-                let d = w[1] - w[0];
-                Vec3::new(d.x, 0.0, d.z)
-                    .try_normalize()
-                    .filter(|_| d.x.hypot(d.z) > 1e-6 * d.length())
-            })
-            .collect();
-        let filled = fill_headings(raw);
-        let headings = if filled.iter().all(Option::is_some) {
-            filled.into_iter().flatten().collect()
-        } else {
-            Vec::new()
-        };
-        Self {
-            times,
-            points,
-            rotations,
-            headings,
-        }
-    }
-
-    fn place(&self, t: f32) -> Place {
-        let last = self.times.len() - 1;
-        if last == 0 || t < self.times[0] || t.is_nan() {
-            return Place::Held(0);
-        }
-        if t >= self.times[last] {
-            return Place::Held(last);
-        }
-        let i = self
-            .times
-            .partition_point(|&k| k <= t)
-            .saturating_sub(1)
-            .min(last - 1);
-        let u = (t - self.times[i]) / (self.times[i + 1] - self.times[i]);
-        Place::On(i, u.clamp(0.0, 1.0))
-    }
-
-    fn position(&self, t: f32) -> Vec3 {
-        match self.place(t) {
-            Place::Held(k) => self.points[k],
-            Place::On(i, u) => self.points[i].lerp(self.points[i + 1], u),
-        }
-    }
-
-    fn velocity(&self, t: f32) -> Vec3 {
-        match self.place(t) {
-            Place::Held(_) => Vec3::ZERO,
-            Place::On(i, _) => {
-                (self.points[i + 1] - self.points[i]) / (self.times[i + 1] - self.times[i])
-            }
-        }
-    }
-
-    fn heading(&self, t: f32) -> Option<Vec3> {
-        let segment = match self.place(t) {
-            Place::Held(k) => k.min(self.points.len().saturating_sub(2)),
-            Place::On(i, _) => i,
-        };
-        self.headings.get(segment).copied()
-    }
-
-    fn rotation(&self, t: f32) -> Option<Quat> {
-        let rotations = self.rotations.as_ref()?;
-        Some(match self.place(t) {
-            Place::Held(k) => rotations[k],
-            Place::On(i, u) => rotations[i].slerp(rotations[i + 1], u),
-        })
-    }
-
-    fn angular_velocity(&self, t: f32) -> Option<Vec3> {
-        let rotations = self.rotations.as_ref()?;
-        Some(match self.place(t) {
-            Place::Held(_) => Vec3::ZERO,
-            Place::On(i, _) => {
-                // slerp takes the short way: so does this world-frame delta.
-                let mut delta = rotations[i + 1] * rotations[i].inverse();
-                if delta.w < 0.0 {
-                    delta = -delta;
-                }
-                let (axis, angle) = delta.to_axis_angle();
-                axis * angle / (self.times[i + 1] - self.times[i])
-            }
-        })
-    }
-}
-
-/// Segment headings with the gaps (segments without horizontal motion)
-/// taking the heading before them, and leading gaps the first heading.
-fn fill_headings(mut headings: Vec<Option<Vec3>>) -> Vec<Option<Vec3>> {
-    let mut last = None;
-    for h in &mut headings {
-        if h.is_none() {
-            *h = last;
-        }
-        last = *h;
-    }
-    let first = headings.iter().flatten().next().copied();
-    for h in &mut headings {
-        if h.is_none() {
-            *h = first;
-        }
-    }
-    headings
 }
 
 /// A polyline at constant `speed`: time of each point = distance along / speed.

@@ -5,23 +5,26 @@
 //!
 //! The rotation must be a pure function of t (the same t gives the same
 //! bits however many steps led there), so it is never integrated step by
-//! step during the simulation:
-//! - on a circle it has a closed form (below);
-//! - on any other path it is integrated once, at construction, with a fixed
-//!   step into a table, and looked up with slerp.
+//! step during the simulation. It is computed at construction:
+//! - on a circle, in closed form;
+//! - on straight segments (static, line, polyline, keyframes), exactly: ω is
+//!   constant on each segment, so R is a product of axis-angle rotations;
+//! - on a spline, by integration with a fixed step into a table, looked up
+//!   with slerp.
 
 use super::path::Path;
 use glam::{DQuat, DVec3, Quat, Vec3};
 use std::f64::consts::TAU;
 
-/// Integration step of the table, seconds: 1/240 s, a quarter of a 60 Hz
-/// frame, so a ball turns at most |v| / (240 r) rad per step.
+/// Longest integration step of the spline table, seconds: 1/240 s, a
+/// quarter of a 60 Hz frame.
 pub const ROLL_STEP_S: f64 = 1.0 / 240.0;
-/// Most table entries (1 MiB of rotations). Paths longer than
-/// `MAX_ROLL_STEPS × ROLL_STEP_S` ≈ 273 s get a proportionally longer step;
-/// the error stays zero on straight segments (constant axis: slerp is exact)
-/// and only grows at turns.
-pub const MAX_ROLL_STEPS: usize = 1 << 16;
+/// Largest turn per table step, radians: slerp between entries then stays
+/// within 10⁻³ rad of the integrated rotation where the axis turns.
+pub const MAX_ROLL_STEP_ANGLE: f64 = 0.25;
+/// Most table entries (4 MiB of rotations): a spline longer than
+/// 65,536 roll radii gets larger steps than [`MAX_ROLL_STEP_ANGLE`].
+pub const MAX_ROLL_STEPS: usize = 1 << 18;
 
 /// The rolling rotation of one object along one path.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,6 +38,17 @@ pub enum Rolling {
         omega_path: f64,
         /// ω₀ − Ω ŷ, rad/s.
         body_rate: DVec3,
+    },
+    /// Straight segments: on segment i (from `times[i]` to `times[i + 1]`)
+    /// R(t) = exp(ωᵢ (t − tᵢ)) Rᵢ. Held before the first time and after the
+    /// last.
+    Segments {
+        /// Segment start times, seconds, increasing; at least one.
+        times: Vec<f32>,
+        /// Rᵢ, the rotation at each time (f64 products).
+        rotations: Vec<DQuat>,
+        /// ωᵢ, rad/s, one per segment (one fewer than `times`).
+        rates: Vec<DVec3>,
     },
     /// Rotations at `start + k × step`, integrated with the midpoint rule in
     /// f64; held before the first and after the last.
@@ -53,7 +67,7 @@ impl Rolling {
     /// (precondition: finite and > 0, checked by [`super::motion::Motion::new`]).
     #[must_use]
     pub fn new(path: &Path, radius: f32) -> Self {
-        let rate = |t: f32| angular_velocity(path, radius, t).as_dvec3();
+        let rate = |t: f64| angular_velocity(path, radius, t as f32).as_dvec3();
         let Some(end) = path.end_time() else {
             let omega_path = path_angular_rate(path);
             return Rolling::Circle {
@@ -61,16 +75,37 @@ impl Rolling {
                 body_rate: rate(0.0) - DVec3::Y * omega_path,
             };
         };
+        if let Some(times) = path.breakpoints() {
+            let rates: Vec<DVec3> = times
+                .windows(2)
+                .map(|w| rate(0.5 * (f64::from(w[0]) + f64::from(w[1]))))
+                .collect();
+            let mut rotations = vec![DQuat::IDENTITY];
+            for (w, &omega) in times.windows(2).zip(&rates) {
+                let previous = *rotations.last().unwrap_or(&DQuat::IDENTITY);
+                let duration = f64::from(w[1]) - f64::from(w[0]);
+                rotations.push((exp(omega * duration) * previous).normalize());
+            }
+            return Rolling::Segments {
+                times: times.to_vec(),
+                rotations,
+                rates,
+            };
+        }
         let start = path.start_time();
         let duration = f64::from(end) - f64::from(start);
-        let steps = ((duration / ROLL_STEP_S).ceil() as usize).clamp(1, MAX_ROLL_STEPS);
+        let turn = f64::from(path.length().unwrap_or(0.0)) / f64::from(radius);
+        let steps = (duration / ROLL_STEP_S)
+            .max(turn / MAX_ROLL_STEP_ANGLE)
+            .ceil()
+            .clamp(1.0, MAX_ROLL_STEPS as f64) as usize;
         let step = (duration / steps as f64).max(f64::MIN_POSITIVE);
         let mut rotations = Vec::with_capacity(steps + 1);
         let mut r = DQuat::IDENTITY;
         rotations.push(Quat::IDENTITY);
         for k in 0..steps {
             let middle = f64::from(start) + (k as f64 + 0.5) * step;
-            r = (exp(rate(middle as f32) * step) * r).normalize();
+            r = (exp(rate(middle) * step) * r).normalize();
             rotations.push(r.as_quat());
         }
         Rolling::Table {
@@ -93,13 +128,26 @@ impl Rolling {
                     return Quat::IDENTITY;
                 }
                 let t = f64::from(t);
-                let revolution = DQuat::from_rotation_y((omega_path * t) % TAU);
-                let rate = body_rate.length();
-                let spin = match body_rate.try_normalize() {
-                    Some(axis) => DQuat::from_axis_angle(axis, (rate * t) % TAU),
-                    None => DQuat::IDENTITY,
-                };
-                (revolution * spin).as_quat()
+                // f64 keeps late times precise (and quaternions continuous in t).
+                let revolution = DQuat::from_rotation_y(omega_path * t);
+                (revolution * exp(body_rate * t)).as_quat()
+            }
+            Rolling::Segments {
+                times,
+                rotations,
+                rates,
+            } => {
+                if t.is_nan() || t <= times[0] {
+                    return rotations[0].as_quat();
+                }
+                let i = times.partition_point(|&k| k <= t) - 1;
+                match rates.get(i) {
+                    Some(&omega) => {
+                        let elapsed = f64::from(t) - f64::from(times[i]);
+                        (exp(omega * elapsed) * rotations[i]).as_quat()
+                    }
+                    None => rotations[rotations.len() - 1].as_quat(),
+                }
             }
             Rolling::Table {
                 start,
