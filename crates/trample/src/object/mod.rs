@@ -3,7 +3,7 @@
 //!
 //! - [`mesh`]: [`TriMesh`]; [`shapes`]: the built-in shapes;
 //!   [`obj`], [`gltf`] and [`load_mesh_file`]: mesh files;
-//!   [`sanitize`]: what every mesh goes through; [`error`]: [`MeshError`].
+//!   [`mod@sanitize`]: what every mesh goes through; [`error`]: [`MeshError`].
 //! - [`path`]: where an object is at time t ([`spline`] for `spline` paths);
 //!   [`motion`]: its whole [`Pose`] at time t ([`rolling`] for rolling ones).
 //! - [`body`]: an [`Object`] made from its scene-file [`ObjectParams`].

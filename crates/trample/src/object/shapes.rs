@@ -39,7 +39,7 @@ const KNOT_RING_VERTICES: u32 = 16;
 /// vertex: there are vertices at (0, ±radius, 0), so the lowest point (the
 /// roll radius of a rolling sphere) is exactly `radius` below the centre.
 /// Vertices lie on the sphere, so the mesh's volume is a little below
-/// 4/3 π r³ (1.2 % at level 3).
+/// 4/3 π r³ (0.9 % at level 3).
 #[must_use]
 pub fn sphere(radius: f32, subdivisions: u32) -> TriMesh {
     // Poles, then two rings of five at y = ±1/√5, the lower one turned by
