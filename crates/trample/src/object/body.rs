@@ -1,8 +1,19 @@
-//! An object of the scene: mesh + OBB tree + motion.
+//! An object of the scene: its mesh, in its local frame, and its motion.
 //!
-//! PARAMS ARE THE SCENE-FILE CONTRACT (fixed). Behaviour: object helper.
+//! [`ObjectParams`] and the types it holds are the scene-file contract;
+//! [`Object::from_params`] turns one into an [`Object`]: the mesh is built
+//! or loaded, scaled, rotated, sanitised (DESIGN §9) and anchored, the path
+//! and the orientation rule validated. The OBB tree of the mesh is built
+//! elsewhere (`obb/`).
 
-use super::path::PathParams;
+use super::error::MeshError;
+use super::mesh::TriMesh;
+use super::motion::{Motion, MotionError};
+use super::path::{Path, PathError, PathParams};
+use super::pose::{Pose, rotation_from_euler_deg};
+use super::sanitize::{SanitizeReport, sanitize};
+use super::shapes::{self, MAX_SPHERE_SUBDIVISIONS};
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -14,11 +25,14 @@ pub struct ObjectParams {
     pub name: String,
     /// The mesh.
     pub shape: ShapeParams,
-    /// Scale applied to the mesh (uniform or per axis). Default 1.
+    /// Scale applied to the mesh (uniform or per axis), before
+    /// `rotation_deg`. Every factor finite and > 0. Default 1.
     #[serde(default)]
     pub scale: Scale,
     /// Rotation baked into the mesh before anything else, Euler degrees
-    /// (y, x, z order as in [`super::path::Keyframe`]). Default none.
+    /// (y, x, z order as in [`super::path::Keyframe`]), applied after
+    /// `scale`; the orientation rules then act on the rotated mesh (so
+    /// `face_motion` turns the rotated mesh's +z forward). Default none.
     #[serde(default)]
     pub rotation_deg: [f32; 3],
     /// How the object turns as it moves. Default `fixed`.
@@ -26,7 +40,9 @@ pub struct ObjectParams {
     pub orientation: Orientation,
     /// Where the object goes.
     pub path: PathParams,
-    /// Time at which the object starts along its path, seconds. Default 0.
+    /// Simulation time at which the object starts along its path (path time
+    /// 0), seconds; before it the object waits at the path's start. Finite.
+    /// Default 0.
     #[serde(default)]
     pub start_s: f32,
 }
@@ -57,9 +73,11 @@ pub enum Orientation {
     /// Turns about y to face its direction of motion (+z of the mesh forward).
     FaceMotion,
     /// Rolls without slipping on the ground: spins about `up × v` at
-    /// `|v| / r`, r = height of the origin above the mesh's lowest point.
+    /// `|v| / r`, r = height of the origin above the mesh's lowest point
+    /// (after scale and rotation; must be > 0).
     Rolling,
-    /// Takes the orientations of a `keyframes` path.
+    /// Takes the orientations of a `keyframes` path (whose keys must all
+    /// have `rotation_deg`).
     Keyframes,
 }
 
@@ -69,7 +87,7 @@ pub enum Orientation {
 pub enum ShapeParams {
     /// An icosphere.
     Sphere {
-        /// Radius, metres.
+        /// Radius, metres (> 0).
         radius_m: f32,
         /// Subdivisions of the icosahedron (0–7). Default 3 (1,280 triangles).
         #[serde(default = "default_subdivisions")]
@@ -77,23 +95,24 @@ pub enum ShapeParams {
     },
     /// A box.
     Box {
-        /// Half extents (x, y, z), metres.
+        /// Half extents (x, y, z), metres (each > 0).
         half_extents_m: [f32; 3],
     },
     /// A capsule along y.
     Capsule {
-        /// Radius, metres.
+        /// Radius, metres (> 0).
         radius_m: f32,
-        /// Length of the cylindrical part, metres.
+        /// Length of the cylindrical part, metres (≥ 0).
         length_m: f32,
     },
     /// The built-in complex shape: a (3, 2) torus knot tube of several
     /// thousand triangles, `size_m` across.
     Knot {
-        /// Outer diameter, metres.
+        /// Outer diameter, metres (> 0).
         size_m: f32,
     },
-    /// A mesh file: `.obj`, `.gltf` or `.glb`, relative to the scene file.
+    /// A mesh file: `.obj`, `.gltf` or `.glb`, relative to the scene file
+    /// (see [`super::load_mesh_file`]), in metres (scale it otherwise).
     Mesh {
         /// The file.
         path: PathBuf,
@@ -107,7 +126,8 @@ fn default_subdivisions() -> u32 {
     3
 }
 
-/// Where a loaded mesh's origin is placed.
+/// Where a loaded mesh's origin is placed, after scale and rotation. (The
+/// built-in shapes keep their centre as origin.)
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Anchor {
@@ -120,22 +140,237 @@ pub enum Anchor {
     File,
 }
 
-/// STUB
+/// A ready object: its mesh in its local frame and its motion.
 #[derive(Clone, Debug)]
 pub struct Object {
+    /// Name from the scene.
     pub name: String,
-    pub mesh: super::TriMesh,
+    /// The mesh in the object's local frame, metres: `scale`, `rotation_deg`
+    /// and `anchor` baked in, sanitised. Counter-clockwise triangles face
+    /// outwards (when the source's did).
+    pub mesh: TriMesh,
+    /// Where the object is and how it turns at any time.
+    pub motion: Motion,
+    /// What sanitising dropped.
+    pub report: SanitizeReport,
+    /// Whether the mesh is closed ([`TriMesh::is_closed`]).
     pub closed: bool,
 }
+
+/// Why an object of a scene was refused: `objects[INDEX] (NAME): ` and what
+/// is wrong.
+#[derive(Debug, thiserror::Error)]
+#[error("objects[{index}] ({name}): {kind}")]
+pub struct ObjectError {
+    /// Index in the scene's `objects`.
+    pub index: usize,
+    /// The object's name.
+    pub name: String,
+    /// What is wrong.
+    pub kind: ObjectErrorKind,
+}
+
+/// What is wrong with an object.
+#[derive(Debug, thiserror::Error)]
+pub enum ObjectErrorKind {
+    /// A shape, scale or rotation parameter out of range.
+    #[error("{key} = {value}: {allowed}")]
+    BadParameter {
+        /// The key, e.g. `shape.radius_m`.
+        key: &'static str,
+        /// The value as written.
+        value: String,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+    /// The mesh could not be loaded or was refused.
+    #[error("{0}")]
+    Mesh(MeshError),
+    /// The path is invalid.
+    #[error("{0}")]
+    Path(PathError),
+    /// The orientation rule or start time is invalid.
+    #[error("{0}")]
+    Motion(MotionError),
+}
+
 impl Object {
+    /// Builds the object `params` = `objects[index]` of a scene; mesh files
+    /// are found relative to `base_dir` (the scene file's folder).
+    ///
+    /// The mesh is made (built-in shape) or loaded, scaled, rotated by
+    /// `rotation_deg`, sanitised, then anchored (mesh files only). The roll
+    /// radius of a rolling object is the depth of the mesh's lowest point
+    /// below its origin.
+    ///
+    /// # Errors
+    /// [`ObjectError`] prefixed `objects[INDEX] (NAME): `, wrapping bad
+    /// shape/scale/rotation parameters, [`MeshError`], [`PathError`] or
+    /// [`MotionError`].
     pub fn from_params(
-        _p: &ObjectParams,
-        _i: usize,
-        _b: &std::path::Path,
-    ) -> Result<Object, String> {
-        todo!()
+        params: &ObjectParams,
+        index: usize,
+        base_dir: &std::path::Path,
+    ) -> Result<Self, ObjectError> {
+        let error = |kind| ObjectError {
+            index,
+            name: params.name.clone(),
+            kind,
+        };
+        let (raw, source) = build_shape(&params.shape, base_dir).map_err(error)?;
+        let scale = scale_factors(params.scale).map_err(error)?;
+        if params.rotation_deg.iter().any(|d| !d.is_finite()) {
+            return Err(error(bad(
+                "rotation_deg",
+                format3(params.rotation_deg),
+                "every angle must be finite",
+            )));
+        }
+        let rotation = rotation_from_euler_deg(params.rotation_deg);
+        let baked = TriMesh {
+            positions: raw
+                .positions
+                .iter()
+                .map(|&p| rotation * (p * scale))
+                .collect(),
+            indices: raw.indices,
+        };
+        let (mut mesh, report) =
+            sanitize(baked, &source).map_err(|e| error(ObjectErrorKind::Mesh(e)))?;
+        if let ShapeParams::Mesh { anchor, .. } = &params.shape {
+            apply_anchor(&mut mesh, *anchor);
+        }
+        let path = Path::new(params.path.clone()).map_err(|e| error(ObjectErrorKind::Path(e)))?;
+        let roll_radius = mesh.bounds().map_or(0.0, |(lo, _)| 0.0 - lo.y); // 0 - y: never -0
+        let motion = Motion::new(path, params.orientation, params.start_s, roll_radius)
+            .map_err(|e| error(ObjectErrorKind::Motion(e)))?;
+        let closed = mesh.is_closed();
+        Ok(Self {
+            name: params.name.clone(),
+            mesh,
+            motion,
+            report,
+            closed,
+        })
     }
-    pub fn pose_at(&self, _t: f32) -> super::Pose {
-        todo!()
+
+    /// The pose at simulation time `t`, seconds ([`Motion::pose_at`]).
+    #[must_use]
+    pub fn pose_at(&self, t: f32) -> Pose {
+        self.motion.pose_at(t)
     }
+}
+
+/// The unscaled mesh of a shape and its name for messages (the file path,
+/// or `"built-in sphere"` etc.).
+fn build_shape(
+    shape: &ShapeParams,
+    base_dir: &std::path::Path,
+) -> Result<(TriMesh, String), ObjectErrorKind> {
+    Ok(match shape {
+        &ShapeParams::Sphere {
+            radius_m,
+            subdivisions,
+        } => {
+            if subdivisions > MAX_SPHERE_SUBDIVISIONS {
+                return Err(bad(
+                    "shape.subdivisions",
+                    subdivisions.to_string(),
+                    "must be at most 7",
+                ));
+            }
+            (
+                shapes::sphere(positive("shape.radius_m", radius_m)?, subdivisions),
+                "built-in sphere".into(),
+            )
+        }
+        ShapeParams::Box { half_extents_m } => {
+            if !half_extents_m.iter().all(|h| h.is_finite() && *h > 0.0) {
+                return Err(bad(
+                    "shape.half_extents_m",
+                    format3(*half_extents_m),
+                    "each must be a finite number > 0",
+                ));
+            }
+            (
+                shapes::cuboid(Vec3::from_array(*half_extents_m)),
+                "built-in box".into(),
+            )
+        }
+        &ShapeParams::Capsule { radius_m, length_m } => {
+            if !(length_m.is_finite() && length_m >= 0.0) {
+                return Err(bad(
+                    "shape.length_m",
+                    length_m.to_string(),
+                    "must be a finite number ≥ 0",
+                ));
+            }
+            (
+                shapes::capsule(positive("shape.radius_m", radius_m)?, length_m),
+                "built-in capsule".into(),
+            )
+        }
+        &ShapeParams::Knot { size_m } => (
+            shapes::knot(positive("shape.size_m", size_m)?),
+            "built-in knot".into(),
+        ),
+        ShapeParams::Mesh { path, .. } => {
+            let file = base_dir.join(path);
+            let mesh = super::load_mesh_file(&file).map_err(ObjectErrorKind::Mesh)?;
+            (mesh, file.display().to_string())
+        }
+    })
+}
+
+/// The per-axis scale factors, each finite and > 0.
+fn scale_factors(scale: Scale) -> Result<Vec3, ObjectErrorKind> {
+    let (factors, value) = match scale {
+        Scale::Uniform(s) => (Vec3::splat(s), s.to_string()),
+        Scale::PerAxis(s) => (Vec3::from_array(s), format3(s)),
+    };
+    if factors.is_finite() && factors.min_element() > 0.0 {
+        Ok(factors)
+    } else {
+        Err(bad(
+            "scale",
+            value,
+            "every factor must be a finite number > 0",
+        ))
+    }
+}
+
+/// Moves the mesh so that its origin is where `anchor` says.
+fn apply_anchor(mesh: &mut TriMesh, anchor: Anchor) {
+    let Some((lo, hi)) = mesh.bounds() else {
+        return;
+    };
+    let centre = (lo + hi) * 0.5;
+    let origin = match anchor {
+        Anchor::Center => centre,
+        Anchor::Bottom => Vec3::new(centre.x, lo.y, centre.z),
+        Anchor::File => return,
+    };
+    for p in &mut mesh.positions {
+        *p -= origin;
+    }
+}
+
+fn positive(key: &'static str, value: f32) -> Result<f32, ObjectErrorKind> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(bad(key, value.to_string(), "must be a finite number > 0"))
+    }
+}
+
+fn bad(key: &'static str, value: String, allowed: &'static str) -> ObjectErrorKind {
+    ObjectErrorKind::BadParameter {
+        key,
+        value,
+        allowed,
+    }
+}
+
+fn format3(v: [f32; 3]) -> String {
+    format!("[{}, {}, {}]", v[0], v[1], v[2])
 }

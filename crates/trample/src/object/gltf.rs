@@ -1,1 +1,395 @@
-//! (filled in by the object helper)
+//! glTF 2.0 loading, `.gltf` (JSON) and `.glb` (binary), through the `gltf`
+//! crate for parsing and validation.
+//!
+//! Loaded: every primitive of every mesh used by a node of the default scene
+//! (the first scene when none is marked default; every root node when the
+//! file has no scene; every mesh, untransformed, when it has no node), with
+//! the node's world transform applied, as one triangle mesh. Triangle strips
+//! and fans are converted to triangles; points and lines are refused.
+//!
+//! Buffers are read here rather than by `gltf::import`, so that images are
+//! never decoded and a missing external file is reported with its uri, and
+//! accessors are read here with every offset checked, so that a bad file is
+//! an error, never an out-of-bounds panic.
+
+use super::error::MeshError;
+use super::mesh::TriMesh;
+use super::sanitize::triangles_from_indices;
+use ::gltf::accessor::{DataType, Dimensions};
+use ::gltf::buffer::Source;
+use ::gltf::mesh::Mode;
+use ::gltf::{Accessor, Document, Gltf, Node, Primitive, Semantic};
+use glam::{Mat4, Vec3};
+use std::collections::HashSet;
+use std::path::Path;
+
+/// Loads the triangles of the glTF or GLB file at `path` as one mesh, in the
+/// file's units (metres by the glTF convention) and world frame (glTF is
+/// y-up and right-handed, like trample). A transform that mirrors (negative
+/// determinant) has its triangles' order reversed, so they keep facing
+/// outwards. The mesh is not sanitised: see [`super::sanitize::sanitize`].
+///
+/// # Errors
+/// [`MeshError::Io`], [`MeshError::GltfParse`] (invalid JSON/GLB or glTF
+/// validation), buffer errors ([`MeshError::GltfMissingBuffer`],
+/// [`MeshError::GltfExternalBuffer`], [`MeshError::GltfUnsupportedUri`],
+/// [`MeshError::GltfBufferTooShort`]), [`MeshError::GltfNoMeshes`],
+/// [`MeshError::GltfSceneWithoutMeshes`], [`MeshError::GltfNodeGraph`],
+/// [`MeshError::GltfPrimitiveMode`], [`MeshError::GltfAccessor`]. Every
+/// message names the file.
+pub fn load_gltf(path: &Path) -> Result<TriMesh, MeshError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|reason| MeshError::Io {
+        source_name: name.clone(),
+        reason,
+    })?;
+    let Gltf { document, blob } = super::catch_parser_panic(&name, "glTF", || {
+        Gltf::from_slice(&bytes)
+    })?
+    .map_err(|e| MeshError::GltfParse {
+        source_name: name.clone(),
+        reason: e.to_string(),
+    })?;
+    let buffers = load_buffers(
+        &document,
+        path.parent().unwrap_or(Path::new("")),
+        blob,
+        &name,
+    )?;
+    if document.meshes().len() == 0 {
+        return Err(MeshError::GltfNoMeshes { source_name: name });
+    }
+    let instances = mesh_instances(&document, &name)?;
+    if instances.is_empty() {
+        return Err(MeshError::GltfSceneWithoutMeshes {
+            source_name: name,
+            meshes: document.meshes().len(),
+        });
+    }
+    let mut out = TriMesh::default();
+    for (mesh, transform) in instances {
+        for primitive in mesh.primitives() {
+            append_primitive(
+                &mut out,
+                &primitive,
+                mesh.index(),
+                transform,
+                &buffers,
+                &name,
+            )?;
+        }
+    }
+    Ok(out)
+}
+
+/// The bytes of every buffer, in order.
+fn load_buffers(
+    document: &Document,
+    base: &Path,
+    mut blob: Option<Vec<u8>>,
+    name: &str,
+) -> Result<Vec<Vec<u8>>, MeshError> {
+    let mut buffers = Vec::with_capacity(document.buffers().len());
+    for buffer in document.buffers() {
+        let index = buffer.index();
+        let data = match buffer.source() {
+            Source::Bin => blob.take().ok_or_else(|| MeshError::GltfMissingBuffer {
+                source_name: name.to_owned(),
+                buffer: index,
+            })?,
+            Source::Uri(uri) => read_uri(uri, base, index, name)?,
+        };
+        if data.len() < buffer.length() {
+            return Err(MeshError::GltfBufferTooShort {
+                source_name: name.to_owned(),
+                buffer: index,
+                expected: buffer.length(),
+                actual: data.len(),
+            });
+        }
+        buffers.push(data);
+    }
+    Ok(buffers)
+}
+
+/// Reads a buffer uri: a `data:` uri (decoded by the `gltf` crate), a
+/// `file:` uri, or a percent-encoded path relative to `base`.
+fn read_uri(uri: &str, base: &Path, buffer: usize, name: &str) -> Result<Vec<u8>, MeshError> {
+    let external = |reason: String| MeshError::GltfExternalBuffer {
+        source_name: name.to_owned(),
+        buffer,
+        uri: uri.to_owned(),
+        reason,
+    };
+    let file = if uri.starts_with("data:") {
+        let data = ::gltf::buffer::Data::from_source(Source::Uri(uri), None)
+            .map_err(|e| external(format!("bad data uri: {e}")))?;
+        return Ok(data.0);
+    } else if let Some(rest) = uri
+        .strip_prefix("file://")
+        .or_else(|| uri.strip_prefix("file:"))
+    {
+        Path::new(rest).to_path_buf()
+    } else if uri.contains(':') {
+        let shown: String = uri.chars().take(80).collect();
+        return Err(MeshError::GltfUnsupportedUri {
+            source_name: name.to_owned(),
+            buffer,
+            uri: shown,
+        });
+    } else {
+        base.join(percent_decode(uri).ok_or_else(|| external("bad percent-encoding".into()))?)
+    };
+    std::fs::read(&file).map_err(|e| external(e.to_string()))
+}
+
+/// Decodes `%XX` escapes; `None` when an escape is malformed or the result
+/// is not UTF-8.
+fn percent_decode(uri: &str) -> Option<String> {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = std::str::from_utf8(bytes.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+/// Every (mesh, world transform) to load, in scene order (see the module
+/// documentation for which nodes are visited).
+fn mesh_instances<'a>(
+    document: &'a Document,
+    name: &str,
+) -> Result<Vec<(::gltf::Mesh<'a>, Mat4)>, MeshError> {
+    let roots: Vec<Node<'a>> = match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
+        Some(scene) => scene.nodes().collect(),
+        None if document.nodes().len() == 0 => {
+            return Ok(document
+                .meshes()
+                .map(|mesh| (mesh, Mat4::IDENTITY))
+                .collect());
+        }
+        None => {
+            let children: HashSet<usize> = document
+                .nodes()
+                .flat_map(|n| n.children().map(|c| c.index()))
+                .collect();
+            document
+                .nodes()
+                .filter(|n| !children.contains(&n.index()))
+                .collect()
+        }
+    };
+    let mut instances = Vec::new();
+    let mut visited = HashSet::new();
+    let mut stack: Vec<(Node<'a>, Mat4)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, Mat4::IDENTITY))
+        .collect();
+    while let Some((node, parent)) = stack.pop() {
+        if !visited.insert(node.index()) {
+            return Err(MeshError::GltfNodeGraph {
+                source_name: name.to_owned(),
+                node: node.index(),
+            });
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(mesh) = node.mesh() {
+            instances.push((mesh, world));
+        }
+        let children: Vec<Node<'a>> = node.children().collect();
+        stack.extend(children.into_iter().rev().map(|c| (c, world)));
+    }
+    Ok(instances)
+}
+
+/// Appends one primitive's triangles, transformed, to `out`.
+fn append_primitive(
+    out: &mut TriMesh,
+    primitive: &Primitive<'_>,
+    mesh: usize,
+    transform: Mat4,
+    buffers: &[Vec<u8>],
+    name: &str,
+) -> Result<(), MeshError> {
+    let index = primitive.index();
+    let accessor_error = |attribute: &'static str, problem: String| MeshError::GltfAccessor {
+        source_name: name.to_owned(),
+        mesh,
+        primitive: index,
+        attribute,
+        problem,
+    };
+    let mode = primitive.mode();
+    if !matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    ) {
+        let mode = match mode {
+            Mode::Points => "POINTS",
+            Mode::Lines => "LINES",
+            Mode::LineLoop => "LINE_LOOP",
+            _ => "LINE_STRIP",
+        };
+        return Err(MeshError::GltfPrimitiveMode {
+            source_name: name.to_owned(),
+            mesh,
+            primitive: index,
+            mode,
+        });
+    }
+    let positions = primitive.get(&Semantic::Positions).ok_or_else(|| {
+        accessor_error("POSITION", "is missing; every primitive needs one".into())
+    })?;
+    let positions =
+        read_positions(&positions, buffers).map_err(|p| accessor_error("POSITION", p))?;
+    let vertex_count = positions.len();
+    let order: Vec<u32> = match primitive.indices() {
+        Some(accessor) => {
+            read_indices(&accessor, buffers).map_err(|p| accessor_error("indices", p))?
+        }
+        None => (0..u32::try_from(vertex_count).unwrap_or(u32::MAX)).collect(),
+    };
+    if let Some(&bad) = order.iter().find(|&&i| i as usize >= vertex_count) {
+        return Err(accessor_error(
+            "indices",
+            format!("has index {bad}; allowed: 0..{vertex_count} (the POSITION count)"),
+        ));
+    }
+    let mut triangles = match mode {
+        Mode::TriangleStrip => (0..order.len().saturating_sub(2))
+            .map(|i| {
+                let odd = i % 2;
+                [order[i], order[i + 1 + odd], order[i + 2 - odd]]
+            })
+            .collect(),
+        Mode::TriangleFan => (0..order.len().saturating_sub(2))
+            .map(|i| [order[i + 1], order[i + 2], order[0]])
+            .collect(),
+        _ => triangles_from_indices(&order, name)?,
+    };
+    if transform.determinant() < 0.0 {
+        for t in &mut triangles {
+            t.swap(1, 2);
+        }
+    }
+    let offset = u32::try_from(out.positions.len() + vertex_count)
+        .map(|end| end - vertex_count as u32)
+        .map_err(|_| MeshError::TooManyVertices {
+            source_name: name.to_owned(),
+            count: out.positions.len() + vertex_count,
+        })?;
+    out.positions
+        .extend(positions.into_iter().map(|p| transform.transform_point3(p)));
+    out.indices
+        .extend(triangles.into_iter().map(|t| t.map(|i| i + offset)));
+    Ok(())
+}
+
+/// A POSITION accessor's points: `VEC3` of `f32`, as the glTF core requires.
+fn read_positions(accessor: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<Vec3>, String> {
+    if accessor.dimensions() != Dimensions::Vec3 || accessor.data_type() != DataType::F32 {
+        return Err(format!(
+            "accessor {} is {:?} of {:?}; allowed: Vec3 of F32",
+            accessor.index(),
+            accessor.dimensions(),
+            accessor.data_type()
+        ));
+    }
+    Ok(elements(accessor, buffers)?
+        .map(|b| {
+            let f =
+                |k: usize| f32::from_le_bytes([b[4 * k], b[4 * k + 1], b[4 * k + 2], b[4 * k + 3]]);
+            Vec3::new(f(0), f(1), f(2))
+        })
+        .collect())
+}
+
+/// An index accessor's values: `SCALAR` of `u8`, `u16` or `u32`.
+fn read_indices(accessor: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+    let data_type = accessor.data_type();
+    if accessor.dimensions() != Dimensions::Scalar
+        || !matches!(data_type, DataType::U8 | DataType::U16 | DataType::U32)
+    {
+        return Err(format!(
+            "accessor {} is {:?} of {:?}; allowed: Scalar of U8, U16 or U32",
+            accessor.index(),
+            accessor.dimensions(),
+            data_type
+        ));
+    }
+    Ok(elements(accessor, buffers)?
+        .map(|b| match data_type {
+            DataType::U8 => u32::from(b[0]),
+            DataType::U16 => u32::from(u16::from_le_bytes([b[0], b[1]])),
+            _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+        })
+        .collect())
+}
+
+/// The bytes of each element of a (non-sparse) accessor, every range checked
+/// against its buffer view and buffer.
+fn elements<'b>(
+    accessor: &Accessor<'_>,
+    buffers: &'b [Vec<u8>],
+) -> Result<impl Iterator<Item = &'b [u8]>, String> {
+    let id = accessor.index();
+    if accessor.sparse().is_some() {
+        return Err(format!(
+            "accessor {id} is sparse; sparse accessors are not supported"
+        ));
+    }
+    let view = accessor
+        .view()
+        .ok_or_else(|| format!("accessor {id} has no bufferView"))?;
+    let buffer = buffers
+        .get(view.buffer().index())
+        .ok_or_else(|| format!("accessor {id}: buffer missing"))?;
+    let view_bytes = view
+        .offset()
+        .checked_add(view.length())
+        .and_then(|end| buffer.get(view.offset()..end))
+        .ok_or_else(|| {
+            format!(
+                "accessor {id}: bufferView {} lies outside its buffer of {} bytes",
+                view.index(),
+                buffer.len()
+            )
+        })?;
+    let size = accessor.size();
+    let stride = view.stride().unwrap_or(size);
+    if size == 0 || stride < size {
+        return Err(format!(
+            "accessor {id}: byteStride {stride} is smaller than its element size {size}"
+        ));
+    }
+    let count = accessor.count();
+    let needed = match count {
+        0 => Some(accessor.offset()),
+        _ => stride
+            .checked_mul(count - 1)
+            .and_then(|s| s.checked_add(accessor.offset()))
+            .and_then(|s| s.checked_add(size)),
+    };
+    let data = needed
+        .and_then(|end| view_bytes.get(accessor.offset()..end))
+        .ok_or_else(|| {
+            format!(
+                "accessor {id}: {count} elements do not fit in bufferView {} of {} bytes",
+                view.index(),
+                view.length()
+            )
+        })?;
+    Ok((0..count).map(move |k| &data[k * stride..k * stride + size]))
+}

@@ -1,18 +1,74 @@
 //! Dynamic objects (DESIGN §3): triangle meshes (built-in shapes, OBJ and
 //! glTF/GLB files), sanitised on load (DESIGN §9), moved along paths.
+//!
+//! - [`mesh`]: [`TriMesh`]; [`shapes`]: the built-in shapes;
+//!   [`obj`], [`gltf`] and [`load_mesh_file`]: mesh files;
+//!   [`mod@sanitize`]: what every mesh goes through; [`error`]: [`MeshError`].
+//! - [`path`]: where an object is at time t ([`spline`] for `spline` paths);
+//!   [`motion`]: its whole [`Pose`] at time t ([`rolling`] for rolling ones).
+//! - [`body`]: an [`Object`] made from its scene-file [`ObjectParams`].
 
 pub mod body;
 pub mod error;
 pub mod gltf;
 pub mod mesh;
+pub mod motion;
 pub mod obj;
 pub mod path;
+mod piecewise;
 pub mod pose;
+pub mod rolling;
 pub mod sanitize;
 pub mod shapes;
+pub mod spline;
 
-pub use body::{Object, ObjectParams, ShapeParams};
+pub use body::{Object, ObjectError, ObjectErrorKind, ObjectParams, ShapeParams};
 pub use error::MeshError;
 pub use mesh::TriMesh;
-pub use path::{Path, PathParams};
+pub use motion::{Motion, MotionError};
+pub use path::{Path, PathError, PathParams};
 pub use pose::Pose;
+pub use sanitize::{SanitizeReport, sanitize};
+
+/// Loads a mesh file, choosing the loader by extension (case-insensitive):
+/// `.obj` → [`obj::load_obj`], `.gltf` / `.glb` → [`gltf::load_gltf`]. The
+/// mesh is not sanitised.
+///
+/// # Errors
+/// [`MeshError::UnsupportedExtension`] for any other extension, else the
+/// loader's errors.
+pub fn load_mesh_file(path: &std::path::Path) -> Result<TriMesh, MeshError> {
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    match extension.as_str() {
+        "obj" => obj::load_obj(path),
+        "gltf" | "glb" => gltf::load_gltf(path),
+        _ => Err(MeshError::UnsupportedExtension {
+            source_name: path.display().to_string(),
+            extension,
+        }),
+    }
+}
+
+/// Runs a third-party parser, turning a panic inside it into
+/// [`MeshError::ParserPanic`] (meaningful with the default `panic = "unwind"`).
+pub(crate) fn catch_parser_panic<T>(
+    source: &str,
+    parser: &'static str,
+    parse: impl FnOnce() -> T,
+) -> Result<T, MeshError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(parse)).map_err(|payload| {
+        let reason = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_owned())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        MeshError::ParserPanic {
+            source_name: source.to_owned(),
+            parser,
+            reason,
+        }
+    })
+}

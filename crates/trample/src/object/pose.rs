@@ -1,6 +1,6 @@
 //! A rigid pose with its velocities.
 
-use glam::{Quat, Vec3};
+use glam::{EulerRot, Quat, Vec3};
 
 /// Where an object is at one instant, and how fast it moves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,4 +45,14 @@ impl Pose {
     pub fn point_velocity(&self, p: Vec3) -> Vec3 {
         self.velocity + self.angular_velocity.cross(p - self.position)
     }
+}
+
+/// The rotation of scene-file Euler angles `[yaw, pitch, roll]` in degrees:
+/// yaw about y, then pitch about the turned x, then roll about the turned z,
+/// i.e. R = R_y(yaw) R_x(pitch) R_z(roll). Used by `rotation_deg` of objects
+/// and of keyframes.
+#[must_use]
+pub fn rotation_from_euler_deg(degrees: [f32; 3]) -> Quat {
+    let [yaw, pitch, roll] = degrees.map(f32::to_radians);
+    Quat::from_euler(EulerRot::YXZ, yaw, pitch, roll)
 }
