@@ -15,7 +15,7 @@ use std::ops::ControlFlow;
 
 use glam::Vec3;
 
-use super::segment_obb::segment_hits_obb_centred;
+use super::segment_obb::{centred, segment_hits_obb_centred};
 use super::segment_triangle::{segment_crosses_triangle_interior, segment_hits_triangle};
 use crate::obb::{MAX_TREE_DEPTH, ObbTree};
 
@@ -110,8 +110,7 @@ fn visit_leaves(
     p1: Vec3,
     mut f: impl FnMut(&[[Vec3; 3]]) -> ControlFlow<()>,
 ) -> ControlFlow<()> {
-    let centre = (p0 + p1) * 0.5;
-    let half = (p1 - p0) * 0.5;
+    let (centre, half) = centred(p0, p1);
     let mut stack = [0u32; STACK_SIZE];
     let mut len = 1;
     while len > 0 {

@@ -24,7 +24,7 @@
 use glam::Vec3;
 
 use super::exact::{STACK_SIZE, point_inside};
-use super::segment_obb::segment_hits_obb_centred;
+use super::segment_obb::{centred, segment_hits_obb_centred};
 use crate::field::MAX_SEGMENTS;
 use crate::obb::build::closest_point_on_segment;
 use crate::obb::{MAX_TREE_DEPTH, ObbTree};
@@ -80,7 +80,13 @@ pub fn collide_segment(
     tree: &ObbTree,
     precision: u32,
 ) -> Option<SegmentContact> {
-    if !(p0.is_finite() && p1.is_finite()) || tree.is_empty() {
+    if tree.is_empty() {
+        return None;
+    }
+    // Most blades of a patch the broad phase kept miss the root: answer
+    // those with one box test (which also rejects non-finite endpoints).
+    let (centre, half) = centred(p0, p1);
+    if !segment_hits_obb_centred(centre, half, &tree.nodes.first()?.obb) {
         return None;
     }
     let final_depth = precision.clamp(1, MAX_TREE_DEPTH);
@@ -157,8 +163,7 @@ impl Walk {
 /// `final_depth` or the leaves (left child first, fixed-size stack).
 #[inline]
 fn walk(tree: &ObbTree, p0: Vec3, p1: Vec3, final_depth: u32) -> Walk {
-    let centre = (p0 + p1) * 0.5;
-    let half = (p1 - p0) * 0.5;
+    let (centre, half) = centred(p0, p1);
     let mut out = Walk {
         sum: Vec3::ZERO,
         first: u32::MAX,
