@@ -50,6 +50,7 @@ pub fn segment_hits_box_local(a: Vec3, b: Vec3, half: Vec3) -> bool {
 /// rejects: the finiteness check without a branch.
 #[must_use]
 #[inline]
+#[allow(clippy::eq_op)] // `x - x` is the point: 0, or NaN for a non-finite x
 pub(crate) fn centred(p0: Vec3, p1: Vec3) -> (Vec3A, Vec3A) {
     let (a, b) = (Vec3A::from(p0), Vec3A::from(p1));
     let poison = (a - a) + (b - b);
