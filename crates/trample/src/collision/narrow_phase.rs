@@ -71,8 +71,12 @@ impl BladeContacts {
 ///
 /// Properties (tested): hits at precision d+1 ⊆ hits at d; every segment
 /// that [`super::exact::segment_hits_exact`] reports hits at every
-/// precision. No allocation; about one segment–box test (≈ 10 ns) per node
-/// visited.
+/// precision. No allocation. Cost: one segment–box test (≈ 10 ns) for a
+/// segment that misses the root (most of them); otherwise one per node
+/// visited plus the EqN directions of the final nodes (≈ 30 ns at precision
+/// 1, ≈ 150 ns at 7 for segments near a 2k-triangle sphere, measured in the
+/// dev profile), and, for a segment of a closed mesh that hits the root but
+/// no final node, one [`point_inside`] (≈ 0.5 µs).
 #[must_use]
 pub fn collide_segment(
     p0: Vec3,
