@@ -109,7 +109,7 @@ mod tests {
     }
 
     #[test]
-    fn agrees_with_dense_sampling_away_from_the_boundary() {
+    fn agrees_with_liang_barsky_clipping_away_from_ties() {
         // Deterministic pseudo-random segments (xorshift).
         let mut s = 0x9e37_79b9_7f4a_7c15u64;
         let mut next = || {
