@@ -1,10 +1,16 @@
 //! Collision between blades and objects (paper §4, DESIGN §4): broad phase
 //! over patches, narrow phase of segments through the OBB tree down to a
 //! chosen precision, and an exact reference (segment vs triangles plus an
-//! inside test for closed meshes).
+//! inside test for closed meshes). One query per file, named by shape pair.
 
 pub mod broad_phase;
 pub mod exact;
 pub mod narrow_phase;
 pub mod segment_obb;
 pub mod segment_triangle;
+
+pub use broad_phase::{obb_overlaps_aabb, patches_hit, world_obb};
+pub use exact::{point_inside, segment_hits_exact};
+pub use narrow_phase::{BladeContacts, SegmentContact, collide_blade, collide_segment};
+pub use segment_obb::{segment_hits_box_local, segment_hits_obb};
+pub use segment_triangle::{segment_crosses_triangle_interior, segment_hits_triangle};

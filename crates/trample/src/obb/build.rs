@@ -1,9 +1,309 @@
-//! STUB
-use super::*;
+//! Building the binary OBB tree of a mesh (the HBV of paper §3.2 "off-line
+//! processing" and §4.2; DESIGN §3), its equivalent normals (Eq. 3), and the
+//! direction a node pushes a blade (DESIGN §3 "EqN direction (ours)").
+//!
+//! Top-down, as in Gottschalk et al., *OBBTree* (SIGGRAPH 1996): fit a box to
+//! the node's triangles ([`fit_obb`]), split them by the plane through the
+//! mean of their centroids orthogonal to the box's longest axis, recurse;
+//! stop at one triangle or at the depth cap.
+
+use std::collections::HashMap;
+
+use glam::{DVec3, Vec3};
+
+use super::fit::fit_obb;
+use super::node::{NO_CHILD, Obb, ObbNode, ObbTree};
 use crate::object::TriMesh;
+
+/// Default depth cap of [`ObbTree::build`]: deep enough that meshes of up to
+/// 2³¹ triangles get one triangle per leaf with balanced splits, and well past
+/// the paper's precision range 1–7 (§7, Fig. 12).
 pub const DEFAULT_MAX_DEPTH: u32 = 32;
+
+/// Hard cap on tree depth, whatever [`ObbTree::build`] is asked for. Queries
+/// traverse the tree with a fixed-size stack (no allocation per query) that
+/// holds at most one entry per level plus one, so this bounds the stack.
+pub const MAX_TREE_DEPTH: u32 = 64;
+
+/// Below this length, Eq. 3's EqN is not used as a direction
+/// ([`ObbTree::eqn_direction`]).
+///
+/// |EqN| is 1 for a flat node and 0 for a closed one (the area-weighted
+/// normals of a closed surface sum to zero), e.g. a sphere's or a box's root.
+/// When it is small, its direction is set by the few percent of the area
+/// whose normals do not cancel, and a change to a few triangles turns it by
+/// a large angle: with a fraction `f` of the area perturbed, the direction
+/// moves by about `f / |EqN|` radians. At 0.1, perturbing 5 % of the area
+/// moves it by at most ~30°. Below that, the direction from the node to the
+/// blade is the better guess.
+pub const EQN_EPSILON: f32 = 0.1;
+
 impl ObbTree {
-    pub fn build(_m: &TriMesh, _d: u32) -> ObbTree {
-        todo!()
+    /// Builds the OBB tree of `mesh` (paper §4.2, DESIGN §3).
+    ///
+    /// - Binary; the root is node 0 with depth 1; children are stored after
+    ///   their parent, siblings next to each other (`children[1] ==
+    ///   children[0] + 1`).
+    /// - Each node's box is [`fit_obb`] of its triangles, so it contains
+    ///   them, and by construction it contains its children's triangles; its
+    ///   `eqn` is Eq. 3, `Σ S_i N_i / Σ S_i` (not normalised; zero when the
+    ///   node's total area is zero).
+    /// - A node is split along its box's longest axis at the mean of its
+    ///   triangle centroids projected on it; if one side would be empty, along
+    ///   the other axes in order of decreasing extent; if still empty (all
+    ///   centroids equal), at the median. A node is a leaf when it holds one
+    ///   triangle or its depth is `max_depth` (clamped to
+    ///   `1..=`[`MAX_TREE_DEPTH`]).
+    /// - `triangles` are the mesh's triangles reordered so that every node's
+    ///   are the contiguous range `first_tri .. first_tri + tri_count`.
+    /// - `closed`: every undirected edge, with vertices identified by
+    ///   position (so an unwelded mesh counts), belongs to exactly two
+    ///   triangles, and no triangle has repeated corners.
+    /// - `max_depth` of the result is the depth of its deepest leaf.
+    ///
+    /// Triangles whose indices are out of range are skipped (and the mesh is
+    /// then not `closed`); sanitising rejects them earlier (DESIGN §9). An
+    /// empty mesh gives a tree with one empty root (zero box, no triangles)
+    /// that no query hits. Never panics.
+    #[must_use]
+    pub fn build(mesh: &TriMesh, max_depth: u32) -> ObbTree {
+        let depth_cap = max_depth.clamp(1, MAX_TREE_DEPTH);
+        let mut triangles: Vec<[Vec3; 3]> = Vec::with_capacity(mesh.indices.len());
+        let mut all_valid = true;
+        for idx in &mesh.indices {
+            let corners = idx.map(|i| mesh.positions.get(i as usize).copied());
+            match corners {
+                [Some(a), Some(b), Some(c)] => triangles.push([a, b, c]),
+                _ => all_valid = false,
+            }
+        }
+        let closed = all_valid && is_closed(mesh);
+
+        let mut nodes = vec![make_node(&triangles, 0, triangles.len())];
+        let mut pending = vec![0usize];
+        while let Some(i) = pending.pop() {
+            let ObbNode {
+                first_tri,
+                tri_count,
+                depth,
+                obb,
+                ..
+            } = nodes[i];
+            if tri_count <= 1 || depth >= depth_cap {
+                continue;
+            }
+            let (first, count) = (first_tri as usize, tri_count as usize);
+            let left_count = split(&mut triangles[first..first + count], &obb);
+            let left = nodes.len();
+            nodes.push(make_node(&triangles, first, left_count));
+            nodes.push(make_node(
+                &triangles,
+                first + left_count,
+                count - left_count,
+            ));
+            for child in &mut nodes[left..] {
+                child.depth = depth + 1;
+            }
+            nodes[i].children = [left as u32, left as u32 + 1];
+            pending.push(left + 1);
+            pending.push(left);
+        }
+        let max_depth = nodes
+            .iter()
+            .filter(|n| n.is_leaf())
+            .map(|n| n.depth)
+            .max()
+            .unwrap_or(1);
+        ObbTree {
+            nodes,
+            triangles,
+            closed,
+            max_depth,
+        }
     }
+
+    /// True when the tree holds no triangle (built from an empty mesh).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.triangles.is_empty()
+    }
+
+    /// The unit direction in which node `node` pushes a blade whose segment
+    /// `p0–p1` (object-local frame) hit it: DESIGN §3 "EqN direction (ours)".
+    ///
+    /// 1. Eq. 3's EqN, normalised, when `|EqN| ≥` [`EQN_EPSILON`].
+    /// 2. Otherwise (a closed or symmetric node: a sphere's root has EqN ≈ 0),
+    ///    the direction from the node's box centre to the nearest point of
+    ///    the segment: the object pushes the blade away from itself.
+    /// 3. If the segment passes through the centre, the box axis of smallest
+    ///    extent (the way out of the box is shortest along it), signed so that
+    ///    its y component is ≥ 0 (then x, then z, for a horizontal axis): a
+    ///    deterministic choice for a measure-zero case.
+    ///
+    /// `node` out of range, or a non-finite node, gives `+y`. Always returns
+    /// a unit vector. See also [`crate::collision::narrow_phase`], which sums
+    /// these over the final-depth nodes a segment hits.
+    #[must_use]
+    #[inline]
+    pub fn eqn_direction(&self, node: u32, p0: Vec3, p1: Vec3) -> Vec3 {
+        let Some(n) = self.nodes.get(node as usize) else {
+            return Vec3::Y;
+        };
+        let len = n.eqn.length();
+        if len >= EQN_EPSILON && len.is_finite() {
+            return n.eqn / len;
+        }
+        let c = n.obb.center;
+        if let Some(dir) = (closest_point_on_segment(p0, p1, c) - c).try_normalize() {
+            return dir;
+        }
+        smallest_axis_up(&n.obb)
+    }
+}
+
+/// The point of segment `p0–p1` closest to `q` (`p0` for a zero-length segment).
+#[must_use]
+#[inline]
+pub(crate) fn closest_point_on_segment(p0: Vec3, p1: Vec3, q: Vec3) -> Vec3 {
+    let d = p1 - p0;
+    let dd = d.length_squared();
+    if dd > 0.0 {
+        let t = ((q - p0).dot(d) / dd).clamp(0.0, 1.0);
+        if t.is_finite() {
+            return p0 + d * t;
+        }
+    }
+    p0
+}
+
+/// The box axis of smallest half extent, signed to point up (y ≥ 0, ties
+/// broken by x ≥ 0, then z ≥ 0); `+y` if the axis is not a unit vector.
+fn smallest_axis_up(obb: &Obb) -> Vec3 {
+    let h = obb.half;
+    let k = if h.x <= h.y && h.x <= h.z {
+        0
+    } else if h.y <= h.z {
+        1
+    } else {
+        2
+    };
+    let axis = obb.axes[k];
+    if !axis.is_finite() || axis.length_squared() < 0.5 {
+        return Vec3::Y;
+    }
+    let key = if axis.y != 0.0 {
+        axis.y
+    } else if axis.x != 0.0 {
+        axis.x
+    } else {
+        axis.z
+    };
+    let axis = if key < 0.0 { -axis } else { axis };
+    axis.try_normalize().unwrap_or(Vec3::Y)
+}
+
+/// A leaf node over `triangles[first .. first + count]` at depth 1; the
+/// caller sets depth and children.
+fn make_node(triangles: &[[Vec3; 3]], first: usize, count: usize) -> ObbNode {
+    let tris = &triangles[first..first + count];
+    let obb = fit_obb(tris);
+    ObbNode {
+        obb,
+        eqn: equivalent_normal(tris),
+        children: [NO_CHILD; 2],
+        first_tri: first as u32,
+        tri_count: count as u32,
+        depth: 1,
+    }
+}
+
+/// Eq. 3: `EqN = Σ S_i N_i / Σ S_i`, with `S_i` the area and `N_i` the unit
+/// normal of triangle `i` (`S_i N_i = ½ (b − a) × (c − a)`, counter-clockwise
+/// triangles face outwards). Not normalised: |EqN| ≤ 1, equal to 1 only for
+/// a flat node. Zero when the total area is zero or not finite. Accumulated
+/// in `f64`.
+#[must_use]
+pub fn equivalent_normal(triangles: &[[Vec3; 3]]) -> Vec3 {
+    let mut weighted = DVec3::ZERO;
+    let mut area = 0.0f64;
+    for tri in triangles {
+        let [a, b, c] = tri.map(Vec3::as_dvec3);
+        let n = 0.5 * (b - a).cross(c - a);
+        weighted += n;
+        area += n.length();
+    }
+    let eqn = weighted / area;
+    if area > 0.0 && eqn.is_finite() {
+        eqn.as_vec3()
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// Reorders `tris` (at least two) into a left and a right part, both
+/// non-empty, and returns the size of the left part. See [`ObbTree::build`].
+fn split(tris: &mut [[Vec3; 3]], obb: &Obb) -> usize {
+    let centroid = |t: &[Vec3; 3]| (t[0] + t[1] + t[2]) / 3.0;
+    let mut axes = [0usize, 1, 2];
+    axes.sort_by(|&a, &b| obb.half[b].total_cmp(&obb.half[a]));
+    for &k in &axes {
+        let axis = obb.axes[k];
+        let mean = tris.iter().map(|t| centroid(t).dot(axis)).sum::<f32>() / tris.len() as f32;
+        let left = partition(tris, |t| centroid(t).dot(axis) < mean);
+        if left > 0 && left < tris.len() {
+            return left;
+        }
+    }
+    // All centroids project to the same value on every axis: median split.
+    let axis = obb.axes[axes[0]];
+    let mid = tris.len() / 2;
+    tris.select_nth_unstable_by(mid, |a, b| {
+        centroid(a).dot(axis).total_cmp(&centroid(b).dot(axis))
+    });
+    mid
+}
+
+/// Moves the elements for which `is_left` holds to the front (order not
+/// kept, deterministic) and returns how many there are.
+fn partition(tris: &mut [[Vec3; 3]], is_left: impl Fn(&[Vec3; 3]) -> bool) -> usize {
+    let mut left = 0;
+    for i in 0..tris.len() {
+        if is_left(&tris[i]) {
+            tris.swap(left, i);
+            left += 1;
+        }
+    }
+    left
+}
+
+/// True when every undirected edge, vertices identified by position, is used
+/// by exactly two triangles, no triangle has two equal corners, and the mesh
+/// has at least one triangle. Out-of-range indices give `false`.
+fn is_closed(mesh: &TriMesh) -> bool {
+    // Position bits with −0.0 folded onto +0.0, so equal points get equal keys.
+    let key = |i: u32| -> Option<[u32; 3]> {
+        let p = mesh.positions.get(i as usize)?;
+        Some((*p + Vec3::ZERO).to_array().map(f32::to_bits))
+    };
+    if mesh.indices.is_empty() {
+        return false;
+    }
+    let mut edges: HashMap<([u32; 3], [u32; 3]), u32> =
+        HashMap::with_capacity(mesh.indices.len() * 2);
+    for tri in &mesh.indices {
+        let [Some(k0), Some(k1), Some(k2)] = tri.map(key) else {
+            return false;
+        };
+        let k = [k0, k1, k2];
+        for e in 0..3 {
+            let (a, b) = (k[e], k[(e + 1) % 3]);
+            if a == b {
+                return false;
+            }
+            *edges
+                .entry(if a < b { (a, b) } else { (b, a) })
+                .or_insert(0) += 1;
+        }
+    }
+    edges.values().all(|&n| n == 2)
 }
