@@ -12,7 +12,7 @@ pub struct Args {
     /// Scene file (TOML); none = the embedded default scene.
     pub scene: Option<PathBuf>,
     /// Time at which the objects are posed, seconds.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub time: f32,
     /// OBB-tree depth of the test (root = 1).
     #[arg(long)]

@@ -19,7 +19,7 @@ pub struct Args {
     #[arg(long)]
     pub frames: Option<u64>,
     /// Time step, seconds (overrides `[sim] dt_s`).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub dt: Option<f32>,
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]

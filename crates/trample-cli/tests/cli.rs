@@ -30,7 +30,10 @@ fn dir(name: &str) -> PathBuf {
 }
 
 fn trample(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trample")).args(args).output().expect("run trample")
+    Command::new(env!("CARGO_BIN_EXE_trample"))
+        .args(args)
+        .output()
+        .expect("run trample")
 }
 
 fn scene_in(d: &Path) -> String {
@@ -50,14 +53,35 @@ fn simulate_writes_summary_and_dumps() {
     let out = d.join("out");
     let (blades, classes) = (d.join("blades.npy"), d.join("classes.npy"));
     let o = trample(&[
-        "simulate", &scene, "--frames", "40", "--precision", "4", "--threads", "2",
-        "--out", out.to_str().unwrap(),
-        "--dump-blades", blades.to_str().unwrap(),
-        "--dump-classes", classes.to_str().unwrap(),
+        "simulate",
+        &scene,
+        "--frames",
+        "40",
+        "--precision",
+        "4",
+        "--threads",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+        "--dump-blades",
+        blades.to_str().unwrap(),
+        "--dump-classes",
+        classes.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
-    for key in ["blades", "segments", "frames", "precision", "backend", "step_ms", "stages_ms", "dbg_blades", "pbg_blades"] {
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "blades",
+        "segments",
+        "frames",
+        "precision",
+        "backend",
+        "step_ms",
+        "stages_ms",
+        "dbg_blades",
+        "pbg_blades",
+    ] {
         assert!(s.get(key).is_some(), "summary.json lacks {key}");
     }
     for key in ["min", "median", "mean", "max"] {
@@ -79,25 +103,64 @@ fn simulate_writes_summary_and_dumps() {
 fn frames_zero_dumps_the_rest_state_and_collide_agrees() {
     let d = dir("rest");
     let scene = scene_in(&d);
-    let (a, b, hits, exact, obj) =
-        (d.join("a.npy"), d.join("b.npy"), d.join("hits.npy"), d.join("exact.npy"), d.join("obj.npy"));
-    let o = trample(&["simulate", &scene, "--frames", "0", "--out", d.to_str().unwrap(), "--dump-blades", a.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (a, b, hits, exact, obj) = (
+        d.join("a.npy"),
+        d.join("b.npy"),
+        d.join("hits.npy"),
+        d.join("exact.npy"),
+        d.join("obj.npy"),
+    );
     let o = trample(&[
-        "collide", &scene, "--time", "0.5", "--precision", "7",
-        "--dump-hits", hits.to_str().unwrap(), "--dump-blades", b.to_str().unwrap(), "--dump-object", obj.to_str().unwrap(),
+        "simulate",
+        &scene,
+        "--frames",
+        "0",
+        "--out",
+        d.to_str().unwrap(),
+        "--dump-blades",
+        a.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "rest state differs between simulate and collide");
-    let o = trample(&["collide", &scene, "--time", "0.5", "--exact", "--dump-hits", exact.to_str().unwrap()]);
+    let o = trample(&[
+        "collide",
+        &scene,
+        "--time",
+        "0.5",
+        "--precision",
+        "7",
+        "--dump-hits",
+        hits.to_str().unwrap(),
+        "--dump-blades",
+        b.to_str().unwrap(),
+        "--dump-object",
+        obj.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        std::fs::read(&a).unwrap(),
+        std::fs::read(&b).unwrap(),
+        "rest state differs between simulate and collide"
+    );
+    let o = trample(&[
+        "collide",
+        &scene,
+        "--time",
+        "0.5",
+        "--exact",
+        "--dump-hits",
+        exact.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let (h, e) = (npy(&hits), npy(&exact));
     assert_eq!((h.dtype, h.shape.clone()), (Dtype::U8, vec![1024, 4]));
     assert_eq!(e.shape, h.shape);
-    assert!(e.data.iter().any(|&x| x == 1));
+    assert!(e.data.contains(&1));
     // No exact hit is missed at precision 7.
     for (i, (&x, &p)) in e.data.iter().zip(&h.data).enumerate() {
-        assert!(x == 0 || p == 1, "segment {i} hit exactly but not at precision 7");
+        assert!(
+            x == 0 || p == 1,
+            "segment {i} hit exactly but not at precision 7"
+        );
     }
     let t = npy(&obj);
     assert_eq!(t.dtype, Dtype::F32);
@@ -119,7 +182,11 @@ fn check_describes_the_scene() {
     let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     for s in ["default.toml", "knot.toml", "car.toml"] {
         let o = trample(&["check", repo.join(s).to_str().unwrap()]);
-        assert!(o.status.success(), "{s}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            o.status.success(),
+            "{s}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
     }
 }
 
@@ -129,10 +196,38 @@ fn bad_input_exits_non_zero_with_one_line() {
     let scene = scene_in(&d);
     let cases: Vec<Vec<String>> = vec![
         vec!["simulate".into(), d.join("nope.toml").display().to_string()],
-        vec!["simulate".into(), scene.clone(), "--precision".into(), "0".into(), "--frames".into(), "1".into()],
-        vec!["simulate".into(), scene.clone(), "--dt".into(), "-1".into(), "--frames".into(), "1".into()],
-        vec!["simulate".into(), scene.clone(), "--threads".into(), "0".into()],
-        vec!["collide".into(), scene.clone(), "--time".into(), "0".into(), "--precision".into(), "1000".into(), "--dump-hits".into(), d.join("h.npy").display().to_string()],
+        vec![
+            "simulate".into(),
+            scene.clone(),
+            "--precision".into(),
+            "0".into(),
+            "--frames".into(),
+            "1".into(),
+        ],
+        vec![
+            "simulate".into(),
+            scene.clone(),
+            "--dt".into(),
+            "-1".into(),
+            "--frames".into(),
+            "1".into(),
+        ],
+        vec![
+            "simulate".into(),
+            scene.clone(),
+            "--threads".into(),
+            "0".into(),
+        ],
+        vec![
+            "collide".into(),
+            scene.clone(),
+            "--time".into(),
+            "0".into(),
+            "--precision".into(),
+            "1000".into(),
+            "--dump-hits".into(),
+            d.join("h.npy").display().to_string(),
+        ],
         vec!["check".into(), d.display().to_string()],
     ];
     for args in cases {
@@ -140,7 +235,11 @@ fn bad_input_exits_non_zero_with_one_line() {
         let o = trample(&args);
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(!o.status.success(), "{args:?} succeeded");
-        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
+        assert_eq!(
+            err.trim_end().lines().count(),
+            1,
+            "{args:?}: not one line: {err}"
+        );
         assert!(err.starts_with("error: "), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }

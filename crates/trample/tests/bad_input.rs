@@ -24,7 +24,10 @@ fn tmpdir() -> PathBuf {
 /// Writes `files` into a fresh folder, loads `scene.toml` from it and builds
 /// the simulation; returns the error line with the folder replaced by `<dir>`.
 fn error_of(scene: &str, files: &[(&str, &[u8])]) -> String {
-    let dir = tmpdir().join(format!("case{}", COUNTER.fetch_add(1, std::sync::atomic::Ordering::SeqCst)));
+    let dir = tmpdir().join(format!(
+        "case{}",
+        COUNTER.fetch_add(1, std::sync::atomic::Ordering::SeqCst)
+    ));
     std::fs::create_dir_all(&dir).unwrap();
     for (name, bytes) in files {
         std::fs::write(dir.join(name), bytes).unwrap();
@@ -57,7 +60,10 @@ fn cases() -> Vec<(&'static str, String)> {
         }),
         ("malformed toml", error_of("[sim\nprecision = 3\n", &[])),
         ("unknown key", error_of("[sim]\nprecison = 3\n", &[])),
-        ("unknown table", error_of("[simulation]\nprecision = 3\n", &[])),
+        (
+            "unknown table",
+            error_of("[simulation]\nprecision = 3\n", &[]),
+        ),
         ("wrong type", error_of("[sim]\nprecision = \"high\"\n", &[])),
         ("dt zero", error_of("[sim]\ndt_s = 0.0\n", &[])),
         ("dt negative", error_of("[sim]\ndt_s = -0.01\n", &[])),
@@ -65,29 +71,119 @@ fn cases() -> Vec<(&'static str, String)> {
         ("precision zero", error_of("[sim]\nprecision = 0\n", &[])),
         ("precision 1000", error_of("[sim]\nprecision = 1000\n", &[])),
         ("att above one", error_of("[sim]\natt = 1.5\n", &[])),
-        ("recovery negative", error_of("[sim]\nrecovery_s = -1.0\n", &[])),
+        (
+            "recovery negative",
+            error_of("[sim]\nrecovery_s = -1.0\n", &[]),
+        ),
         ("zero patches", error_of("[field]\npatches = [0, 4]\n", &[])),
-        ("zero cell size", error_of("[field]\ncell_size_m = 0.0\n", &[])),
+        (
+            "zero cell size",
+            error_of("[field]\ncell_size_m = 0.0\n", &[]),
+        ),
         ("zero segments", error_of("[field]\nsegments = 0\n", &[])),
-        ("too many segments", error_of("[field]\nsegments = 40\n", &[])),
-        ("negative blade height", error_of("[field]\nblade_height_m = -0.2\n", &[])),
-        ("lod not increasing", error_of("[lod]\ngeometry_m = 20.0\nbillboard_m = 10.0\n", &[])),
-        ("field too large for memory", error_of("[field]\npatches = [512, 512]\n", &[])),
-        ("unknown terrain kind", error_of("[field]\nterrain = { kind = \"mountains\" }\n", &[])),
-        ("missing height map", error_of(&format!("{SMALL}terrain = {{ kind = \"heightmap\", path = \"h.png\", height_scale_m = 2.0 }}\n"), &[])),
-        ("unknown shape kind", error_of(&format!("{SMALL}[[objects]]\nname = \"x\"\nshape = {{ kind = \"teapot\" }}\npath = {{ kind = \"static\", position = [0.0, 0.0, 0.0] }}\n"), &[])),
-        ("sphere radius zero", error_of(&GOOD_OBJECT.replace("radius_m = 0.5", "radius_m = 0.0"), &[])),
-        ("duplicate object names", error_of(&format!("{SMALL}{GOOD_OBJECT}{GOOD_OBJECT}"), &[])),
-        ("camera follows unknown object", error_of(&format!("{SMALL}[camera]\nlook_at = {{ kind = \"object\", name = \"truck\" }}\n{GOOD_OBJECT}"), &[])),
-        ("path with one point", error_of(&format!("{SMALL}[[objects]]\nname = \"x\"\nshape = {{ kind = \"sphere\", radius_m = 0.5 }}\npath = {{ kind = \"polyline\", points = [[0.0, 0.0, 0.0]], speed_m_s = 1.0 }}\n"), &[])),
-        ("line duration zero", error_of(&format!("{SMALL}[[objects]]\nname = \"x\"\nshape = {{ kind = \"sphere\", radius_m = 0.5 }}\npath = {{ kind = \"line\", from = [0.0, 0.0, 0.0], to = [1.0, 0.0, 0.0], duration_s = 0.0 }}\n"), &[])),
+        (
+            "too many segments",
+            error_of("[field]\nsegments = 40\n", &[]),
+        ),
+        (
+            "negative blade height",
+            error_of("[field]\nblade_height_m = -0.2\n", &[]),
+        ),
+        (
+            "lod not increasing",
+            error_of("[lod]\ngeometry_m = 20.0\nbillboard_m = 10.0\n", &[]),
+        ),
+        (
+            "field too large for memory",
+            error_of("[field]\npatches = [512, 512]\n", &[]),
+        ),
+        (
+            "unknown terrain kind",
+            error_of("[field]\nterrain = { kind = \"mountains\" }\n", &[]),
+        ),
+        (
+            "missing height map",
+            error_of(
+                &format!(
+                    "{SMALL}terrain = {{ kind = \"heightmap\", path = \"h.png\", height_scale_m = 2.0 }}\n"
+                ),
+                &[],
+            ),
+        ),
+        (
+            "unknown shape kind",
+            error_of(
+                &format!(
+                    "{SMALL}[[objects]]\nname = \"x\"\nshape = {{ kind = \"teapot\" }}\npath = {{ kind = \"static\", position = [0.0, 0.0, 0.0] }}\n"
+                ),
+                &[],
+            ),
+        ),
+        (
+            "sphere radius zero",
+            error_of(
+                &GOOD_OBJECT.replace("radius_m = 0.5", "radius_m = 0.0"),
+                &[],
+            ),
+        ),
+        (
+            "duplicate object names",
+            error_of(&format!("{SMALL}{GOOD_OBJECT}{GOOD_OBJECT}"), &[]),
+        ),
+        (
+            "camera follows unknown object",
+            error_of(
+                &format!(
+                    "{SMALL}[camera]\nlook_at = {{ kind = \"object\", name = \"truck\" }}\n{GOOD_OBJECT}"
+                ),
+                &[],
+            ),
+        ),
+        (
+            "path with one point",
+            error_of(
+                &format!(
+                    "{SMALL}[[objects]]\nname = \"x\"\nshape = {{ kind = \"sphere\", radius_m = 0.5 }}\npath = {{ kind = \"polyline\", points = [[0.0, 0.0, 0.0]], speed_m_s = 1.0 }}\n"
+                ),
+                &[],
+            ),
+        ),
+        (
+            "line duration zero",
+            error_of(
+                &format!(
+                    "{SMALL}[[objects]]\nname = \"x\"\nshape = {{ kind = \"sphere\", radius_m = 0.5 }}\npath = {{ kind = \"line\", from = [0.0, 0.0, 0.0], to = [1.0, 0.0, 0.0], duration_s = 0.0 }}\n"
+                ),
+                &[],
+            ),
+        ),
         ("mesh file missing", error_of(&obj(""), &[])),
-        ("mesh unsupported extension", error_of(&format!("{SMALL}[[objects]]\nname = \"x\"\nshape = {{ kind = \"mesh\", path = \"m.stl\" }}\npath = {{ kind = \"static\", position = [0.0, 0.0, 0.0] }}\n"), &[("m.stl", b"solid x")])),
+        (
+            "mesh unsupported extension",
+            error_of(
+                &format!(
+                    "{SMALL}[[objects]]\nname = \"x\"\nshape = {{ kind = \"mesh\", path = \"m.stl\" }}\npath = {{ kind = \"static\", position = [0.0, 0.0, 0.0] }}\n"
+                ),
+                &[("m.stl", b"solid x")],
+            ),
+        ),
         ("mesh empty", with_obj("empty", "# nothing here\n")),
-        ("mesh index out of range", with_obj("oob", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")),
-        ("mesh nan coordinate", with_obj("nan", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n")),
-        ("mesh absurd size", with_obj("huge", "v 0 0 0\nv 1e9 0 0\nv 0 1e9 0\nf 1 2 3\n")),
-        ("mesh all degenerate", with_obj("flat", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")),
+        (
+            "mesh index out of range",
+            with_obj("oob", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
+        ),
+        (
+            "mesh nan coordinate",
+            with_obj("nan", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n"),
+        ),
+        (
+            "mesh absurd size",
+            with_obj("huge", "v 0 0 0\nv 1e9 0 0\nv 0 1e9 0\nf 1 2 3\n"),
+        ),
+        (
+            "mesh all degenerate",
+            with_obj("flat", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"),
+        ),
     ]
 }
 
@@ -103,8 +199,14 @@ fn every_bad_input_gives_its_clear_one_line_error() {
         std::fs::write(&snap, &text).unwrap();
     }
     let want = std::fs::read_to_string(&snap).unwrap_or_else(|_| {
-        panic!("{} is missing: run with UPDATE_SNAPSHOTS=1 and review it\n{text}", snap.display())
+        panic!(
+            "{} is missing: run with UPDATE_SNAPSHOTS=1 and review it\n{text}",
+            snap.display()
+        )
     });
-    assert_eq!(text, want, "messages changed; review, then UPDATE_SNAPSHOTS=1");
+    assert_eq!(
+        text, want,
+        "messages changed; review, then UPDATE_SNAPSHOTS=1"
+    );
     let _ = std::fs::remove_dir_all(tmpdir());
 }

@@ -5,11 +5,17 @@ mod common;
 use common::*;
 
 fn run_on(threads: usize) -> (Vec<u32>, Vec<u8>) {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
     pool.install(|| {
         let mut sim = sim_from(&rolling_ball_toml(3, "2.0", 1.5));
         sim.run(90).unwrap();
-        (sim.blade_vertices().iter().map(|v| v.to_bits()).collect(), sim.class.clone())
+        (
+            sim.blade_vertices().iter().map(|v| v.to_bits()).collect(),
+            sim.class.clone(),
+        )
     })
 }
 

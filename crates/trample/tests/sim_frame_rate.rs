@@ -43,7 +43,15 @@ fn one_second_at_30_and_144_hz_gives_nearly_the_same_field() {
     }
     assert!(moved > 50);
     let ratio = diff / disp;
-    println!("frame-rate: {moved} blades moved, mean tip difference / mean displacement = {ratio:.4}, bent in both {both} of {either}");
-    assert!(ratio < 0.15, "tips differ by {ratio:.3} of their displacement");
-    assert!(both as f32 >= 0.9 * either as f32, "bent sets differ: {both} of {either}");
+    println!(
+        "frame-rate: {moved} blades moved, mean tip difference / mean displacement = {ratio:.4}, bent in both {both} of {either}"
+    );
+    assert!(
+        ratio < 0.15,
+        "tips differ by {ratio:.3} of their displacement"
+    );
+    assert!(
+        both as f32 >= 0.9 * either as f32,
+        "bent sets differ: {both} of {either}"
+    );
 }

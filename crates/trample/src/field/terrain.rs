@@ -187,7 +187,7 @@ mod tests {
             wavelength: 8.0,
             seed: 7,
         };
-        let mut prev = t.height_at(0.0, 0.0);
+        let mut prev = t.height_at(0.0, 3.0);
         for i in 1..2000 {
             let h = t.height_at(i as f32 * 0.01, 3.0);
             assert!(h.abs() <= 2.0 + 1e-4);

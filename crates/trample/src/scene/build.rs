@@ -29,7 +29,7 @@ impl Scene {
                 lod.geometry_m
             ));
         }
-        if !(lod.billboard_m >= lod.geometry_m) || lod.billboard_m.is_nan() {
+        if lod.billboard_m.is_nan() || lod.billboard_m < lod.geometry_m {
             return bad(format!(
                 "lod.billboard_m = {} is less than lod.geometry_m = {}: LOD distances must not decrease",
                 lod.billboard_m, lod.geometry_m

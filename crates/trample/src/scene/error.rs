@@ -43,8 +43,9 @@ impl SceneError {
         let before = &text[..offset];
         let line = before.matches('\n').count() + 1;
         let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-        // The table the error is in: the last `[header]` above the error.
-        let table = before
+        // The table the error is in: the last `[header]` on a line above the error's.
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let table = text[..line_start]
             .lines()
             .rev()
             .map(str::trim)

@@ -172,6 +172,7 @@ fn fmt(v: f64) -> String {
     if v.fract() == 0.0 && v.is_finite() && v.abs() < 1e15 {
         format!("{v:.0}")
     } else {
-        format!("{v}")
+        // Values come from f32 fields: print them as the file wrote them.
+        format!("{}", v as f32)
     }
 }

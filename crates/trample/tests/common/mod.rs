@@ -1,8 +1,8 @@
 //! Small scenes for the integration tests (full-size runs belong to benchmarks).
 #![allow(dead_code)]
 
-use trample::scene::Scene;
 use trample::Simulation;
+use trample::scene::Scene;
 
 /// A field of `patches`² patches of 16×16 cells (0.1 m), geometry everywhere,
 /// a sphere of radius 0.5 m rolling along x at z = 0 across it in `duration` s.
@@ -35,7 +35,10 @@ path = {{ kind = "line", from = [{x0}, 0.5, 0.0], to = [{x1}, 0.5, 0.0], duratio
 
 /// Builds a simulation from scene text.
 pub fn sim_from(toml: &str) -> Simulation {
-    Scene::parse(toml, "test.toml", std::path::Path::new(".")).expect("valid scene").build().expect("buildable scene")
+    Scene::parse(toml, "test.toml", std::path::Path::new("."))
+        .expect("valid scene")
+        .build()
+        .expect("buildable scene")
 }
 
 /// Height of blade `b`'s tip above its root.
