@@ -2,7 +2,7 @@
 //! 30 and at 144 steps per second leaves nearly the same field.
 //!
 //! Tolerance: the mean distance between the two runs' tips, over blades that
-//! either run moved, is below 15 % of the mean tip displacement, and 90 % of
+//! either run moved, is below 10 % of the mean tip displacement (measured: 4.2 %), and 90 % of
 //! the blades bent in one run are bent in the other.
 
 mod common;
