@@ -9,6 +9,7 @@ mod collide;
 mod common;
 mod simulate;
 mod summary;
+mod track;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

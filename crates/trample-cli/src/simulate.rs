@@ -36,6 +36,10 @@ pub struct Args {
     /// Write each blade's class: .npy uint8 (blades,): 0 untouched, 1 DBG, 2 PBG only.
     #[arg(long)]
     pub dump_classes: Option<PathBuf>,
+    /// Write a top-down picture of the track (PNG): green standing, straw
+    /// bent, soil flattened; red tint = hit directly, blue = propagation only.
+    #[arg(long)]
+    pub track_png: Option<PathBuf>,
 }
 
 #[derive(Serialize)]
@@ -109,6 +113,9 @@ pub fn run(a: &Args) -> Result<()> {
     }
     if let Some(p) = &a.dump_classes {
         write_u8(p, &[sim.class.len()], &sim.class)?;
+    }
+    if let Some(p) = &a.track_png {
+        crate::track::write_track_png(&sim, p)?;
     }
     let count = |c: BladeClass| sim.class.iter().filter(|&&x| x == c as u8).count();
     let last = rec.steps.last().cloned().unwrap_or_default();

@@ -71,12 +71,14 @@ impl Field {
         layout.neighbours = neighbour_table(&layout);
         layout.patch_list = patch_boxes(&layout, &blades);
         let cells = rest_cells(&layout, &blades, &terrain);
+        let max_blade_length = blades.seg_len.iter().fold(0.0f32, |m, &l| m.max(l)) * n as f32;
         Ok(Field {
             params: params.clone(),
             layout,
             terrain,
             blades,
             cells,
+            max_blade_length,
         })
     }
 }
@@ -289,6 +291,39 @@ mod tests {
             }
         }
         assert_eq!(next as usize, f.blades.count);
+    }
+
+    #[test]
+    fn cells_overlapping_a_rectangle_are_exactly_those_it_touches() {
+        let f = Field::generate(&small(), Terrain::Flat(0.0)).unwrap();
+        let l = &f.layout;
+        let (min, max) = ([-0.35, -0.12], [0.05, 0.21]);
+        for p in 0..l.patch_list.len() {
+            let got: Vec<usize> = l.patch_cells_overlapping(p, min, max).collect();
+            let want: Vec<usize> = (0..l.cells_in_patch())
+                .map(|i| p * l.cells_in_patch() + i)
+                .filter(|&c| {
+                    let [gx, gz] = l.cell_coord(c);
+                    let x0 = l.origin[0] + gx as f32 * l.cell_size;
+                    let z0 = l.origin[1] + gz as f32 * l.cell_size;
+                    x0 <= max[0]
+                        && x0 + l.cell_size >= min[0]
+                        && z0 <= max[1]
+                        && z0 + l.cell_size >= min[1]
+                })
+                .collect();
+            assert_eq!(got, want, "patch {p}");
+        }
+        assert_eq!(
+            l.patch_cells_overlapping(0, [50.0, 50.0], [60.0, 60.0])
+                .count(),
+            0
+        );
+        assert_eq!(
+            l.patch_cells_overlapping(0, [f32::NAN; 2], [f32::NAN; 2])
+                .count(),
+            0
+        );
     }
 
     #[test]

@@ -19,4 +19,6 @@ pub struct Field {
     pub blades: Blades,
     /// Per-cell level of detail and billboard state.
     pub cells: Cells,
+    /// Length of the longest blade, metres: how far a blade can reach from its root.
+    pub max_blade_length: f32,
 }

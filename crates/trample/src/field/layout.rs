@@ -127,6 +127,33 @@ impl FieldLayout {
         ]
     }
 
+    /// Cells of patch `p` whose square overlaps the world rectangle
+    /// `min ..= max` (x, z), in storage order. A finer broad phase than the
+    /// patch box: it keeps the narrow phase to the blades under an object.
+    pub fn patch_cells_overlapping(
+        &self,
+        p: usize,
+        min: [f32; 2],
+        max: [f32; 2],
+    ) -> impl Iterator<Item = usize> + '_ {
+        let cpp = self.cells_per_patch as i64;
+        let (px, pz) = (
+            (p % self.patches[0] as usize) as i64,
+            (p / self.patches[0] as usize) as i64,
+        );
+        let range = |lo: f32, hi: f32, origin: f32, first: i64| {
+            let a = ((lo - origin) / self.cell_size).floor();
+            let b = ((hi - origin) / self.cell_size).floor();
+            // Saturating float→int casts keep absurd rectangles harmless.
+            let (a, b) = ((a as i64).max(first), (b as i64).min(first + cpp - 1));
+            (a - first, b - first)
+        };
+        let (x0, x1) = range(min[0], max[0], self.origin[0], px * cpp);
+        let (z0, z1) = range(min[1], max[1], self.origin[1], pz * cpp);
+        let first = p * self.cells_in_patch();
+        (z0..=z1).flat_map(move |lz| (x0..=x1).map(move |lx| first + (lz * cpp + lx) as usize))
+    }
+
     /// Global cell coordinates containing world point (x, z), if inside the field.
     #[must_use]
     pub fn cell_at(&self, x: f32, z: f32) -> Option<[u32; 2]> {

@@ -167,13 +167,12 @@ fn narrow_phase(
 ) -> Vec<(u32, Vec3, u8)> {
     let layout = &sim.field.layout;
     let bpc = layout.blades_per_cell as usize;
+    let (min, max) = reach_rect(&body.world_root, sim.field.max_blade_length);
     let candidates: Vec<u32> = patches
         .iter()
-        .flat_map(|&p| {
-            let patch = &layout.patch_list[p as usize];
-            patch.first_blade..patch.first_blade + patch.blades
-        })
-        .filter(|&b| sim.field.cells.lod[b as usize / bpc] == Lod::Geometry)
+        .flat_map(|&p| layout.patch_cells_overlapping(p as usize, min, max))
+        .filter(|&c| sim.field.cells.lod[c] == Lod::Geometry)
+        .flat_map(|c| (c * bpc) as u32..((c + 1) * bpc) as u32)
         .collect();
     tm.narrow_candidates += candidates.len() as u32;
     let blades = &sim.field.blades;
@@ -242,13 +241,16 @@ fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) {
 /// an object's root box; returns how many were deflected.
 fn bend_billboards(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> u32 {
     let mut deflected = 0;
-    let per_patch = sim.field.layout.cells_in_patch();
     for (body, patches) in sim.bodies.iter().zip(patch_hits) {
         let obb = body.world_root;
         let r = obb.half_diagonal();
+        let (min, max) = reach_rect(&obb, 0.0);
         for &p in patches {
-            let first = p as usize * per_patch;
-            for c in first..first + per_patch {
+            for c in sim
+                .field
+                .layout
+                .patch_cells_overlapping(p as usize, min, max)
+            {
                 let cells = &mut sim.field.cells;
                 if cells.lod[c] != Lod::Billboard {
                     continue;
@@ -393,6 +395,16 @@ fn recover(sim: &mut Simulation, h: f32) {
         }
         !done
     });
+}
+
+/// The (x, z) rectangle a world box covers, grown by `reach` metres: only
+/// cells in it can hold a blade (rooted in the cell, at most `reach` long)
+/// or a billboard base that meets the box.
+fn reach_rect(obb: &crate::obb::Obb, reach: f32) -> ([f32; 2], [f32; 2]) {
+    let corners = obb.corners();
+    let lo = corners.iter().fold(Vec3::INFINITY, |a, c| a.min(*c)) - Vec3::splat(reach);
+    let hi = corners.iter().fold(Vec3::NEG_INFINITY, |a, c| a.max(*c)) + Vec3::splat(reach);
+    ([lo.x, lo.z], [hi.x, hi.z])
 }
 
 fn mark_displaced(sim: &mut Simulation, b: u32) {
