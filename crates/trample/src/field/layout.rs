@@ -142,6 +142,9 @@ impl FieldLayout {
             (p / self.patches[0] as usize) as i64,
         );
         let range = |lo: f32, hi: f32, origin: f32, first: i64| {
+            if lo.is_nan() || hi.is_nan() || lo > hi {
+                return (1, 0); // NaN or inverted: no cells.
+            }
             let a = ((lo - origin) / self.cell_size).floor();
             let b = ((hi - origin) / self.cell_size).floor();
             // Saturating float→int casts keep absurd rectangles harmless.
