@@ -38,9 +38,25 @@ pub(crate) const STACK_SIZE: usize = MAX_TREE_DEPTH as usize + 2;
 /// the root box, which holds every triangle. `false` when the mesh is not
 /// `closed` (inside is not defined), for a point outside the root box, a
 /// non-finite point, or an empty tree. A point on the surface may go either
-/// way. No allocation.
+/// way. No allocation. Answered from the tree's [`InsideGrid`] where the
+/// point's voxel meets no triangle, by [`point_inside_by_ray`] elsewhere:
+/// the same answers either way.
+///
+/// [`InsideGrid`]: super::inside_grid::InsideGrid
 #[must_use]
 pub fn point_inside(tree: &ObbTree, p: Vec3) -> bool {
+    if tree.closed
+        && let Some(known) = tree.inside.as_ref().and_then(|g| g.classify(p))
+    {
+        return known;
+    }
+    point_inside_by_ray(tree, p)
+}
+
+/// [`point_inside`] by the ray-parity test alone (the exact reference; also
+/// what classifies the voxels of the inside grid).
+#[must_use]
+pub fn point_inside_by_ray(tree: &ObbTree, p: Vec3) -> bool {
     if !tree.closed || tree.is_empty() || !p.is_finite() {
         return false;
     }

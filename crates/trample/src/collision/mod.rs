@@ -5,6 +5,7 @@
 
 pub mod broad_phase;
 pub mod exact;
+pub mod inside_grid;
 pub mod narrow_phase;
 pub mod segment_obb;
 pub mod segment_triangle;

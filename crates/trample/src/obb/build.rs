@@ -7,6 +7,8 @@
 //! mean of their centroids orthogonal to the box's longest axis, recurse;
 //! stop at one triangle or at the depth cap.
 
+use crate::collision::exact::point_inside_by_ray;
+use crate::collision::inside_grid::InsideGrid;
 use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
@@ -114,12 +116,15 @@ impl ObbTree {
             .map(|n| n.depth)
             .max()
             .unwrap_or(1);
-        ObbTree {
+        let mut tree = ObbTree {
             nodes,
             triangles,
             closed,
             max_depth,
-        }
+            inside: None,
+        };
+        tree.inside = InsideGrid::build(&tree, |p| point_inside_by_ray(&tree, p));
+        tree
     }
 
     /// True when the tree holds no triangle (built from an empty mesh).

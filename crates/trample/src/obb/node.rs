@@ -89,4 +89,7 @@ pub struct ObbTree {
     pub closed: bool,
     /// Depth of the deepest leaf (root = 1).
     pub max_depth: u32,
+    /// Voxel classification that answers most inside tests of a closed mesh
+    /// without a ray cast (`None` for open meshes).
+    pub inside: Option<crate::collision::inside_grid::InsideGrid>,
 }
