@@ -1,4 +1,4 @@
-//! Mesh files (DESIGN §3, §9): the real OBJ meshes of `shared/meshes` load
+//! Mesh files (DESIGN §3, §9): the real OBJ meshes (`scenes/meshes`, copies of `shared/meshes`) load
 //! as they are; broken OBJ copies and glTF/GLB files generated here load or
 //! fail with a message naming the file, the index and what is allowed.
 
@@ -7,19 +7,12 @@ use trample::object::gltf::load_gltf;
 use trample::object::obj::load_obj;
 use trample::object::{SanitizeReport, TriMesh, load_mesh_file, sanitize};
 
-/// `shared/meshes/NAME`, found above this crate (the shared folder sits
-/// beside or above the checkout).
+/// `scenes/meshes/NAME`: the project's copies of the shared test meshes,
+/// unchanged (see `scenes/meshes/README.md`).
 fn shared_mesh(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .ancestors()
-        .map(|a| a.join("shared/meshes").join(name))
-        .find(|p| p.is_file())
-        .unwrap_or_else(|| {
-            panic!(
-                "shared/meshes/{name} not found above {}",
-                env!("CARGO_MANIFEST_DIR")
-            )
-        })
+        .join("../../scenes/meshes")
+        .join(name)
 }
 
 /// A fresh folder for this test's files.
