@@ -2,6 +2,9 @@
 //! the ground guard: hand-computed cases and seeded random bends on flat,
 //! sloped and noise terrain.
 
+mod common;
+use common::Rng;
+
 use glam::{Vec3, Vec3A};
 use trample::deform::bend::{bend_blade, offset_base, preserve_lengths, weight, weights};
 use trample::field::terrain::HeightGrid;
@@ -267,24 +270,6 @@ fn bad_input_leaves_blade_unchanged() {
     let mut v = vec![Vec3A::ZERO, Vec3A::new(1.0, -1.0, 0.0)];
     preserve_lengths(&mut v, 1.0, &Terrain::Flat(f32::NAN), 0.0);
     assert!(v[1].is_finite());
-}
-
-/// SplitMix64.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn f32(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)
-    }
-    fn vec(&mut self, r: f32) -> Vec3 {
-        Vec3::new(self.f32(-r, r), self.f32(-r, r), self.f32(-r, r))
-    }
 }
 
 /// Thousands of seeded random bends (random blades, forces, num, weights,

@@ -4,6 +4,9 @@
 //! agreement with the paper's scatter formulation, and determinism across
 //! thread counts.
 
+mod common;
+use common::Rng;
+
 use glam::Vec3;
 use trample::field::layout::{NEG_X, NEG_Z, NO_NEIGHBOUR, POS_X, POS_Z};
 use trample::force::eqf::eqf;
@@ -66,24 +69,6 @@ fn params(att: f32, threshold: f32) -> PropagationParams {
         att,
         threshold,
         max_generations: GENERATION_CAP,
-    }
-}
-
-/// SplitMix64: a small seeded generator for the property tests.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn f32(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)
-    }
-    fn below(&mut self, n: u32) -> u32 {
-        (self.next() % u64::from(n)) as u32
     }
 }
 

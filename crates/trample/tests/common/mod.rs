@@ -58,3 +58,30 @@ pub fn root_xz(sim: &Simulation, b: usize) -> (f32, f32) {
     let r = sim.field.blades.rest[b];
     (r.x, r.z)
 }
+
+/// SplitMix64: a small seeded generator for the property tests (the
+/// library's own mixer, so tests and field generation share one definition).
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// Next 64 random bits.
+    pub fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        trample::field::rng::mix64(self.0)
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn f32(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)
+    }
+
+    /// Uniform in the cube [-r, r]³.
+    pub fn vec(&mut self, r: f32) -> glam::Vec3 {
+        glam::Vec3::new(self.f32(-r, r), self.f32(-r, r), self.f32(-r, r))
+    }
+
+    /// Uniform in 0..n.
+    pub fn below(&mut self, n: u32) -> u32 {
+        (self.next() % u64::from(n)) as u32
+    }
+}
