@@ -67,9 +67,15 @@ impl LodParams {
     /// Level of a cell whose centre is `distance` metres from the viewpoint.
     #[must_use]
     pub fn level(&self, distance: f32) -> Lod {
-        if distance < self.geometry_m {
+        self.level_squared(distance * distance)
+    }
+
+    /// [`Self::level`] from the squared distance (no square root per cell).
+    #[must_use]
+    pub fn level_squared(&self, distance_sq: f32) -> Lod {
+        if distance_sq < self.geometry_m * self.geometry_m {
             Lod::Geometry
-        } else if distance < self.billboard_m {
+        } else if distance_sq < self.billboard_m * self.billboard_m {
             Lod::Billboard
         } else {
             Lod::Texture
@@ -112,7 +118,7 @@ pub fn classify_cells(
                 let new = if l_near == l_far {
                     l_near
                 } else {
-                    params.level(b.distance(viewpoint))
+                    params.level_squared(b.distance_squared(viewpoint))
                 };
                 if new != *l {
                     local.push(LodChange {
