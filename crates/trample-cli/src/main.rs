@@ -1,12 +1,13 @@
 //! `trample`: simulate a grass field bending under moving objects.
 //!
 //! Subcommands: `simulate` (run a scene without rendering, write a summary
-//! and dumps), `collide` (hit flags of every blade at rest at one instant),
+//! and dumps), `run` (simulate and render headless to PNG/GIF), `collide` (hit flags of every blade at rest at one instant),
 //! `check` (validate a scene file and say what it describes).
 
 mod check;
 mod collide;
 mod common;
+mod run;
 mod simulate;
 mod summary;
 mod track;
@@ -26,6 +27,8 @@ struct Cli {
 enum Command {
     /// Run a scene without rendering; write DIR/summary.json and optional dumps.
     Simulate(simulate::Args),
+    /// Simulate and render along the camera path: PNG frames, GIF, summary.json.
+    Run(run::Args),
     /// Hit flags of every blade segment at rest with the objects posed at one time.
     Collide(collide::Args),
     /// Validate a scene file and print what it describes.
@@ -65,6 +68,7 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Simulate(a) => simulate::run(&a),
+        Command::Run(a) => run::run(&a),
         Command::Collide(a) => collide::run(&a),
         Command::Check(a) => check::run(&a),
     };

@@ -1,14 +1,11 @@
 //! `trample simulate`: run a scene without rendering.
 
 use crate::common::{load_scene, out_dir, override_sim, set_threads, write_f32, write_u8};
-use crate::summary::{Recorder, Stats, write_json};
+use crate::summary::{Recorder, SimSummary, write_json};
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
-use serde::Serialize;
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
-use trample::step::BladeClass;
 
 /// Arguments of `trample simulate` (a contract: later tools and checks rely on them).
 #[derive(clap::Args, Debug)]
@@ -40,29 +37,6 @@ pub struct Args {
     /// bent, soil flattened; red tint = hit directly, blue = propagation only.
     #[arg(long)]
     pub track_png: Option<PathBuf>,
-}
-
-#[derive(Serialize)]
-struct Summary {
-    scene: String,
-    blades: usize,
-    segments: usize,
-    frames: u64,
-    precision: u32,
-    dt_s: f32,
-    backend: &'static str,
-    threads: usize,
-    simulated_s: f64,
-    build_ms: f64,
-    wall_s: f64,
-    step_ms: Stats,
-    stages_ms: BTreeMap<&'static str, f64>,
-    dbg_blades: u32,
-    pbg_blades: u32,
-    generations: u32,
-    displaced_blades: u32,
-    lod_cells: trample::field::LodCounts,
-    classes: BTreeMap<&'static str, usize>,
 }
 
 /// Runs the subcommand.
@@ -117,33 +91,7 @@ pub fn run(a: &Args) -> Result<()> {
     if let Some(p) = &a.track_png {
         crate::track::write_track_png(&sim, p)?;
     }
-    let count = |c: BladeClass| sim.class.iter().filter(|&&x| x == c as u8).count();
-    let last = rec.steps.last().cloned().unwrap_or_default();
-    let summary = Summary {
-        scene: scene.source.clone(),
-        blades: sim.field.blades.count,
-        segments: sim.field.blades.segments,
-        frames,
-        precision: sim.params.precision,
-        dt_s: dt,
-        backend: "cpu",
-        threads,
-        simulated_s: sim.time,
-        build_ms,
-        wall_s,
-        step_ms: rec.step_ms(),
-        stages_ms: rec.stages_ms(),
-        dbg_blades: last.dbg_blades,
-        pbg_blades: last.pbg_blades,
-        generations: last.generations,
-        displaced_blades: last.displaced_blades,
-        lod_cells: sim.timings.lod,
-        classes: BTreeMap::from([
-            ("untouched", count(BladeClass::Untouched)),
-            ("direct", count(BladeClass::Direct)),
-            ("propagated", count(BladeClass::Propagated)),
-        ]),
-    };
+    let summary = SimSummary::new(&scene, &sim, frames, threads, build_ms, wall_s, &rec);
     write_json(&out.join("summary.json"), &summary)?;
     eprintln!(
         "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (max {:.3}); {} blades touched ({} DBG, {} PBG only); wrote {}",

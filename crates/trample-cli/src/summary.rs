@@ -3,6 +3,8 @@
 use serde::Serialize;
 use std::collections::BTreeMap;
 use trample::StepTimings;
+use trample::scene::Scene;
+use trample::step::{BladeClass, Simulation};
 
 /// min / median / mean / max of a series, milliseconds.
 #[derive(Serialize, Debug, Default, Clone, Copy)]
@@ -57,6 +59,72 @@ impl Recorder {
             }
         }
         out
+    }
+}
+
+/// What `simulate` writes to `summary.json` (and `run` writes with its render
+/// times added): the run's size, step times and what the objects touched.
+#[derive(Serialize)]
+pub struct SimSummary {
+    pub scene: String,
+    pub blades: usize,
+    pub segments: usize,
+    pub frames: u64,
+    pub precision: u32,
+    pub dt_s: f32,
+    pub backend: &'static str,
+    pub threads: usize,
+    pub simulated_s: f64,
+    pub build_ms: f64,
+    pub wall_s: f64,
+    pub step_ms: Stats,
+    pub stages_ms: BTreeMap<&'static str, f64>,
+    pub dbg_blades: u32,
+    pub pbg_blades: u32,
+    pub generations: u32,
+    pub displaced_blades: u32,
+    pub lod_cells: trample::field::LodCounts,
+    pub classes: BTreeMap<&'static str, usize>,
+}
+
+impl SimSummary {
+    /// The summary of `sim` after `frames` steps recorded in `rec`.
+    pub fn new(
+        scene: &Scene,
+        sim: &Simulation,
+        frames: u64,
+        threads: usize,
+        build_ms: f64,
+        wall_s: f64,
+        rec: &Recorder,
+    ) -> Self {
+        let count = |c: BladeClass| sim.class.iter().filter(|&&x| x == c as u8).count();
+        let last = rec.steps.last().cloned().unwrap_or_default();
+        Self {
+            scene: scene.source.clone(),
+            blades: sim.field.blades.count,
+            segments: sim.field.blades.segments,
+            frames,
+            precision: sim.params.precision,
+            dt_s: sim.params.dt_s,
+            backend: "cpu",
+            threads,
+            simulated_s: sim.time,
+            build_ms,
+            wall_s,
+            step_ms: rec.step_ms(),
+            stages_ms: rec.stages_ms(),
+            dbg_blades: last.dbg_blades,
+            pbg_blades: last.pbg_blades,
+            generations: last.generations,
+            displaced_blades: last.displaced_blades,
+            lod_cells: sim.timings.lod,
+            classes: BTreeMap::from([
+                ("untouched", count(BladeClass::Untouched)),
+                ("direct", count(BladeClass::Direct)),
+                ("propagated", count(BladeClass::Propagated)),
+            ]),
+        }
     }
 }
 

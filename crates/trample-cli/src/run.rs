@@ -1,0 +1,278 @@
+//! `trample run`: simulate a scene and render it along its camera path,
+//! headless, to PNG frames, an optional GIF and a summary.
+
+use crate::common::{load_scene, out_dir, override_sim, set_threads};
+use crate::summary::{Recorder, SimSummary, Stats, write_json};
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use trample_render::{DebugView, RenderParams, Renderer};
+
+/// Arguments of `trample run`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (TOML); none = the embedded default scene.
+    pub scene: Option<PathBuf>,
+    /// Frames to simulate and render (default: the scene's `[run] frames`, 300).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Output folder: frame_NNNN.png, run.gif, summary.json.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Write every K-th frame as PNG (and into the GIF).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub every: u64,
+    /// Also write DIR/run.gif (at most 480 pixels wide).
+    #[arg(long)]
+    pub gif: bool,
+    /// Debug view: none, or classes (DBG red, PBG blue by generation,
+    /// billboards yellow, Texture-LOD ground grey).
+    #[arg(long, default_value = "none")]
+    pub debug_view: DebugView,
+    /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
+    #[arg(long)]
+    pub precision: Option<u32>,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720, both sides 16..=8192");
+    let (w, h) = s.split_once('x').ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+        return Err(bad());
+    }
+    Ok((w, h))
+}
+
+/// Frames per second over whole frames (simulation step + render + read-back;
+/// PNG/GIF encoding excluded).
+#[derive(Serialize)]
+struct Fps {
+    min: f64,
+    avg: f64,
+    max: f64,
+}
+
+#[derive(Serialize)]
+struct RunSummary {
+    #[serde(flatten)]
+    sim: SimSummary,
+    adapter: String,
+    size: [u32; 2],
+    msaa: u32,
+    debug_view: String,
+    /// Render + read-back time per frame, ms.
+    render_ms: Stats,
+    render_ms_per_frame: Vec<f64>,
+    fps: Fps,
+    pngs_written: usize,
+    gif: Option<String>,
+}
+
+/// Streams frames into a GIF (written under a temporary name, renamed at the end).
+struct GifOut {
+    encoder: gif::Encoder<std::io::BufWriter<std::fs::File>>,
+    tmp: PathBuf,
+    path: PathBuf,
+    size: (u32, u32),
+    delay_cs: u16,
+}
+
+impl GifOut {
+    fn new(path: &Path, frame: (u32, u32), delay_s: f64) -> Result<Self> {
+        let scale = (480.0 / frame.0 as f64).min(1.0);
+        let size = (
+            ((frame.0 as f64 * scale).round() as u32).max(1),
+            ((frame.1 as f64 * scale).round() as u32).max(1),
+        );
+        let tmp = path.with_extension("gif.tmp");
+        let file = std::fs::File::create(&tmp)
+            .with_context(|| format!("{}: cannot write", tmp.display()))?;
+        let mut encoder = gif::Encoder::new(
+            std::io::BufWriter::new(file),
+            size.0 as u16,
+            size.1 as u16,
+            &[],
+        )
+        .context("gif: cannot start")?;
+        encoder.set_repeat(gif::Repeat::Infinite)?;
+        Ok(Self {
+            encoder,
+            tmp,
+            path: path.to_path_buf(),
+            size,
+            delay_cs: ((delay_s * 100.0).round() as u16).max(2),
+        })
+    }
+
+    fn push(&mut self, img: &image::RgbaImage) -> Result<()> {
+        let small = image::imageops::resize(
+            img,
+            self.size.0,
+            self.size.1,
+            image::imageops::FilterType::Triangle,
+        );
+        let mut rgba = small.into_raw();
+        let mut frame =
+            gif::Frame::from_rgba_speed(self.size.0 as u16, self.size.1 as u16, &mut rgba, 20);
+        frame.delay = self.delay_cs;
+        self.encoder
+            .write_frame(&frame)
+            .context("gif: cannot write frame")
+    }
+
+    fn finish(self) -> Result<()> {
+        let writer = self.encoder.into_inner().context("gif: cannot finish")?;
+        writer
+            .into_inner()
+            .map_err(|e| e.into_error())
+            .and_then(|f| f.sync_all())
+            .with_context(|| format!("{}: cannot write", self.tmp.display()))?;
+        std::fs::rename(&self.tmp, &self.path)
+            .with_context(|| format!("{}: cannot write", self.path.display()))
+    }
+}
+
+fn write_png(path: &Path, img: &image::RgbaImage) -> Result<()> {
+    let mut bytes = Vec::new();
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )
+    .context("png: cannot encode")?;
+    trample::npy::write_atomic(path, &bytes)
+        .with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// Runs the subcommand.
+pub fn run(a: &Args) -> Result<()> {
+    let threads = set_threads(a.threads)?;
+    let mut scene = load_scene(a.scene.as_deref())?;
+    override_sim(&mut scene, a.precision, None)?;
+    let (width, height) = a.size;
+    // Cull and look with the image's aspect.
+    scene.file.camera.aspect = width as f32 / height as f32;
+    let out = out_dir(&a.out)?;
+    let frames = a.frames.unwrap_or(scene.file.run.frames);
+
+    let clock = Instant::now();
+    let mut sim = scene.build()?;
+    let build_ms = clock.elapsed().as_secs_f64() * 1e3;
+
+    let gpu = trample_render::headless::create_device()?;
+    let adapter = gpu.adapter_name();
+    let samples = gpu.msaa(4);
+    let params = RenderParams {
+        width,
+        height,
+        samples,
+        debug: a.debug_view,
+        ..RenderParams::default()
+    };
+    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, &sim, params)?;
+    eprintln!(
+        "trample: {} — {} blades x {} segments, {} object(s), precision {}, {} thread(s); rendering {width}x{height} on {adapter}, MSAA {samples}x",
+        scene.source,
+        sim.field.blades.count,
+        sim.field.blades.segments,
+        sim.bodies.len(),
+        sim.params.precision,
+        threads
+    );
+    if frames == 0 {
+        bail!(
+            "--frames 0: nothing to render (use `trample simulate --frames 0` for the rest state)"
+        );
+    }
+
+    let dt = sim.params.dt_s;
+    let mut gif = if a.gif {
+        Some(GifOut::new(
+            &out.join("run.gif"),
+            a.size,
+            f64::from(dt) * a.every as f64,
+        )?)
+    } else {
+        None
+    };
+    let bar = ProgressBar::new(frames);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} frames, {per_sec}, eta {eta} {msg}")
+            .expect("static template"),
+    );
+    let mut rec = Recorder::default();
+    let mut render_ms = Vec::with_capacity(frames as usize);
+    let mut frame_s = Vec::with_capacity(frames as usize);
+    let mut pngs = 0;
+    let clock = Instant::now();
+    for i in 0..frames {
+        let start = Instant::now();
+        let t = sim.step(dt)?.clone();
+        let r = Instant::now();
+        let img = renderer.render(&gpu.device, &gpu.queue, &sim)?;
+        render_ms.push(r.elapsed().as_secs_f64() * 1e3);
+        frame_s.push(start.elapsed().as_secs_f64());
+        bar.set_message(format!(
+            "step {:.1} ms, render {:.1} ms, DBG {} PBG {}",
+            t.total_ms,
+            render_ms[render_ms.len() - 1],
+            t.dbg_blades,
+            t.pbg_blades
+        ));
+        rec.steps.push(t);
+        if i % a.every == 0 {
+            write_png(&out.join(format!("frame_{i:04}.png")), &img)?;
+            pngs += 1;
+            if let Some(g) = gif.as_mut() {
+                g.push(&img)?;
+            }
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let wall_s = clock.elapsed().as_secs_f64();
+    if let Some(g) = gif {
+        g.finish()?;
+    }
+
+    let total: f64 = frame_s.iter().sum();
+    let fps_of = |s: f64| if s > 0.0 { 1.0 / s } else { 0.0 };
+    let summary = RunSummary {
+        sim: SimSummary::new(&scene, &sim, frames, threads, build_ms, wall_s, &rec),
+        adapter: adapter.clone(),
+        size: [width, height],
+        msaa: samples,
+        debug_view: format!("{:?}", a.debug_view).to_lowercase(),
+        render_ms: Stats::of(&render_ms),
+        render_ms_per_frame: render_ms,
+        fps: Fps {
+            min: fps_of(frame_s.iter().copied().fold(0.0, f64::max)),
+            avg: if total > 0.0 {
+                frames as f64 / total
+            } else {
+                0.0
+            },
+            max: fps_of(frame_s.iter().copied().fold(f64::INFINITY, f64::min)),
+        },
+        pngs_written: pngs,
+        gif: a.gif.then(|| "run.gif".to_string()),
+    };
+    write_json(&out.join("summary.json"), &summary)?;
+    eprintln!(
+        "trample: {frames} frames in {wall_s:.2} s on {adapter}; step median {:.2} ms, render median {:.1} ms, {:.1} fps avg; wrote {pngs} PNG(s){} and {}",
+        summary.sim.step_ms.median,
+        summary.render_ms.median,
+        summary.fps.avg,
+        if a.gif { ", run.gif" } else { "" },
+        out.join("summary.json").display()
+    );
+    Ok(())
+}

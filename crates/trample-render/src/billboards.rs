@@ -1,0 +1,195 @@
+//! Billboards: one instance per Billboard-LOD cell of a visible patch, built
+//! on the CPU each frame from the cells' base, height and current slope.
+
+use crate::globals::shader_module;
+use glam::{UVec4, Vec4};
+use trample::Simulation;
+use trample::field::Lod;
+
+/// Billboard width / cell side: "a bit longer than the cell" (DESIGN §8), so
+/// neighbouring billboards overlap and no gap shows between cells.
+pub const WIDTH_OVER_CELL: f32 = 1.6;
+
+/// Blades painted on the clump texture (one cell holds one blade in the
+/// paper's field; a few per texture keep the billboard band as dense as the
+/// geometric band once the texture is split across two crossed quads).
+pub const CLUMP_BLADES: u32 = 6;
+
+/// One drawn billboard. Layout-compatible with `Billboard` in billboards.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BillboardInstance {
+    /// xyz base centre, w half width (m).
+    pub base: Vec4,
+    /// xyz base → top edge, `normalize(slope) · height` (Eq. 8); w unused.
+    pub top: Vec4,
+    /// x debug colour (RGBA8, 0 = textured), y per-cell seed.
+    pub extra: UVec4,
+}
+
+const _: () = assert!(std::mem::size_of::<BillboardInstance>() == 48);
+
+/// The billboard pass: pipeline, clump texture and instance buffer.
+pub struct BillboardPass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    clump: wgpu::TextureView,
+    sampler: wgpu::Sampler,
+    instances: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    list: Vec<BillboardInstance>,
+}
+
+impl BillboardPass {
+    /// Creates the pass and generates the clump texture.
+    #[must_use]
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        globals: &wgpu::BindGroupLayout,
+        samples: u32,
+    ) -> Self {
+        let clump = crate::textures::upload(
+            device,
+            queue,
+            "grass clump",
+            crate::textures::grass_clump(7, CLUMP_BLADES),
+        );
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("clump"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        let [t, s] = crate::pipeline::texture_and_sampler(1);
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("billboards"),
+            entries: &[crate::pipeline::vertex_storage(0), t, s],
+        });
+        let module = shader_module(device, "billboards.wgsl", include_str!("billboards.wgsl"));
+        let pipeline = crate::pipeline::build(
+            device,
+            &crate::pipeline::Spec {
+                label: "billboards",
+                module: &module,
+                layouts: &[globals, &layout],
+                buffers: &[],
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                cull: None,
+                depth_write: true,
+                samples,
+                alpha_to_coverage: false,
+            },
+        );
+        let instances = Self::buffer(device, 48 * 256);
+        let bind_group = Self::bind(device, &layout, &instances, &clump, &sampler);
+        Self {
+            pipeline,
+            layout,
+            clump,
+            sampler,
+            instances,
+            bind_group,
+            list: Vec::new(),
+        }
+    }
+
+    fn buffer(device: &wgpu::Device, size: u64) -> wgpu::Buffer {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("billboard instances"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    fn bind(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        instances: &wgpu::Buffer,
+        clump: &wgpu::TextureView,
+        sampler: &wgpu::Sampler,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("billboards"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: instances.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(clump),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(sampler),
+                },
+            ],
+        })
+    }
+
+    /// Builds and uploads this frame's billboards: Billboard-LOD cells of
+    /// visible patches. `debug` is the billboards' debug colour (0 = textured).
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: &Simulation,
+        debug: u32,
+    ) {
+        let layout = &sim.field.layout;
+        let cells = &sim.field.cells;
+        let half = 0.5 * WIDTH_OVER_CELL * layout.cell_size;
+        self.list.clear();
+        for (p, patch) in layout.patch_list.iter().enumerate() {
+            if !sim.visible.get(p).copied().unwrap_or(true) {
+                continue;
+            }
+            let first = patch.first_cell as usize;
+            for c in first..first + layout.cells_in_patch() {
+                if cells.lod[c] != Lod::Billboard {
+                    continue;
+                }
+                let top = cells.slope[c].normalize_or(glam::Vec3::Y) * cells.height[c];
+                self.list.push(BillboardInstance {
+                    base: cells.base[c].extend(half),
+                    top: top.extend(0.0),
+                    extra: UVec4::new(debug, c as u32, 0, 0),
+                });
+            }
+        }
+        let bytes = (self.list.len() * 48) as u64;
+        if bytes > self.instances.size() {
+            self.instances = Self::buffer(device, bytes.next_power_of_two());
+            self.bind_group = Self::bind(
+                device,
+                &self.layout,
+                &self.instances,
+                &self.clump,
+                &self.sampler,
+            );
+        }
+        queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.list));
+    }
+
+    /// Billboards drawn by the last [`BillboardPass::prepare`].
+    #[must_use]
+    pub fn drawn(&self) -> usize {
+        self.list.len()
+    }
+
+    /// Records the draw into `pass`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        if self.list.is_empty() {
+            return;
+        }
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(1, &self.bind_group, &[]);
+        pass.draw(0..12, 0..self.list.len() as u32);
+    }
+}

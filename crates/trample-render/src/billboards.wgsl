@@ -1,0 +1,70 @@
+// Billboards of Billboard-LOD cells (DESIGN §8, paper Eq. 8, 12): two crossed
+// vertical quads per cell, a bit wider than the cell, alpha-tested grass-clump
+// texture; the top edge is `base + normalize(slope) · height`.
+
+struct Billboard {
+    // xyz: base centre, w: half width (m).
+    base: vec4<f32>,
+    // xyz: base → top edge (normalize(slope) · height), w: unused.
+    top: vec4<f32>,
+    // x: debug colour (RGBA8, 0 = textured), y: per-cell random seed.
+    extra: vec4<u32>,
+}
+
+@group(1) @binding(0) var<storage, read> billboards: array<Billboard>;
+@group(1) @binding(1) var clump: texture_2d<f32>;
+@group(1) @binding(2) var clump_sampler: sampler;
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) normal: vec3<f32>,
+    @location(3) @interpolate(flat) debug: u32,
+    @location(4) shade: f32,
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
+    let bb = billboards[ii];
+    let quad = vi / 6u;
+    // Two triangles per quad: corners (0,0) (1,0) (0,1), (0,1) (1,0) (1,1).
+    let corner = array<u32, 6>(0u, 1u, 2u, 2u, 1u, 3u)[vi % 6u];
+    let x = f32(corner & 1u);
+    let y = f32(corner >> 1u);
+    let seed = bb.extra.y;
+    let a = hash01(seed) * 1.5707963 + f32(quad) * 1.5707963;
+    let axis = vec3<f32>(cos(a), 0.0, sin(a));
+    let world = bb.base.xyz + axis * (x * 2.0 - 1.0) * bb.base.w + bb.top.xyz * y;
+
+    var out: VertexOut;
+    out.clip = globals.view_proj * vec4<f32>(world, 1.0);
+    out.world = world;
+    // A random half of the clump texture per quad.
+    let u0 = hash01(seed ^ (quad * 0x9e37u)) * 0.5;
+    out.uv = vec2<f32>(u0 + x * 0.5, 1.0 - y);
+    out.normal = normalize(cross(axis, bb.top.xyz));
+    out.debug = bb.extra.x;
+    out.shade = 0.85 + 0.3 * hash01(seed ^ 0x51u);
+    return out;
+}
+
+@fragment
+fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
+    let texel = textureSample(clump, clump_sampler, v.uv);
+    if (texel.a < 0.5) {
+        discard;
+    }
+    var n = normalize(v.normal);
+    let to_eye = normalize(globals.eye.xyz - v.world);
+    if (dot(n, to_eye) < 0.0) {
+        n = -n;
+    }
+    // Lit like a blade seen side-on: mostly wrapped, so the quad does not flash as it turns.
+    n = normalize(n + vec3<f32>(0.0, 1.2, 0.0));
+    var c = light(texel.rgb * v.shade, n, 0.4);
+    if (v.debug != 0u) {
+        c = unpack4x8unorm(v.debug).rgb * (0.6 + 0.4 * (1.0 - v.uv.y));
+    }
+    return vec4<f32>(fog(c, v.world), 1.0);
+}

@@ -1,0 +1,46 @@
+// Per-frame values every pass reads (group 0, binding 0). Prepended to every
+// other shader of the crate; layout-compatible with `Globals` in globals.rs.
+
+struct Globals {
+    view_proj: mat4x4<f32>,
+    inv_view_proj: mat4x4<f32>,
+    // xyz: eye position, w: time (s).
+    eye: vec4<f32>,
+    // xyz: direction towards the sun (unit), w: ambient strength.
+    sun_dir: vec4<f32>,
+    // rgb: sun colour, w: unused.
+    sun_color: vec4<f32>,
+    // rgb: sky colour overhead.
+    sky_zenith: vec4<f32>,
+    // rgb: sky colour at the horizon = fog colour.
+    sky_horizon: vec4<f32>,
+    // x: fog start (m), y: fog end (m), z: geometry_m, w: billboard_m.
+    fog: vec4<f32>,
+    // x: debug view (0 none, 1 classes), y: segments per blade, z: blade count, w: unused.
+    params: vec4<u32>,
+}
+
+@group(0) @binding(0) var<uniform> globals: Globals;
+
+// Sun (Lambert, wrapped by `wrap` for thin translucent things) + ambient.
+fn light(albedo: vec3<f32>, n: vec3<f32>, wrap: f32) -> vec3<f32> {
+    let ndl = dot(n, globals.sun_dir.xyz);
+    let diffuse = max((ndl + wrap) / (1.0 + wrap), 0.0);
+    let sky = mix(globals.sky_horizon.rgb, globals.sky_zenith.rgb, clamp(n.y * 0.5 + 0.5, 0.0, 1.0));
+    return albedo * (globals.sun_color.rgb * diffuse + sky * globals.sun_dir.w);
+}
+
+// Distance fog towards the horizon colour.
+fn fog(color: vec3<f32>, world: vec3<f32>) -> vec3<f32> {
+    let d = distance(world, globals.eye.xyz);
+    let f = clamp((d - globals.fog.x) / (globals.fog.y - globals.fog.x), 0.0, 1.0);
+    return mix(color, globals.sky_horizon.rgb, f * f);
+}
+
+// Small integer hash -> [0, 1).
+fn hash01(x: u32) -> f32 {
+    var h = x * 747796405u + 2891336453u;
+    h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+    h = (h >> 22u) ^ h;
+    return f32(h & 0xffffffu) / 16777216.0;
+}

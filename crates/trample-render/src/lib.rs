@@ -1,0 +1,64 @@
+//! Renders a trample field with wgpu (DESIGN §8): geometric blades pulled
+//! from the core's vertex buffer, billboards whose top edge follows the
+//! cell's slope (Eq. 8), a textured ground, shaded objects, sky, fog, MSAA;
+//! offscreen to an image.
+//!
+//! Library functions take a `&wgpu::Device` and `&wgpu::Queue`; only
+//! [`headless::create_device`] makes one (for tools and tests).
+//!
+//! ```no_run
+//! let mut sim = trample::scene::Scene::default_scene()?.build()?;
+//! let gpu = trample_render::headless::create_device()?;
+//! let params = trample_render::RenderParams { width: 320, height: 180, samples: gpu.msaa(4), ..Default::default() };
+//! let mut renderer = trample_render::Renderer::new(&gpu.device, &gpu.queue, &sim, params)?;
+//! sim.step(1.0 / 60.0)?;
+//! renderer.render(&gpu.device, &gpu.queue, &sim)?.save("frame.png")?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod billboards;
+pub mod blades;
+pub mod error;
+pub mod globals;
+pub mod headless;
+pub mod objects;
+pub mod pipeline;
+pub mod renderer;
+pub mod sky;
+pub mod target;
+pub mod terrain;
+pub mod textures;
+
+pub use error::RenderError;
+pub use renderer::{DebugView, FrameCounts, RenderParams, Renderer};
+
+/// Colour format of the frame: sRGB, so shaders work in linear colour and
+/// the bytes read back are what a PNG stores.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Depth format.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Every WGSL file of the crate with the name it has on disk, as compiled
+/// (the shared globals prepended): for validation tests.
+#[must_use]
+pub fn shader_sources() -> Vec<(&'static str, String)> {
+    use globals::shader_source;
+    vec![
+        ("blades.wgsl", shader_source(include_str!("blades.wgsl"))),
+        (
+            "billboards.wgsl",
+            shader_source(include_str!("billboards.wgsl")),
+        ),
+        ("terrain.wgsl", shader_source(include_str!("terrain.wgsl"))),
+        ("objects.wgsl", shader_source(include_str!("objects.wgsl"))),
+        ("sky.wgsl", shader_source(include_str!("sky.wgsl"))),
+    ]
+}
+
+/// The limits to ask of `adapter`: all it offers (the blade buffer alone is
+/// 21 MiB for the paper's field, above wgpu's default binding size on some
+/// adapters).
+#[must_use]
+pub fn required_limits(adapter: &wgpu::Adapter) -> wgpu::Limits {
+    adapter.limits()
+}

@@ -1,0 +1,164 @@
+//! Objects: each mesh uploaded once (flat normals, triangles unshared), drawn
+//! with its pose each frame.
+
+use crate::globals::shader_module;
+use crate::terrain::GroundVertex;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3, Vec4};
+use trample::Simulation;
+
+/// Per-object uniform. Layout-compatible with `Object` in objects.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ObjectUniform {
+    /// Local → world (the body's pose).
+    pub model: Mat4,
+    /// rgb base colour (linear), w checker cells per metre (0 = plain).
+    pub color: Vec4,
+}
+
+const _: () = assert!(std::mem::size_of::<ObjectUniform>() == 80);
+
+/// Colours given to objects in scene order (linear RGB).
+const PALETTE: [Vec3; 4] = [
+    Vec3::new(0.75, 0.08, 0.05),
+    Vec3::new(0.10, 0.25, 0.75),
+    Vec3::new(0.80, 0.60, 0.10),
+    Vec3::new(0.60, 0.60, 0.65),
+];
+
+struct Drawn {
+    vertices: wgpu::Buffer,
+    count: u32,
+    uniform: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
+/// The object pass: one vertex buffer and one uniform per body.
+pub struct ObjectPass {
+    pipeline: wgpu::RenderPipeline,
+    objects: Vec<Drawn>,
+}
+
+/// Flat-shaded triangle list of a mesh: three vertices per triangle, each
+/// with the triangle's normal.
+#[must_use]
+pub fn flat_vertices(mesh: &trample::object::TriMesh) -> Vec<GroundVertex> {
+    let mut out = Vec::with_capacity(mesh.indices.len() * 3);
+    for t in 0..mesh.triangle_count() {
+        let [a, b, c] = mesh.triangle(t);
+        let n = (b - a).cross(c - a).normalize_or(Vec3::Y);
+        for p in [a, b, c] {
+            out.push(GroundVertex {
+                position: p.to_array(),
+                normal: n.to_array(),
+            });
+        }
+    }
+    out
+}
+
+impl ObjectPass {
+    /// Uploads every body's mesh of `sim`.
+    #[must_use]
+    pub fn new(
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        sim: &Simulation,
+        samples: u32,
+    ) -> Self {
+        use wgpu::util::DeviceExt;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("object"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let objects = sim
+            .bodies
+            .iter()
+            .map(|body| {
+                let verts = flat_vertices(&body.object.mesh);
+                let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&body.object.name),
+                    contents: bytemuck::cast_slice(&verts),
+                    usage: wgpu::BufferUsages::VERTEX,
+                });
+                let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&body.object.name),
+                    size: std::mem::size_of::<ObjectUniform>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(&body.object.name),
+                    layout: &layout,
+                    entries: &[wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: uniform.as_entire_binding(),
+                    }],
+                });
+                Drawn {
+                    vertices,
+                    count: verts.len() as u32,
+                    uniform,
+                    bind_group,
+                }
+            })
+            .collect();
+        let module = shader_module(device, "objects.wgsl", include_str!("objects.wgsl"));
+        let attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        let pipeline = crate::pipeline::build(
+            device,
+            &crate::pipeline::Spec {
+                label: "objects",
+                module: &module,
+                layouts: &[globals, &layout],
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<GroundVertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &attributes,
+                })],
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                // Meshes may be open or wound either way: draw both sides.
+                cull: None,
+                depth_write: true,
+                samples,
+                alpha_to_coverage: false,
+            },
+        );
+        Self { pipeline, objects }
+    }
+
+    /// Writes each body's current pose.
+    pub fn prepare(&self, queue: &wgpu::Queue, sim: &Simulation) {
+        for (i, (drawn, body)) in self.objects.iter().zip(&sim.bodies).enumerate() {
+            let model = Mat4::from_rotation_translation(body.pose.rotation, body.pose.position);
+            let (lo, hi) = body.object.mesh.bounds().unwrap_or((Vec3::ZERO, Vec3::ONE));
+            // About six checker cells across the object.
+            let checker = 6.0 / (hi - lo).max_element().max(1e-3);
+            let u = ObjectUniform {
+                model,
+                color: PALETTE[i % PALETTE.len()].extend(checker),
+            };
+            queue.write_buffer(&drawn.uniform, 0, bytemuck::bytes_of(&u));
+        }
+    }
+
+    /// Records the draws into `pass`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_pipeline(&self.pipeline);
+        for o in &self.objects {
+            pass.set_bind_group(1, &o.bind_group, &[]);
+            pass.set_vertex_buffer(0, o.vertices.slice(..));
+            pass.draw(0..o.count, 0..1);
+        }
+    }
+}

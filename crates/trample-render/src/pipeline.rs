@@ -1,0 +1,117 @@
+//! The render-pipeline settings every pass shares (target formats, depth,
+//! MSAA), so each pass states only what differs.
+
+/// What differs between the passes' pipelines.
+pub struct Spec<'a> {
+    /// Debug label.
+    pub label: &'a str,
+    /// Module with `vs_main` and `fs_main`.
+    pub module: &'a wgpu::ShaderModule,
+    /// Bind group layouts, group 0 first (the globals).
+    pub layouts: &'a [&'a wgpu::BindGroupLayout],
+    /// Vertex buffers (empty for passes that pull from storage buffers).
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    /// Primitive topology.
+    pub topology: wgpu::PrimitiveTopology,
+    /// Face culling (`None` = two-sided).
+    pub cull: Option<wgpu::Face>,
+    /// Writes depth (the sky does not, and always passes).
+    pub depth_write: bool,
+    /// MSAA samples.
+    pub samples: u32,
+    /// Alpha to coverage (alpha-tested billboards under MSAA).
+    pub alpha_to_coverage: bool,
+}
+
+/// Builds the pipeline of `spec` for [`crate::COLOR_FORMAT`] / [`crate::DEPTH_FORMAT`].
+#[must_use]
+pub fn build(device: &wgpu::Device, spec: &Spec<'_>) -> wgpu::RenderPipeline {
+    let layouts: Vec<Option<&wgpu::BindGroupLayout>> =
+        spec.layouts.iter().map(|l| Some(*l)).collect();
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(spec.label),
+        bind_group_layouts: &layouts,
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(spec.label),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: spec.module,
+            entry_point: Some("vs_main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: spec.buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: spec.topology,
+            cull_mode: spec.cull,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: crate::DEPTH_FORMAT,
+            depth_write_enabled: Some(spec.depth_write),
+            depth_compare: Some(if spec.depth_write {
+                wgpu::CompareFunction::Less
+            } else {
+                wgpu::CompareFunction::Always
+            }),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState {
+            count: spec.samples,
+            mask: !0,
+            alpha_to_coverage_enabled: spec.alpha_to_coverage && spec.samples > 1,
+        },
+        fragment: Some(wgpu::FragmentState {
+            module: spec.module,
+            entry_point: Some("fs_main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: crate::COLOR_FORMAT,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// A bind-group-layout entry for a read-only storage buffer seen by the vertex stage.
+#[must_use]
+pub fn vertex_storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// Bind-group-layout entries for a filterable 2D texture and its sampler (fragment stage).
+#[must_use]
+pub fn texture_and_sampler(binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {
+    [
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        },
+        wgpu::BindGroupLayoutEntry {
+            binding: binding + 1,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            count: None,
+        },
+    ]
+}

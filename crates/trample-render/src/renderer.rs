@@ -1,0 +1,273 @@
+//! The frame: sky, ground, billboards, blades and objects in one pass into
+//! the offscreen target, then read back.
+
+use crate::billboards::BillboardPass;
+use crate::blades::BladePass;
+use crate::error::RenderError;
+use crate::globals::Globals;
+use crate::objects::ObjectPass;
+use crate::sky::SkyPass;
+use crate::target::Target;
+use crate::terrain::TerrainPass;
+use glam::{UVec4, Vec3, Vec4};
+use trample::Simulation;
+use trample::force::propagation::NO_GENERATION;
+use trample::step::BladeClass;
+
+/// What the frame shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DebugView {
+    /// The shaded scene.
+    #[default]
+    None,
+    /// Colour by class: DBG red, PBG blue (darker each generation), blades
+    /// touched in earlier frames dark red / dark blue, untouched green,
+    /// billboards yellow, Texture-LOD ground grey.
+    Classes,
+}
+
+impl std::str::FromStr for DebugView {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "none" => Ok(Self::None),
+            "classes" => Ok(Self::Classes),
+            _ => Err(format!(
+                "unknown debug view {s:?}: expected none or classes"
+            )),
+        }
+    }
+}
+
+/// Render settings (`RenderParams`, STYLE rule 4).
+#[derive(Clone, Copy, Debug)]
+pub struct RenderParams {
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+    /// MSAA samples: 4 by default; ask the adapter first
+    /// ([`crate::headless::supported_msaa`]), 1 where it cannot.
+    pub samples: u32,
+    /// Debug view.
+    pub debug: DebugView,
+    /// Direction towards the sun (normalised on use). Default: high behind
+    /// the default camera's left shoulder, so the blades facing it are lit.
+    pub sun_dir: Vec3,
+    /// Fog starts at this distance, metres (default 25: past the billboards' near edge).
+    pub fog_start_m: f32,
+    /// Fog is complete at this distance, metres (default 140).
+    pub fog_end_m: f32,
+}
+
+impl Default for RenderParams {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            samples: 4,
+            debug: DebugView::None,
+            sun_dir: Vec3::new(-0.35, 0.75, 0.55),
+            fog_start_m: 25.0,
+            fog_end_m: 140.0,
+        }
+    }
+}
+
+/// What the last frame drew.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameCounts {
+    /// Geometric blades.
+    pub blades: usize,
+    /// Billboards.
+    pub billboards: usize,
+}
+
+/// Draws a [`Simulation`] offscreen. Holds pipelines and GPU buffers; takes
+/// the device and queue it was created with on every call.
+pub struct Renderer {
+    params: RenderParams,
+    globals: wgpu::Buffer,
+    globals_group: wgpu::BindGroup,
+    target: Target,
+    sky: SkyPass,
+    terrain: TerrainPass,
+    billboards: BillboardPass,
+    blades: BladePass,
+    objects: ObjectPass,
+}
+
+/// Packs a linear colour as WGSL `unpack4x8unorm` reads it (alpha 255, so never 0).
+fn pack(c: Vec3) -> u32 {
+    let b = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u32;
+    b(c.x) | (b(c.y) << 8) | (b(c.z) << 16) | (255 << 24)
+}
+
+/// Debug colour of blade `b` for [`DebugView::Classes`].
+fn class_colour(sim: &Simulation, b: usize) -> u32 {
+    let g = sim.generation[b];
+    let c = if g == 0 {
+        Vec3::new(1.0, 0.03, 0.02)
+    } else if g != NO_GENERATION {
+        Vec3::new(0.05, 0.35, 1.0) * (1.0 - 0.1 * f32::from(g - 1)).max(0.3)
+    } else if sim.class[b] == BladeClass::Direct as u8 {
+        Vec3::new(0.35, 0.02, 0.02)
+    } else if sim.class[b] == BladeClass::Propagated as u8 {
+        Vec3::new(0.02, 0.06, 0.35)
+    } else {
+        Vec3::new(0.08, 0.45, 0.06)
+    };
+    pack(c)
+}
+
+impl Renderer {
+    /// Uploads `sim`'s field, ground and objects and builds the pipelines.
+    ///
+    /// # Errors
+    /// A bad size, or an adapter that cannot pull blade vertices.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: &Simulation,
+        params: RenderParams,
+    ) -> Result<Self, RenderError> {
+        let target = Target::new(device, params.width, params.height, params.samples)?;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("globals"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let globals = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("globals"),
+            size: std::mem::size_of::<Globals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals"),
+            layout: &layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: globals.as_entire_binding(),
+            }],
+        });
+        let s = params.samples;
+        Ok(Self {
+            params,
+            globals,
+            globals_group,
+            sky: SkyPass::new(device, &layout, s),
+            terrain: TerrainPass::new(device, queue, &layout, sim, s),
+            billboards: BillboardPass::new(device, queue, &layout, s),
+            blades: BladePass::new(device, queue, &layout, sim, s)?,
+            objects: ObjectPass::new(device, &layout, sim, s),
+            target,
+        })
+    }
+
+    /// The settings this renderer was made with.
+    #[must_use]
+    pub fn params(&self) -> &RenderParams {
+        &self.params
+    }
+
+    fn globals_of(&self, sim: &Simulation) -> Globals {
+        let mut view = sim.view;
+        view.aspect = self.params.width as f32 / self.params.height as f32;
+        let view_proj = view.proj() * view.view();
+        Globals {
+            view_proj,
+            inv_view_proj: view_proj.inverse(),
+            eye: view.eye.extend(sim.time as f32),
+            sun_dir: self.params.sun_dir.normalize_or(Vec3::Y).extend(0.55),
+            sun_color: Vec4::new(1.0, 0.93, 0.8, 0.0) * 1.1,
+            sky_zenith: Vec4::new(0.16, 0.32, 0.72, 0.0),
+            sky_horizon: Vec4::new(0.62, 0.72, 0.82, 0.0),
+            fog: Vec4::new(
+                self.params.fog_start_m,
+                self.params.fog_end_m,
+                sim.lod.geometry_m,
+                sim.lod.billboard_m,
+            ),
+            params: UVec4::new(
+                u32::from(self.params.debug == DebugView::Classes),
+                sim.field.blades.segments as u32,
+                sim.field.blades.count as u32,
+                0,
+            ),
+        }
+    }
+
+    /// Draws `sim`'s current state and submits it (see also [`Renderer::render`],
+    /// which also reads the frame back).
+    pub fn draw(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: &Simulation,
+    ) -> FrameCounts {
+        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&self.globals_of(sim)));
+        let debug = self.params.debug == DebugView::Classes;
+        if debug {
+            self.blades
+                .prepare(device, queue, sim, |b| class_colour(sim, b));
+        } else {
+            self.blades.prepare(device, queue, sim, |_| 0);
+        }
+        let bb_colour = if debug {
+            pack(Vec3::new(0.9, 0.75, 0.05))
+        } else {
+            0
+        };
+        self.billboards.prepare(device, queue, sim, bb_colour);
+        self.objects.prepare(queue, sim);
+
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame"),
+        });
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("scene"),
+                color_attachments: &[Some(self.target.color_attachment(wgpu::Color::BLACK))],
+                depth_stencil_attachment: Some(self.target.depth_attachment()),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.globals_group, &[]);
+            self.sky.draw(&mut pass);
+            self.terrain.draw(&mut pass);
+            self.objects.draw(&mut pass);
+            self.blades.draw(&mut pass);
+            self.billboards.draw(&mut pass);
+        }
+        self.target.copy_out(&mut encoder);
+        queue.submit([encoder.finish()]);
+        FrameCounts {
+            blades: self.blades.drawn(),
+            billboards: self.billboards.drawn(),
+        }
+    }
+
+    /// Draws `sim`'s current state and reads it back (sRGB RGBA8).
+    ///
+    /// # Errors
+    /// [`RenderError::Readback`] when the frame cannot be read.
+    pub fn render(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: &Simulation,
+    ) -> Result<image::RgbaImage, RenderError> {
+        self.draw(device, queue, sim);
+        self.target.read(device)
+    }
+}

@@ -1,0 +1,218 @@
+//! Golden images: tiny scenes rendered offscreen on the adapter of
+//! `WGPU_BACKEND` (GL on llvmpipe in CI) and compared with the references in
+//! tests/golden/ within a tolerance. A failure writes NAME-actual.png and
+//! NAME-difference.png next to the reference. A missing reference fails when
+//! `CI` is set and is created otherwise (then look at it, then commit it).
+//! No adapter = failure, not a skip.
+
+use std::path::PathBuf;
+use trample::Simulation;
+use trample::scene::Scene;
+use trample_render::{DebugView, RenderParams, Renderer};
+
+/// Mean absolute difference per channel (0–255) allowed.
+const MAX_MEAN_DIFF: f64 = 2.0;
+/// Share of pixels allowed to differ by more than [`PIXEL_TOLERANCE`] in some channel.
+const MAX_DIFFERING: f64 = 0.02;
+/// A channel difference above this makes a pixel "differing".
+const PIXEL_TOLERANCE: u8 = 24;
+
+const W: u32 = 160;
+const H: u32 = 90;
+
+fn gpu() -> &'static trample_render::headless::Gpu {
+    use std::sync::OnceLock;
+    static GPU: OnceLock<trample_render::headless::Gpu> = OnceLock::new();
+    GPU.get_or_init(|| {
+        let gpu = trample_render::headless::create_device()
+            .unwrap_or_else(|e| panic!("golden tests need an adapter: {e}"));
+        eprintln!("golden: adapter {}", gpu.adapter_name());
+        gpu
+    })
+}
+
+fn scene(toml: &str) -> Simulation {
+    Scene::parse(toml, "golden.toml", std::path::Path::new("."))
+        .unwrap()
+        .build()
+        .unwrap()
+}
+
+fn render(sim: &Simulation, debug: DebugView) -> image::RgbaImage {
+    let gpu = gpu();
+    let params = RenderParams {
+        width: W,
+        height: H,
+        samples: gpu.msaa(4),
+        debug,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(&gpu.device, &gpu.queue, sim, params).unwrap();
+    r.render(&gpu.device, &gpu.queue, sim).unwrap()
+}
+
+/// (mean absolute difference, share of differing pixels, difference image).
+fn compare(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, f64, image::RgbaImage) {
+    let mut diff = image::RgbaImage::new(a.width(), a.height());
+    let (mut sum, mut differing) = (0u64, 0usize);
+    for ((pa, pb), pd) in a.pixels().zip(b.pixels()).zip(diff.pixels_mut()) {
+        let mut worst = 0u8;
+        for c in 0..3 {
+            let d = pa[c].abs_diff(pb[c]);
+            sum += u64::from(d);
+            worst = worst.max(d);
+        }
+        if worst > PIXEL_TOLERANCE {
+            differing += 1;
+        }
+        let v = worst.saturating_mul(4);
+        *pd = image::Rgba([v, v, v, 255]);
+    }
+    let n = (a.width() * a.height()) as f64;
+    (sum as f64 / (3.0 * n), differing as f64 / n, diff)
+}
+
+fn check(name: &str, actual: &image::RgbaImage) {
+    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden"));
+    let reference = dir.join(format!("{name}.png"));
+    let actual_path = dir.join(format!("{name}-actual.png"));
+    let diff_path = dir.join(format!("{name}-difference.png"));
+    if !reference.exists() {
+        if std::env::var_os("CI").is_some() {
+            actual.save(&actual_path).unwrap();
+            panic!(
+                "{}: missing reference (CI is set); wrote {}",
+                reference.display(),
+                actual_path.display()
+            );
+        }
+        actual.save(&reference).unwrap();
+        eprintln!(
+            "golden: created {} — look at it, then commit it",
+            reference.display()
+        );
+        return;
+    }
+    let expected = image::open(&reference).unwrap().to_rgba8();
+    assert_eq!(
+        expected.dimensions(),
+        actual.dimensions(),
+        "{name}: size differs from the reference"
+    );
+    let (mean, share, diff) = compare(&expected, actual);
+    if mean > MAX_MEAN_DIFF || share > MAX_DIFFERING {
+        actual.save(&actual_path).unwrap();
+        diff.save(&diff_path).unwrap();
+        panic!(
+            "{name}: mean abs difference {mean:.2} (max {MAX_MEAN_DIFF}), {:.2} % pixels differ (max {:.2} %); wrote {} and {}",
+            share * 100.0,
+            MAX_DIFFERING * 100.0,
+            actual_path.display(),
+            diff_path.display()
+        );
+    }
+    let _ = std::fs::remove_file(&actual_path);
+    let _ = std::fs::remove_file(&diff_path);
+}
+
+/// A small field (8×8 cells per patch, 2×2 patches = 1.6 m square) and a
+/// ball that rolls into it; the camera looks from `eye` at `target`.
+fn small_scene(
+    eye: [f32; 3],
+    target: [f32; 3],
+    lod: (f32, f32),
+    cell: f32,
+    patches: u32,
+) -> String {
+    format!(
+        r#"
+[field]
+patches = [{patches}, {patches}]
+cells_per_patch = 8
+cell_size_m = {cell}
+blade_height_m = 0.45
+blade_width_m = 0.03
+[lod]
+geometry_m = {g}
+billboard_m = {b}
+[camera]
+path = {{ kind = "static", position = [{ex}, {ey}, {ez}] }}
+look_at = {{ kind = "point", at = [{tx}, {ty}, {tz}] }}
+[[objects]]
+name = "ball"
+shape = {{ kind = "sphere", radius_m = 0.3, subdivisions = 2 }}
+orientation = "rolling"
+path = {{ kind = "line", from = [-1.5, 0.3, 0.0], to = [0.0, 0.3, 0.0], duration_s = 1.0 }}
+"#,
+        g = lod.0,
+        b = lod.1,
+        ex = eye[0],
+        ey = eye[1],
+        ez = eye[2],
+        tx = target[0],
+        ty = target[1],
+        tz = target[2],
+    )
+}
+
+fn stepped(toml: &str, frames: u32) -> Simulation {
+    let mut sim = scene(toml);
+    for _ in 0..frames {
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    sim
+}
+
+#[test]
+fn golden_bent_blades_close_up() {
+    let toml = small_scene([0.4, 0.6, 1.6], [-0.3, 0.2, 0.0], (50.0, 60.0), 0.1, 2);
+    let sim = stepped(&toml, 50);
+    assert!(
+        sim.blades_away_from_rest() > 0,
+        "the ball must have bent blades"
+    );
+    check("bent_blades", &render(&sim, DebugView::None));
+}
+
+#[test]
+fn golden_billboards() {
+    let toml = small_scene([0.0, 1.0, 3.0], [0.0, 0.2, 0.0], (0.5, 60.0), 0.1, 4);
+    let sim = stepped(&toml, 1);
+    assert_eq!(
+        sim.timings.lod.geometry, 0,
+        "every cell must be a billboard"
+    );
+    check("billboards", &render(&sim, DebugView::None));
+}
+
+#[test]
+fn golden_three_levels() {
+    let toml = small_scene([0.0, 1.2, 4.5], [0.0, 0.0, -2.0], (4.0, 6.0), 0.2, 4);
+    let sim = stepped(&toml, 30);
+    let lod = sim.timings.lod;
+    assert!(
+        lod.geometry > 0 && lod.billboard > 0 && lod.texture > 0,
+        "{lod:?}"
+    );
+    check("three_levels", &render(&sim, DebugView::None));
+}
+
+#[test]
+fn golden_debug_classes() {
+    let toml = small_scene([0.0, 1.2, 4.5], [0.0, 0.0, -2.0], (4.0, 6.0), 0.2, 4);
+    let sim = stepped(&toml, 30);
+    check("debug_classes", &render(&sim, DebugView::Classes));
+}
+
+#[test]
+fn a_changed_frame_fails_the_comparison() {
+    // The tolerance is not so loose that a visibly different frame passes.
+    let toml = small_scene([0.4, 0.6, 1.6], [-0.3, 0.2, 0.0], (50.0, 60.0), 0.1, 2);
+    let before = render(&stepped(&toml, 0), DebugView::None);
+    let after = render(&stepped(&toml, 50), DebugView::None);
+    let (mean, share, _) = compare(&before, &after);
+    assert!(
+        mean > MAX_MEAN_DIFF || share > MAX_DIFFERING,
+        "mean {mean}, share {share}"
+    );
+}
