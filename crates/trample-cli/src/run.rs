@@ -259,7 +259,7 @@ pub fn run(a: &Args) -> Result<()> {
         fps: Fps {
             min: fps_of(frame_s.iter().copied().fold(0.0, f64::max)),
             avg: if total > 0.0 {
-                frames as f64 / total
+                frame_s.len() as f64 / total
             } else {
                 0.0
             },
