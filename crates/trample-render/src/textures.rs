@@ -116,8 +116,8 @@ pub fn grass_clump(seed: u64, blades: u32) -> Pixels {
                         (70.0 + 100.0 * t) * shade,
                         (20.0 + 30.0 * t) * shade,
                     ];
-                    for k in 0..3 {
-                        rgba[i + k] = c[k].clamp(0.0, 255.0) as u8;
+                    for (out, v) in rgba[i..i + 3].iter_mut().zip(c) {
+                        *out = v.clamp(0.0, 255.0) as u8;
                     }
                     rgba[i + 3] = 255;
                 }
@@ -145,15 +145,15 @@ pub fn half(p: &Pixels) -> Pixels {
                 let sy = (2 * y + dy).min(p.height - 1);
                 let i = ((sy * p.width + sx) * 4) as usize;
                 let a = f32::from(p.rgba[i + 3]) / 255.0;
-                for k in 0..3 {
-                    acc[k] += f32::from(p.rgba[i + k]) * a;
+                for (sum, &c) in acc.iter_mut().zip(&p.rgba[i..i + 3]) {
+                    *sum += f32::from(c) * a;
                 }
                 acc[3] += a;
             }
             let o = ((y * w + x) * 4) as usize;
-            for k in 0..3 {
-                rgba[o + k] = if acc[3] > 0.0 {
-                    (acc[k] / acc[3]).round() as u8
+            for (out, sum) in rgba[o..o + 3].iter_mut().zip(acc) {
+                *out = if acc[3] > 0.0 {
+                    (sum / acc[3]).round() as u8
                 } else {
                     0
                 };
