@@ -10,7 +10,7 @@ fn run_default_scene_writes_frames_gif_and_summary() {
     let _ = std::fs::remove_dir_all(&out);
     let o = Command::new(env!("CARGO_BIN_EXE_trample"))
         .args([
-            "run", "--frames", "10", "--size", "320x180", "--gif", "--out",
+            "run", "--frames", "10", "--every", "1", "--size", "320x180", "--gif", "--out",
         ])
         .arg(&out)
         .output()
