@@ -105,9 +105,10 @@ pub enum TerrainParams {
         seed: u64,
     },
     /// A grey-scale image stretched over the whole field: black = 0, white =
-    /// `height_scale_m`. The path is relative to the scene file's folder.
+    /// `height_scale_m`. The path is relative to the scene file's folder
+    /// and must stay inside it ([`crate::paths`]).
     Heightmap {
-        /// Image file (PNG), relative to the scene file.
+        /// Image file (PNG), relative to the scene file's folder.
         path: PathBuf,
         /// Height of a white pixel, metres.
         height_scale_m: f32,

@@ -107,7 +107,7 @@ impl Scene {
         self.validate()?;
         let f = &self.file;
         let terrain = Terrain::from_params(&f.field.terrain, f.field.extent_m(), &self.base_dir)
-            .map_err(|e| SceneError::invalid(&self.source, format!("field.terrain: {e}")))?;
+            .map_err(|e| SceneError::invalid(&self.source, e))?;
         let bodies: Vec<Body> = self
             .objects()?
             .into_par_iter()
