@@ -21,13 +21,28 @@ use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 use std::time::Instant;
 
-/// Number of sub-steps for a step of `dt` (DESIGN §9, ours): no object may
-/// move farther than its own thickness (or one cell, if it is thinner) in
-/// one sub-step, up to `max_substeps`.
-pub(crate) fn plan_substeps(sim: &Simulation, dt: f32) -> u32 {
+/// How a step of `dt` is split (DESIGN §9, ours): no object may move
+/// farther than its own thickness (or one cell, if it is thinner) in one
+/// sub-step. `needed` is what that takes, `substeps` what is run: at most
+/// `max_substeps`. When `needed` is larger the step is still taken, with
+/// `max_substeps`, and the caller records the clamp (see
+/// [`super::simulation::SubstepClamp`]): objects may then skip blades.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct SubstepPlan {
+    /// Sub-steps to run, `1..=max_substeps`.
+    pub substeps: u32,
+    /// Sub-steps the fastest object needs (≥ 1; saturates at `u32::MAX`).
+    pub needed: u32,
+    /// Index of the body that needs the most (none when no body moves).
+    pub fastest: Option<usize>,
+}
+
+/// Plans the sub-steps of a step of `dt` from each body's travel (and spin,
+/// measured at the root box's half diagonal) between the step's ends.
+pub(crate) fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
     let t0 = sim.time as f32;
-    let mut k = 1u32;
-    for body in &sim.bodies {
+    let (mut needed, mut fastest) = (1u32, None);
+    for (i, body) in sim.bodies.iter().enumerate() {
         let (a, b) = (body.object.pose_at(t0), body.object.pose_at(t0 + dt));
         let root = body.tree.nodes[0].obb;
         let spin = 0.5
@@ -37,10 +52,18 @@ pub(crate) fn plan_substeps(sim: &Simulation, dt: f32) -> u32 {
         let travel = a.position.distance(b.position) + spin;
         let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
         if travel.is_finite() && allowed > 0.0 {
-            k = k.max((travel / allowed).ceil() as u32);
+            // `as` saturates: an absurd speed needs u32::MAX, not a wrap.
+            let k = (travel / allowed).ceil() as u32;
+            if k > needed {
+                (needed, fastest) = (k, Some(i));
+            }
         }
     }
-    k.clamp(1, sim.params.max_substeps)
+    SubstepPlan {
+        substeps: needed.clamp(1, sim.params.max_substeps),
+        needed,
+        fastest,
+    }
 }
 
 /// One sub-step ending at time `t`, `h` seconds long.
