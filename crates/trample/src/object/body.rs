@@ -231,6 +231,24 @@ impl Object {
             kind,
         };
         let (raw, source) = build_shape(&params.shape, base_dir).map_err(error)?;
+        // Before scale and rotation turn an infinite coordinate into NaN.
+        if let Some((vertex, p)) = raw
+            .positions
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !p.is_finite())
+        {
+            let value = p
+                .to_array()
+                .into_iter()
+                .find(|c| !c.is_finite())
+                .unwrap_or(f32::NAN);
+            return Err(error(ObjectErrorKind::Mesh(MeshError::NonFiniteVertex {
+                source_name: source,
+                vertex,
+                value,
+            })));
+        }
         let scale = scale_factors(params.scale).map_err(error)?;
         if params.rotation_deg.iter().any(|d| !d.is_finite()) {
             return Err(error(bad(

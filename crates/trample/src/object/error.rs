@@ -117,7 +117,7 @@ pub enum MeshError {
     },
     /// An OBJ face with fewer than three corners.
     #[error(
-        "{source_name}: line {line}: face has {corners} corners; at least 3 are needed (a point or a line is not a surface)"
+        "{source_name}: line {line}: face has {corners} corner{}; at least 3 are needed (a point or a line is not a surface)", if *.corners == 1 { "" } else { "s" }
     )]
     ObjShortFace {
         /// The file.

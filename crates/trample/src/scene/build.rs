@@ -29,7 +29,13 @@ impl Scene {
                 lod.geometry_m
             ));
         }
-        if lod.billboard_m.is_nan() || lod.billboard_m < lod.geometry_m {
+        if lod.billboard_m.is_nan() {
+            return bad(format!(
+                "lod.billboard_m = NaN: must be a distance >= lod.geometry_m = {} metres (inf allowed)",
+                lod.geometry_m
+            ));
+        }
+        if lod.billboard_m < lod.geometry_m {
             return bad(format!(
                 "lod.billboard_m = {} is less than lod.geometry_m = {}: LOD distances must not decrease",
                 lod.billboard_m, lod.geometry_m

@@ -43,9 +43,10 @@ impl SceneError {
         let before = &text[..offset];
         let line = before.matches('\n').count() + 1;
         let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-        // The table the error is in: the last `[header]` on a line above the error's.
-        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        let table = text[..line_start]
+        // The table the error is in: the last `[header]` on the error's line
+        // or above it (a missing key is reported at its table's header).
+        let line_end = text[offset..].find('\n').map_or(text.len(), |i| offset + i);
+        let table = text[..line_end]
             .lines()
             .rev()
             .map(str::trim)
