@@ -35,7 +35,7 @@ pub struct Args {
     #[arg(long)]
     pub threads: Option<usize>,
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub memory_limit_gib: Option<f32>,
 }
 
