@@ -235,15 +235,18 @@ fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) {
     let w = weights(n, sim.params.weight_a, sim.params.weight_b);
     let terrain = &sim.field.terrain;
     let (force, num) = (&sim.scratch.force, &sim.scratch.num);
-    let bent: Vec<(u32, [Vec3A; MAX_SEGMENTS + 1])> = forced
-        .par_iter()
-        .map(|&b| {
+    // One work slot of n + 1 vertices per forced blade (not MAX_SEGMENTS + 1:
+    // with the whole field under an object this list is as large as the
+    // field's vertices).
+    let mut work = vec![Vec3A::ZERO; forced.len() * (n + 1)];
+    work.par_chunks_mut(n + 1)
+        .zip(forced.par_iter())
+        .for_each(|(v, &b)| {
             let bi = b as usize;
-            let mut v = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-            blades.load(bi, &mut v);
+            blades.load(bi, v);
             let count = u32::from(num[bi].max(1));
             bend_blade(
-                &mut v[..=n],
+                v,
                 blades.seg_len[bi],
                 force[bi] * h,
                 count,
@@ -251,11 +254,9 @@ fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) {
                 terrain,
                 GROUND_CLEARANCE_M,
             );
-            (b, v)
-        })
-        .collect();
-    for (b, v) in bent {
-        sim.field.blades.store(b as usize, &v[..=n]);
+        });
+    for (v, &b) in work.chunks_exact(n + 1).zip(forced) {
+        sim.field.blades.store(b as usize, v);
         mark_displaced(sim, b);
     }
 }
@@ -374,20 +375,20 @@ fn recover(sim: &mut Simulation, h: f32) {
     let blades = &sim.field.blades;
     let n = blades.segments;
     let terrain = &sim.field.terrain;
-    let moved: Vec<(u32, [Vec3A; MAX_SEGMENTS + 1], bool)> = sim
-        .scratch
-        .displaced
-        .par_iter()
-        .map(|&b| {
+    // One work slot of n + 1 vertices per displaced blade (see bend_blades).
+    let displaced = &sim.scratch.displaced;
+    let mut work = vec![Vec3A::ZERO; displaced.len() * (n + 1)];
+    let mut done = vec![false; displaced.len()];
+    work.par_chunks_mut(n + 1)
+        .zip(done.par_iter_mut())
+        .zip(displaced.par_iter())
+        .for_each(|((v, done), &b)| {
             let bi = b as usize;
-            let (mut v, mut rest) = (
-                [Vec3A::ZERO; MAX_SEGMENTS + 1],
-                [Vec3A::ZERO; MAX_SEGMENTS + 1],
-            );
-            blades.load(bi, &mut v);
+            let mut rest = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+            blades.load(bi, v);
             blades.load_rest(bi, &mut rest);
-            let done = recover_blade(
-                &mut v[..=n],
+            *done = recover_blade(
+                v,
                 &rest[..=n],
                 blades.seg_len[bi],
                 h,
@@ -395,12 +396,10 @@ fn recover(sim: &mut Simulation, h: f32) {
                 terrain,
                 GROUND_CLEARANCE_M,
             );
-            (b, v, done)
-        })
-        .collect();
-    let mut still = Vec::with_capacity(moved.len());
-    for (b, v, done) in moved {
-        sim.field.blades.store(b as usize, &v[..=n]);
+        });
+    let mut still = Vec::with_capacity(displaced.len());
+    for ((v, &done), &b) in work.chunks_exact(n + 1).zip(&done).zip(displaced) {
+        sim.field.blades.store(b as usize, v);
         if done {
             sim.scratch.displaced_flag[b as usize] = false;
         } else {
