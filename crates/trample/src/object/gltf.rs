@@ -65,13 +65,20 @@ pub fn parse_gltf(
     name: &str,
 ) -> Result<TriMesh, MeshError> {
     let name = name.to_owned();
-    let Gltf { document, blob } = super::catch_parser_panic(&name, "glTF", || {
-        Gltf::from_slice(bytes)
-    })?
-    .map_err(|e| MeshError::GltfParse {
+    let parse_error = |e: ::gltf::Error| MeshError::GltfParse {
         source_name: name.clone(),
         reason: e.to_string(),
-    })?;
+    };
+    let Gltf { document, blob } =
+        super::catch_parser_panic(&name, "glTF", || Gltf::from_slice_without_validation(bytes))?
+            .map_err(parse_error)?;
+    // gltf-json 1.4's validation indexes each primitive's POSITION accessor
+    // without a bounds check (found by the fuzz target `gltf`): check those
+    // indices first, then validate.
+    check_position_accessors(&document, &name)?;
+    let document =
+        super::catch_parser_panic(&name, "glTF", || Document::from_json(document.into_json()))?
+            .map_err(parse_error)?;
     let buffers = load_buffers(&document, buffer_folder, blob, &name)?;
     if document.meshes().len() == 0 {
         return Err(MeshError::GltfNoMeshes { source_name: name });
@@ -97,6 +104,33 @@ pub fn parse_gltf(
         }
     }
     Ok(out)
+}
+
+/// Every primitive's POSITION accessor index is below the number of
+/// accessors (before validation, which would panic on it).
+fn check_position_accessors(document: &Document, name: &str) -> Result<(), MeshError> {
+    use ::gltf::json::validation::Checked;
+    let json = document.as_json();
+    let accessors = json.accessors.len();
+    for (mesh, m) in json.meshes.iter().enumerate() {
+        for (primitive, p) in m.primitives.iter().enumerate() {
+            if let Some(index) = p.attributes.get(&Checked::Valid(Semantic::Positions))
+                && index.value() >= accessors
+            {
+                return Err(MeshError::GltfAccessor {
+                    source_name: name.to_owned(),
+                    mesh,
+                    primitive,
+                    attribute: "POSITION",
+                    problem: format!(
+                        "refers to accessor {} but the file has {accessors}; allowed: 0..{accessors}",
+                        index.value()
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The bytes of every buffer, in order.
