@@ -229,6 +229,28 @@ fn bad_input_exits_non_zero_with_one_line() {
             d.join("h.npy").display().to_string(),
         ],
         vec!["check".into(), d.display().to_string()],
+        // --out names a file, not a folder.
+        vec![
+            "simulate".into(),
+            scene.clone(),
+            "--frames".into(),
+            "1".into(),
+            "--out".into(),
+            scene.clone(),
+        ],
+        // A mesh path that leaves the scene's folder.
+        vec!["check".into(), {
+            let p = d.join("escape.toml");
+            std::fs::write(
+                &p,
+                SCENE.replace(
+                    r#"shape = { kind = "sphere", radius_m = 0.4 }"#,
+                    r#"shape = { kind = "mesh", path = "../x.obj" }"#,
+                ),
+            )
+            .unwrap();
+            p.display().to_string()
+        }],
     ];
     for args in cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();

@@ -112,3 +112,64 @@ fn ball_too_fast_for_max_substeps_is_clamped_counted_and_reported_once() {
         "{text}"
     );
 }
+
+/// A ball that crosses the whole 6.4 m field, and 60 m beyond, in a single
+/// step of 1/30 s (about 2,000 m/s): with enough sub-steps (here up to
+/// 1024) it still hits every blade on its path; the default 16 are not
+/// enough — it skips blades — and the step says so instead of tunnelling
+/// silently.
+#[test]
+fn ball_crossing_the_field_in_one_step_is_sub_stepped_or_reported() {
+    let run = |max_substeps: u32| {
+        let toml = format!(
+            r#"
+[field]
+patches = [4, 1]
+cells_per_patch = 16
+[lod]
+geometry_m = 1000.0
+billboard_m = 2000.0
+[sim]
+precision = 7
+max_substeps = {max_substeps}
+[camera]
+path = {{ kind = "static", position = [0.0, 3.0, 5.0] }}
+look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
+[[objects]]
+name = "bullet"
+shape = {{ kind = "sphere", radius_m = 0.2 }}
+path = {{ kind = "line", from = [-34.0, 0.2, 0.0], to = [34.0, 0.2, 0.0], duration_s = 0.033333335 }}
+"#
+        );
+        let mut sim = sim_from(&toml);
+        let t = sim.step(1.0 / 30.0).unwrap().clone();
+        let (mut on, mut hit) = (0, 0);
+        for b in 0..sim.field.blades.count {
+            let (x, z) = root_xz(&sim, b);
+            if x.abs() < 3.0 && z.abs() < 0.08 {
+                on += 1;
+                hit += usize::from(sim.class[b] == 1);
+            }
+        }
+        (t, hit as f32 / on as f32, sim.substep_clamps)
+    };
+    let (enough, share, clamps) = run(1024);
+    assert!(
+        enough.substeps > 16 && enough.substeps == enough.substeps_needed,
+        "{enough}"
+    );
+    assert!(share > 0.99, "hit {share:.3} of the blades on the path");
+    assert_eq!(clamps, 0);
+    let (default, share16, clamps) = run(16);
+    assert_eq!(default.substeps, 16);
+    assert!(default.substeps_needed > 16, "{default}");
+    assert_eq!(clamps, 1, "the clamped step is counted");
+    assert!(
+        share16 < 0.5,
+        "16 sub-steps of 4 m should skip blades ({share16:.3})"
+    );
+    println!(
+        "{} sub-steps needed; hit share {share:.3} with them, {share16:.3} with 16",
+        enough.substeps_needed
+    );
+}
