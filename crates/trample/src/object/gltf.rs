@@ -69,6 +69,7 @@ pub fn parse_gltf(
         source_name: name.clone(),
         reason: e.to_string(),
     };
+    check_glb_length(bytes, &name)?;
     let Gltf { document, blob } =
         super::catch_parser_panic(&name, "glTF", || Gltf::from_slice_without_validation(bytes))?
             .map_err(parse_error)?;
@@ -104,6 +105,25 @@ pub fn parse_gltf(
         }
     }
     Ok(out)
+}
+
+/// A GLB's declared total length (bytes 8..12) is at least its 12-byte
+/// header: the `gltf` crate (1.4) subtracts 12 from it unchecked, which
+/// panics (overflow) in a build with debug assertions (found by the fuzz
+/// target `gltf`). Other lengths it checks itself.
+fn check_glb_length(bytes: &[u8], name: &str) -> Result<(), MeshError> {
+    if let Some([b'g', b'l', b'T', b'F', _, _, _, _, l0, l1, l2, l3]) = bytes.get(..12) {
+        let length = u32::from_le_bytes([*l0, *l1, *l2, *l3]);
+        if length < 12 {
+            return Err(MeshError::GltfParse {
+                source_name: name.to_owned(),
+                reason: format!(
+                    "GLB header declares a total length of {length} bytes; at least its own 12 are needed"
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Every primitive's POSITION accessor index is below the number of
