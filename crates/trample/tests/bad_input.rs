@@ -179,11 +179,11 @@ fn cases() -> Vec<(&'static str, Want, String)> {
         ),
         e("malformed toml", outcome("[sim\nprecision = 3\n", &[])),
         e(
-            "malformed toml: unclosed string",
+            "malformed toml, unclosed string",
             outcome("name = \"grass\n", &[]),
         ),
         e(
-            "malformed toml: duplicate key",
+            "malformed toml, duplicate key",
             outcome("[sim]\nprecision = 3\nprecision = 4\n", &[]),
         ),
         e("unknown key", outcome("[sim]\nprecison = 3\n", &[])),
@@ -218,19 +218,19 @@ fn cases() -> Vec<(&'static str, Want, String)> {
         ),
         e("wrong type", outcome("[sim]\nprecision = \"high\"\n", &[])),
         e(
-            "wrong type: float for an integer",
+            "wrong type, float for an integer",
             outcome("[sim]\nprecision = 3.5\n", &[]),
         ),
         e(
-            "wrong type: negative count",
+            "wrong type, negative count",
             outcome("[field]\nsegments = -1\n", &[]),
         ),
         e(
-            "wrong type: array too short",
+            "wrong type, array too short",
             outcome("[field]\npatches = [16]\n", &[]),
         ),
         e(
-            "wrong type: table for a number",
+            "wrong type, table for a number",
             outcome("[sim]\ndt_s = { value = 0.01 }\n", &[]),
         ),
         e("object without a path", outcome(&object_scene(SPHERE), &[])),
