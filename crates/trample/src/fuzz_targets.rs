@@ -143,9 +143,10 @@ pub fn mesh_from_bytes(data: &[u8]) -> TriMesh {
 
 /// The checks every fuzzed mesh goes through: [`sanitize`]; when it accepts
 /// the mesh, the result is well formed (at least one triangle, every index
-/// in range), its OBB tree passes [`ObbTree::validate`], and 24 segments
-/// around it (through the centre, along the axes, through the corners, and
-/// through each of the first triangles' centroids) keep the narrow phase's
+/// in range), its OBB tree passes [`ObbTree::validate`], and up to 19
+/// segments around it (through the centre along the three axes, along the
+/// four diagonals of its box, and vertically through the centroids of up to
+/// 12 triangles) keep the narrow phase's
 /// properties: hits at precision d+1 ⊆ hits at d (d = 1..7), and a segment
 /// that [`segment_hits_exact`] says hits is hit at every precision.
 ///
