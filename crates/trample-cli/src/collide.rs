@@ -1,6 +1,7 @@
 //! `trample collide`: hit flags of every blade segment at rest, objects posed at one time.
 
-use crate::common::{load_scene, set_threads, write_f32, write_u8};
+use crate::common::{SimOverrides, load_scene, npy_f32, npy_u8, set_threads};
+use crate::output::Outputs;
 use anyhow::{Result, bail};
 use std::path::PathBuf;
 use trample::step::query::HitMode;
@@ -33,6 +34,9 @@ pub struct Args {
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
+    #[arg(long, allow_negative_numbers = true)]
+    pub memory_limit_gib: Option<f32>,
 }
 
 /// Runs the subcommand.
@@ -48,17 +52,29 @@ pub fn run(a: &Args) -> Result<()> {
         Some(p) => HitMode::Precision(p),
         None => HitMode::Exact,
     };
-    let scene = load_scene(a.scene.as_deref())?;
+    let flags = SimOverrides {
+        memory_limit_gib: a.memory_limit_gib,
+        ..SimOverrides::default()
+    };
+    let scene = load_scene(a.scene.as_deref(), flags)?;
+    let mut paths: Vec<(&str, &std::path::Path)> = vec![("--dump-hits", &a.dump_hits)];
+    for (flag, p) in [
+        ("--dump-blades", &a.dump_blades),
+        ("--dump-object", &a.dump_object),
+    ] {
+        if let Some(p) = p {
+            paths.push((flag, p));
+        }
+    }
+    Outputs::preflight(&paths)?;
     let sim = scene.build()?;
     let n = sim.field.blades.segments;
     let hits = sim.segment_hits_at_rest(a.time, mode);
-    write_u8(&a.dump_hits, &[sim.field.blades.count, n], &hits)?;
+    let mut outputs = Outputs::default();
+    outputs.stage(&a.dump_hits, &npy_u8(&[sim.field.blades.count, n], &hits))?;
     if let Some(p) = &a.dump_blades {
-        write_f32(
-            p,
-            &[sim.field.blades.count, n + 1, 3],
-            &sim.blade_vertices(),
-        )?;
+        let shape = [sim.field.blades.count, n + 1, 3];
+        outputs.stage(p, &npy_f32(&shape, &sim.blade_vertices()))?;
     }
     if let Some(p) = &a.dump_object {
         let tris = sim.object_triangles_at(a.time);
@@ -66,8 +82,9 @@ pub fn run(a: &Args) -> Result<()> {
             .iter()
             .flat_map(|t| t.iter().flat_map(|v| v.to_array()))
             .collect();
-        write_f32(p, &[tris.len(), 3, 3], &flat)?;
+        outputs.stage(p, &npy_f32(&[tris.len(), 3, 3], &flat))?;
     }
+    outputs.commit()?;
     let segs = hits.iter().filter(|&&h| h != 0).count();
     let blades = hits.chunks(n).filter(|c| c.iter().any(|&h| h != 0)).count();
     eprintln!(

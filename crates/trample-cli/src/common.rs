@@ -1,36 +1,66 @@
 //! What the subcommands share: loading a scene with command-line overrides,
-//! the worker count, output folders.
+//! the worker count, the output folder, `.npy` encoding.
 
 use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
-use trample::scene::Scene;
-use trample::step::SimParams;
+use trample::npy::{Dtype, encode};
+use trample::scene::{DEFAULT_SCENE_TOML, Scene};
 
-/// Loads SCENE, or the embedded default scene when none is given.
-pub fn load_scene(path: Option<&Path>) -> Result<Scene> {
-    Ok(match path {
-        Some(p) => Scene::load(p)?,
-        None => Scene::default_scene()?,
-    })
+/// Command-line flags that override the scene's `[sim]` table.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SimOverrides {
+    /// `--precision`.
+    pub precision: Option<u32>,
+    /// `--dt`.
+    pub dt: Option<f32>,
+    /// `--memory-limit-gib`.
+    pub memory_limit_gib: Option<f32>,
 }
 
-/// Applies `--precision` and `--dt` to the scene, checking them as flags.
-pub fn override_sim(scene: &mut Scene, precision: Option<u32>, dt: Option<f32>) -> Result<()> {
-    let mut sim: SimParams = scene.file.sim.clone();
-    if let Some(p) = precision {
-        sim.precision = p;
-        if let Err(e) = sim.validate() {
-            bail!("--precision {p}: {}", e.allowed);
+impl SimOverrides {
+    /// Checks each flag on its own, so that a message names the flag only
+    /// when the flag is what is wrong.
+    fn check(&self) -> Result<()> {
+        if let Some(p) = self.precision
+            && !(1..=trample::step::params::MAX_PRECISION).contains(&p)
+        {
+            bail!("--precision {p}: must be 1..=32 (the paper uses 1..=7)");
         }
-    }
-    if let Some(dt) = dt {
-        sim.dt_s = dt;
-        if let Err(e) = trample::step::params::check_dt(dt) {
+        if let Some(dt) = self.dt
+            && let Err(e) = trample::step::params::check_dt(dt)
+        {
             bail!("--dt {dt}: {}", e.allowed);
         }
+        if let Some(g) = self.memory_limit_gib
+            && !(g.is_finite() && g > 0.0)
+        {
+            bail!("--memory-limit-gib {g}: must be a finite number of GiB > 0");
+        }
+        Ok(())
     }
-    scene.file.sim = sim;
-    Ok(())
+}
+
+/// Loads SCENE (or the embedded default scene when none is given), applies
+/// the flags, then validates: a scene too large for its own
+/// `sim.memory_limit_gib` runs when `--memory-limit-gib` allows it.
+pub fn load_scene(path: Option<&Path>, flags: SimOverrides) -> Result<Scene> {
+    flags.check()?;
+    let mut scene = match path {
+        Some(p) => Scene::read_unvalidated(p)?,
+        None => Scene::parse_unvalidated(DEFAULT_SCENE_TOML, "<default scene>", Path::new("."))?,
+    };
+    let sim = &mut scene.file.sim;
+    if let Some(p) = flags.precision {
+        sim.precision = p;
+    }
+    if let Some(dt) = flags.dt {
+        sim.dt_s = dt;
+    }
+    if let Some(g) = flags.memory_limit_gib {
+        sim.memory_limit_gib = g;
+    }
+    scene.validate()?;
+    Ok(scene)
 }
 
 /// Sets the number of worker threads (`--threads`); none = one per core.
@@ -50,18 +80,17 @@ pub fn set_threads(threads: Option<usize>) -> Result<usize> {
 /// Creates the output folder.
 pub fn out_dir(dir: &Path) -> Result<PathBuf> {
     std::fs::create_dir_all(dir)
-        .with_context(|| format!("{}: cannot create output folder", dir.display()))?;
+        .with_context(|| format!("--out {}: cannot create the output folder", dir.display()))?;
     Ok(dir.to_path_buf())
 }
 
-/// Writes a float32 `.npy` dump, naming the file on failure.
-pub fn write_f32(path: &Path, shape: &[usize], values: &[f32]) -> Result<()> {
-    trample::npy::write_f32(path, shape, values)
-        .with_context(|| format!("{}: cannot write", path.display()))
+/// The bytes of a float32 `.npy` file.
+pub fn npy_f32(shape: &[usize], values: &[f32]) -> Vec<u8> {
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    encode(Dtype::F32, shape, &bytes)
 }
 
-/// Writes a uint8 `.npy` dump, naming the file on failure.
-pub fn write_u8(path: &Path, shape: &[usize], values: &[u8]) -> Result<()> {
-    trample::npy::write_u8(path, shape, values)
-        .with_context(|| format!("{}: cannot write", path.display()))
+/// The bytes of a uint8 `.npy` file.
+pub fn npy_u8(shape: &[usize], values: &[u8]) -> Vec<u8> {
+    encode(Dtype::U8, shape, values)
 }

@@ -7,6 +7,7 @@
 mod check;
 mod collide;
 mod common;
+mod output;
 mod run;
 mod simulate;
 mod summary;

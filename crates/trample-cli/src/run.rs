@@ -1,8 +1,8 @@
 //! `trample run`: simulate a scene and render it along its camera path,
 //! headless, to PNG frames, an optional GIF and a summary.
 
-use crate::common::{load_scene, out_dir, override_sim, set_threads};
-use crate::summary::{Recorder, SimSummary, Stats, write_json};
+use crate::common::{SimOverrides, load_scene, out_dir, set_threads};
+use crate::summary::{Recorder, SimSummary, Stats};
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -42,6 +42,9 @@ pub struct Args {
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
+    #[arg(long, allow_negative_numbers = true)]
+    pub memory_limit_gib: Option<f32>,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -158,8 +161,12 @@ fn write_png(path: &Path, img: &image::RgbaImage) -> Result<()> {
 /// Runs the subcommand.
 pub fn run(a: &Args) -> Result<()> {
     let threads = set_threads(a.threads)?;
-    let mut scene = load_scene(a.scene.as_deref())?;
-    override_sim(&mut scene, a.precision, None)?;
+    let flags = SimOverrides {
+        precision: a.precision,
+        memory_limit_gib: a.memory_limit_gib,
+        ..SimOverrides::default()
+    };
+    let mut scene = load_scene(a.scene.as_deref(), flags)?;
     let (width, height) = a.size;
     // Cull and look with the image's aspect.
     scene.file.camera.aspect = width as f32 / height as f32;
@@ -270,7 +277,10 @@ pub fn run(a: &Args) -> Result<()> {
         pngs_written: pngs,
         gif: a.gif.then(|| "run.gif".to_string()),
     };
-    write_json(&out.join("summary.json"), &summary)?;
+    let json = serde_json::to_string_pretty(&summary)?;
+    let summary_path = out.join("summary.json");
+    trample::npy::write_atomic(&summary_path, json.as_bytes())
+        .with_context(|| format!("{}: cannot write", summary_path.display()))?;
     eprintln!(
         "trample: {frames} frames in {wall_s:.2} s on {adapter}; step median {:.2} ms, render median {:.1} ms, {:.1} fps avg; wrote {pngs} PNG(s){} and {}",
         summary.sim.step_ms.median,

@@ -1,7 +1,8 @@
 //! `trample simulate`: run a scene without rendering.
 
-use crate::common::{load_scene, out_dir, override_sim, set_threads, write_f32, write_u8};
-use crate::summary::{Recorder, SimSummary, write_json};
+use crate::common::{SimOverrides, load_scene, npy_f32, npy_u8, out_dir, set_threads};
+use crate::output::Outputs;
+use crate::summary::{Recorder, SimSummary};
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -24,6 +25,9 @@ pub struct Args {
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
+    #[arg(long, allow_negative_numbers = true)]
+    pub memory_limit_gib: Option<f32>,
     /// Output folder for summary.json.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
@@ -42,9 +46,25 @@ pub struct Args {
 /// Runs the subcommand.
 pub fn run(a: &Args) -> Result<()> {
     let threads = set_threads(a.threads)?;
-    let mut scene = load_scene(a.scene.as_deref())?;
-    override_sim(&mut scene, a.precision, a.dt)?;
+    let flags = SimOverrides {
+        precision: a.precision,
+        dt: a.dt,
+        memory_limit_gib: a.memory_limit_gib,
+    };
+    let scene = load_scene(a.scene.as_deref(), flags)?;
     let out = out_dir(&a.out)?;
+    let summary_path = out.join("summary.json");
+    let mut paths: Vec<(&str, &std::path::Path)> = vec![("--out", &summary_path)];
+    for (flag, p) in [
+        ("--dump-blades", &a.dump_blades),
+        ("--dump-classes", &a.dump_classes),
+        ("--track-png", &a.track_png),
+    ] {
+        if let Some(p) = p {
+            paths.push((flag, p));
+        }
+    }
+    Outputs::preflight(&paths)?;
     let frames = a.frames.unwrap_or(scene.file.run.frames);
 
     let clock = Instant::now();
@@ -69,38 +89,51 @@ pub fn run(a: &Args) -> Result<()> {
     let dt = sim.params.dt_s;
     let clock = Instant::now();
     for _ in 0..frames {
+        let clamps_before = sim.substep_clamps;
         let t = sim.step(dt)?;
         bar.set_message(format!("DBG {} PBG {}", t.dbg_blades, t.pbg_blades));
         rec.steps.push(t.clone());
+        if clamps_before == 0
+            && let Some(c) = &sim.first_substep_clamp
+        {
+            bar.suspend(|| eprintln!("trample: warning: {c}"));
+        }
         bar.inc(1);
     }
     bar.finish_and_clear();
     let wall_s = clock.elapsed().as_secs_f64();
 
+    // Everything is computed and staged before any destination is touched.
+    let mut outputs = Outputs::default();
     if let Some(p) = &a.dump_blades {
         let n = sim.field.blades.segments;
-        write_f32(
-            p,
-            &[sim.field.blades.count, n + 1, 3],
-            &sim.blade_vertices(),
-        )?;
+        let shape = [sim.field.blades.count, n + 1, 3];
+        outputs.stage(p, &npy_f32(&shape, &sim.blade_vertices()))?;
     }
     if let Some(p) = &a.dump_classes {
-        write_u8(p, &[sim.class.len()], &sim.class)?;
+        outputs.stage(p, &npy_u8(&[sim.class.len()], &sim.class))?;
     }
     if let Some(p) = &a.track_png {
-        crate::track::write_track_png(&sim, p)?;
+        outputs.stage(p, &crate::track::track_png(&sim)?)?;
     }
     let summary = SimSummary::new(&scene, &sim, frames, threads, build_ms, wall_s, &rec);
-    write_json(&out.join("summary.json"), &summary)?;
+    outputs.stage(
+        &summary_path,
+        serde_json::to_string_pretty(&summary)?.as_bytes(),
+    )?;
+    outputs.commit()?;
     eprintln!(
-        "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (max {:.3}); {} blades touched ({} DBG, {} PBG only); wrote {}",
+        "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (max {:.3}); {} blades touched ({} DBG, {} PBG only){}; wrote {}",
         summary.step_ms.median,
         summary.step_ms.max,
         summary.classes["direct"] + summary.classes["propagated"],
         summary.classes["direct"],
         summary.classes["propagated"],
-        out.join("summary.json").display()
+        match sim.substep_clamps {
+            0 => String::new(),
+            n => format!("; {n} step(s) clamped by sim.max_substeps"),
+        },
+        summary_path.display()
     );
     Ok(())
 }

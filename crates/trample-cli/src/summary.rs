@@ -85,6 +85,14 @@ pub struct SimSummary {
     pub displaced_blades: u32,
     pub lod_cells: trample::field::LodCounts,
     pub classes: BTreeMap<&'static str, usize>,
+    /// Steps in which an object needed more than `sim.max_substeps` sub-steps.
+    pub substeps_clamped_steps: u64,
+    /// The first such step, in words (null when none).
+    pub first_substep_clamp: Option<String>,
+    /// Memory estimate of the field before the run, MiB.
+    pub memory_estimate_mib: f64,
+    /// Peak resident memory of the process (Linux `VmHWM`), MiB; null elsewhere.
+    pub peak_rss_mib: Option<f64>,
 }
 
 impl SimSummary {
@@ -124,16 +132,21 @@ impl SimSummary {
                 ("direct", count(BladeClass::Direct)),
                 ("propagated", count(BladeClass::Propagated)),
             ]),
+            substeps_clamped_steps: sim.substep_clamps,
+            first_substep_clamp: sim.first_substep_clamp.as_ref().map(ToString::to_string),
+            memory_estimate_mib: scene.file.field.memory_estimate_bytes() as f64 / 1024f64.powi(2),
+            peak_rss_mib: peak_rss_mib(),
         }
     }
 }
 
-/// Writes `value` as pretty JSON to `path` atomically.
-pub fn write_json(path: &std::path::Path, value: &impl Serialize) -> anyhow::Result<()> {
-    use anyhow::Context;
-    let text = serde_json::to_string_pretty(value)?;
-    trample::npy::write_atomic(path, text.as_bytes())
-        .with_context(|| format!("{}: cannot write", path.display()))
+/// Peak resident memory of this process, MiB: `VmHWM` of
+/// `/proc/self/status` (Linux); `None` where that cannot be read.
+pub fn peak_rss_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
 }
 
 #[cfg(test)]
@@ -145,5 +158,11 @@ mod tests {
         let s = Stats::of(&[3.0, 1.0, 2.0, 10.0]);
         assert_eq!((s.min, s.median, s.mean, s.max), (1.0, 2.5, 4.0, 10.0));
         assert_eq!(Stats::of(&[5.0]).median, 5.0);
+    }
+
+    #[test]
+    fn peak_rss_is_read_on_linux() {
+        let mib = peak_rss_mib().expect("/proc/self/status has VmHWM");
+        assert!(mib > 1.0 && mib < 1e6, "{mib}");
     }
 }

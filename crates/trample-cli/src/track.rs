@@ -5,13 +5,12 @@
 //! propagation carried it.
 
 use anyhow::{Context, Result};
-use std::path::Path;
 use trample::Simulation;
 use trample::step::BladeClass;
 
-/// Writes the track picture of `sim` to `path` (PNG), scaled so the longer
-/// side is at least 512 pixels.
-pub fn write_track_png(sim: &Simulation, path: &Path) -> Result<()> {
+/// The track picture of `sim` as PNG bytes, scaled so the longer side is
+/// at least 512 pixels.
+pub fn track_png(sim: &Simulation) -> Result<Vec<u8>> {
     let layout = &sim.field.layout;
     let bl = &sim.field.blades;
     let bpc = layout.blades_per_cell as usize;
@@ -61,7 +60,7 @@ pub fn write_track_png(sim: &Simulation, path: &Path) -> Result<()> {
     img.write_to(
         &mut std::io::Cursor::new(&mut bytes),
         image::ImageFormat::Png,
-    )?;
-    trample::npy::write_atomic(path, &bytes)
-        .with_context(|| format!("{}: cannot write", path.display()))
+    )
+    .context("cannot encode the track picture")?;
+    Ok(bytes)
 }

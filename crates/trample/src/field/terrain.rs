@@ -36,11 +36,19 @@ pub struct HeightGrid {
     pub size: [f32; 2],
 }
 
-/// Why a terrain could not be made.
+/// Why a terrain could not be made. Messages start with the scene key.
 #[derive(Debug, thiserror::Error)]
 pub enum TerrainError {
+    /// The height-map path leaves the scene's folder ([`crate::paths`]).
+    #[error("field.terrain.path = {path:?}: {reason}")]
+    Outside {
+        /// The path as written.
+        path: std::path::PathBuf,
+        /// How it leaves the folder.
+        reason: crate::paths::PathEscape,
+    },
     /// The height-map image could not be read.
-    #[error("{path}: cannot read height map: {reason}")]
+    #[error("field.terrain: {path}: cannot read height map: {reason}")]
     Unreadable {
         /// The image file.
         path: String,
@@ -48,7 +56,7 @@ pub enum TerrainError {
         reason: String,
     },
     /// The height-map image is too small to interpolate.
-    #[error("{path}: height map is {w}x{h} pixels; at least 2x2 are needed")]
+    #[error("field.terrain: {path}: height map is {w}x{h} pixels; at least 2x2 are needed")]
     TooSmall {
         /// The image file.
         path: String,
@@ -61,7 +69,9 @@ pub enum TerrainError {
 
 impl Terrain {
     /// Builds the terrain of `params` over a field of `extent` (x, z) metres
-    /// centred on the origin. `base_dir` resolves a height map's relative path.
+    /// centred on the origin. `base_dir` (the scene's folder) resolves a
+    /// height map's relative path, which must stay inside it
+    /// ([`crate::paths::resolve_inside`]).
     pub fn from_params(
         params: &TerrainParams,
         extent: [f32; 2],
@@ -82,8 +92,23 @@ impl Terrain {
                 path,
                 height_scale_m,
             } => {
-                let full = base_dir.join(path);
+                let full = crate::paths::resolve_inside(base_dir, path).map_err(|reason| {
+                    TerrainError::Outside {
+                        path: path.clone(),
+                        reason,
+                    }
+                })?;
                 let shown = full.display().to_string();
+                // A FIFO or a device would block or never end: regular files only.
+                match std::fs::metadata(&full) {
+                    Ok(m) if !m.is_file() => {
+                        return Err(TerrainError::Unreadable {
+                            path: shown,
+                            reason: "not a regular file; allowed: a PNG image file".into(),
+                        });
+                    }
+                    _ => {}
+                }
                 let img = image::open(&full)
                     .map_err(|e| TerrainError::Unreadable {
                         path: shown.clone(),

@@ -111,8 +111,10 @@ pub enum ShapeParams {
         /// Outer diameter, metres (> 0).
         size_m: f32,
     },
-    /// A mesh file: `.obj`, `.gltf` or `.glb`, relative to the scene file
-    /// (see [`super::load_mesh_file`]), in metres (scale it otherwise).
+    /// A mesh file: `.obj`, `.gltf` or `.glb`, relative to the scene file's
+    /// folder and inside it (no absolute path, no `..` above it: see
+    /// [`crate::paths`]), in metres (scale it otherwise). See
+    /// [`super::load_mesh_file`].
     Mesh {
         /// The file.
         path: PathBuf,
@@ -183,6 +185,16 @@ pub enum ObjectErrorKind {
         /// What is allowed.
         allowed: &'static str,
     },
+    /// A file path leaves the scene's folder ([`crate::paths`]).
+    #[error("{key} = {path:?}: {reason}")]
+    PathOutside {
+        /// The key, e.g. `shape.path`.
+        key: &'static str,
+        /// The path as written.
+        path: PathBuf,
+        /// How it leaves the folder (boxed: keeps `ObjectError` small).
+        reason: Box<crate::paths::PathEscape>,
+    },
     /// The mesh could not be loaded or was refused.
     #[error("{0}")]
     Mesh(MeshError),
@@ -196,7 +208,8 @@ pub enum ObjectErrorKind {
 
 impl Object {
     /// Builds the object `params` = `objects[index]` of a scene; mesh files
-    /// are found relative to `base_dir` (the scene file's folder).
+    /// are found relative to `base_dir` (the scene file's folder) and must
+    /// stay inside it ([`crate::paths::resolve_inside`]).
     ///
     /// The mesh is made (built-in shape) or loaded, scaled, rotated by
     /// `rotation_deg`, sanitised, then anchored (mesh files only). The roll
@@ -218,6 +231,24 @@ impl Object {
             kind,
         };
         let (raw, source) = build_shape(&params.shape, base_dir).map_err(error)?;
+        // Before scale and rotation turn an infinite coordinate into NaN.
+        if let Some((vertex, p)) = raw
+            .positions
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !p.is_finite())
+        {
+            let value = p
+                .to_array()
+                .into_iter()
+                .find(|c| !c.is_finite())
+                .unwrap_or(f32::NAN);
+            return Err(error(ObjectErrorKind::Mesh(MeshError::NonFiniteVertex {
+                source_name: source,
+                vertex,
+                value,
+            })));
+        }
         let scale = scale_factors(params.scale).map_err(error)?;
         if params.rotation_deg.iter().any(|d| !d.is_finite()) {
             return Err(error(bad(
@@ -315,7 +346,13 @@ fn build_shape(
             "built-in knot".into(),
         ),
         ShapeParams::Mesh { path, .. } => {
-            let file = base_dir.join(path);
+            let file = crate::paths::resolve_inside(base_dir, path).map_err(|reason| {
+                ObjectErrorKind::PathOutside {
+                    key: "shape.path",
+                    path: path.clone(),
+                    reason: Box::new(reason),
+                }
+            })?;
             let mesh = super::load_mesh_file(&file).map_err(ObjectErrorKind::Mesh)?;
             (mesh, file.display().to_string())
         }

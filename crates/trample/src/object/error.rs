@@ -77,13 +77,14 @@ pub enum MeshError {
         /// Number of vertices.
         count: usize,
     },
-    /// The file could not be read (missing, no permission, ...).
+    /// The file could not be read (missing, no permission, not a regular
+    /// file, larger than [`super::MAX_MESH_FILE_BYTES`]).
     #[error("{source_name}: cannot read the file: {reason}")]
     Io {
         /// The file.
         source_name: String,
-        /// What the operating system said.
-        reason: std::io::Error,
+        /// What the operating system said, or why the file was not read.
+        reason: crate::paths::ReadError,
     },
     /// The file name does not end in a known mesh extension.
     #[error(
@@ -113,6 +114,18 @@ pub enum MeshError {
         count: usize,
         /// How many are defined above the line (the limit of negative indices).
         defined_above: usize,
+    },
+    /// An OBJ face with fewer than three corners.
+    #[error(
+        "{source_name}: line {line}: face has {corners} corner{}; at least 3 are needed (a point or a line is not a surface)", if *.corners == 1 { "" } else { "s" }
+    )]
+    ObjShortFace {
+        /// The file.
+        source_name: String,
+        /// Line number (1-based).
+        line: usize,
+        /// Corners the face lists.
+        corners: usize,
     },
     /// The OBJ parser refused the file.
     #[error("{source_name}: not a valid OBJ file: {reason}")]

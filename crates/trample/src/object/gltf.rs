@@ -23,39 +23,64 @@ use glam::{Mat4, Vec3};
 use std::collections::HashSet;
 use std::path::Path;
 
-/// Loads the triangles of the glTF or GLB file at `path` as one mesh, in the
-/// file's units (metres by the glTF convention) and world frame (glTF is
-/// y-up and right-handed, like trample). A transform that mirrors (negative
-/// determinant) has its triangles' order reversed, so they keep facing
-/// outwards. The mesh is not sanitised: see [`super::sanitize::sanitize`].
+/// Loads the triangles of the glTF or GLB file at `path` as one mesh:
+/// [`super::read_mesh_bytes`] then [`parse_gltf`] with the file's folder as
+/// the folder its external buffers must be in. The mesh is not sanitised:
+/// see [`super::sanitize::sanitize`].
 ///
 /// # Errors
-/// [`MeshError::Io`], [`MeshError::GltfParse`] (invalid JSON/GLB or glTF
-/// validation), buffer errors ([`MeshError::GltfMissingBuffer`],
-/// [`MeshError::GltfExternalBuffer`], [`MeshError::GltfUnsupportedUri`],
-/// [`MeshError::GltfBufferTooShort`]), [`MeshError::GltfNoMeshes`],
-/// [`MeshError::GltfSceneWithoutMeshes`], [`MeshError::GltfNodeGraph`],
-/// [`MeshError::GltfPrimitiveMode`], [`MeshError::GltfAccessor`]. Every
-/// message names the file.
+/// [`MeshError::Io`] when the file cannot be read, else those of
+/// [`parse_gltf`]. Every message names the file.
 pub fn load_gltf(path: &Path) -> Result<TriMesh, MeshError> {
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|reason| MeshError::Io {
-        source_name: name.clone(),
-        reason,
-    })?;
-    let Gltf { document, blob } = super::catch_parser_panic(&name, "glTF", || {
-        Gltf::from_slice(&bytes)
-    })?
-    .map_err(|e| MeshError::GltfParse {
+    let bytes = super::read_mesh_bytes(path)?;
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    parse_gltf(&bytes, Some(folder), &path.display().to_string())
+}
+
+/// Parses the bytes of a glTF or GLB file (`name` is used in messages) as
+/// one mesh, in the file's units (metres by the glTF convention) and world
+/// frame (glTF is y-up and right-handed, like trample). A transform that
+/// mirrors (negative determinant) has its triangles' order reversed, so
+/// they keep facing outwards.
+///
+/// External buffers (`"uri": "car.bin"`) are read from `buffer_folder` and
+/// must stay inside it ([`crate::paths::resolve_inside`]: no absolute path,
+/// no `..` above it); with `None` (the fuzz target) only embedded buffers
+/// (`data:` uris, a GLB's BIN chunk) are read. Never panics (the fuzz
+/// target `gltf` holds it to that).
+///
+/// # Errors
+/// [`MeshError::GltfParse`] (invalid JSON/GLB or glTF validation), buffer
+/// errors ([`MeshError::GltfMissingBuffer`], [`MeshError::GltfExternalBuffer`],
+/// [`MeshError::GltfUnsupportedUri`], [`MeshError::GltfBufferTooShort`]),
+/// [`MeshError::GltfNoMeshes`], [`MeshError::GltfSceneWithoutMeshes`],
+/// [`MeshError::GltfNodeGraph`], [`MeshError::GltfPrimitiveMode`],
+/// [`MeshError::GltfAccessor`].
+pub fn parse_gltf(
+    bytes: &[u8],
+    buffer_folder: Option<&Path>,
+    name: &str,
+) -> Result<TriMesh, MeshError> {
+    let name = name.to_owned();
+    let parse_error = |e: ::gltf::Error| MeshError::GltfParse {
         source_name: name.clone(),
         reason: e.to_string(),
-    })?;
-    let buffers = load_buffers(
-        &document,
-        path.parent().unwrap_or(Path::new("")),
-        blob,
-        &name,
-    )?;
+    };
+    check_glb_length(bytes, &name)?;
+    let Gltf { document, blob } =
+        super::catch_parser_panic(&name, "glTF", || Gltf::from_slice_without_validation(bytes))?
+            .map_err(parse_error)?;
+    // gltf-json 1.4's validation indexes each primitive's POSITION accessor
+    // without a bounds check (found by the fuzz target `gltf`): check those
+    // indices first, then validate.
+    check_position_accessors(&document, &name)?;
+    let document =
+        super::catch_parser_panic(&name, "glTF", || Document::from_json(document.into_json()))?
+            .map_err(parse_error)?;
+    let buffers = load_buffers(&document, buffer_folder, blob, &name)?;
     if document.meshes().len() == 0 {
         return Err(MeshError::GltfNoMeshes { source_name: name });
     }
@@ -82,10 +107,56 @@ pub fn load_gltf(path: &Path) -> Result<TriMesh, MeshError> {
     Ok(out)
 }
 
+/// A GLB's declared total length (bytes 8..12) is at least its 12-byte
+/// header: the `gltf` crate (1.4) subtracts 12 from it unchecked, which
+/// panics (overflow) in a build with debug assertions (found by the fuzz
+/// target `gltf`). Other lengths it checks itself.
+fn check_glb_length(bytes: &[u8], name: &str) -> Result<(), MeshError> {
+    if let Some([b'g', b'l', b'T', b'F', _, _, _, _, l0, l1, l2, l3]) = bytes.get(..12) {
+        let length = u32::from_le_bytes([*l0, *l1, *l2, *l3]);
+        if length < 12 {
+            return Err(MeshError::GltfParse {
+                source_name: name.to_owned(),
+                reason: format!(
+                    "GLB header declares a total length of {length} bytes; at least its own 12 are needed"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Every primitive's POSITION accessor index is below the number of
+/// accessors (before validation, which would panic on it).
+fn check_position_accessors(document: &Document, name: &str) -> Result<(), MeshError> {
+    use ::gltf::json::validation::Checked;
+    let json = document.as_json();
+    let accessors = json.accessors.len();
+    for (mesh, m) in json.meshes.iter().enumerate() {
+        for (primitive, p) in m.primitives.iter().enumerate() {
+            if let Some(index) = p.attributes.get(&Checked::Valid(Semantic::Positions))
+                && index.value() >= accessors
+            {
+                return Err(MeshError::GltfAccessor {
+                    source_name: name.to_owned(),
+                    mesh,
+                    primitive,
+                    attribute: "POSITION",
+                    problem: format!(
+                        "refers to accessor {} but the file has {accessors}; allowed: 0..{accessors}",
+                        index.value()
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The bytes of every buffer, in order.
 fn load_buffers(
     document: &Document,
-    base: &Path,
+    base: Option<&Path>,
     mut blob: Option<Vec<u8>>,
     name: &str,
 ) -> Result<Vec<Vec<u8>>, MeshError> {
@@ -112,35 +183,44 @@ fn load_buffers(
     Ok(buffers)
 }
 
-/// Reads a buffer uri: a `data:` uri (decoded by the `gltf` crate), a
-/// `file:` uri, or a percent-encoded path relative to `base`.
-fn read_uri(uri: &str, base: &Path, buffer: usize, name: &str) -> Result<Vec<u8>, MeshError> {
+/// Reads a buffer uri: a `data:` uri (decoded by the `gltf` crate), or a
+/// percent-encoded path (optionally `file:`) relative to `base` and inside
+/// it. With no `base`, only `data:` uris are read.
+fn read_uri(
+    uri: &str,
+    base: Option<&Path>,
+    buffer: usize,
+    name: &str,
+) -> Result<Vec<u8>, MeshError> {
     let external = |reason: String| MeshError::GltfExternalBuffer {
         source_name: name.to_owned(),
         buffer,
-        uri: uri.to_owned(),
+        uri: uri.chars().take(80).collect(),
         reason,
     };
-    let file = if uri.starts_with("data:") {
+    if uri.starts_with("data:") {
         let data = ::gltf::buffer::Data::from_source(Source::Uri(uri), None)
             .map_err(|e| external(format!("bad data uri: {e}")))?;
         return Ok(data.0);
-    } else if let Some(rest) = uri
+    }
+    let relative = uri
         .strip_prefix("file://")
         .or_else(|| uri.strip_prefix("file:"))
-    {
-        Path::new(rest).to_path_buf()
-    } else if uri.contains(':') {
-        let shown: String = uri.chars().take(80).collect();
+        .unwrap_or(uri);
+    if relative.contains(':') {
         return Err(MeshError::GltfUnsupportedUri {
             source_name: name.to_owned(),
             buffer,
-            uri: shown,
+            uri: uri.chars().take(80).collect(),
         });
-    } else {
-        base.join(percent_decode(uri).ok_or_else(|| external("bad percent-encoding".into()))?)
-    };
-    std::fs::read(&file).map_err(|e| external(e.to_string()))
+    }
+    let base = base.ok_or_else(|| external("no folder to read external buffers from".into()))?;
+    let decoded =
+        percent_decode(relative).ok_or_else(|| external("bad percent-encoding".into()))?;
+    let file = crate::paths::resolve_inside(base, Path::new(&decoded))
+        .map_err(|e| external(format!("the path {e}")))?;
+    crate::paths::read_regular_file(&file, super::MAX_MESH_FILE_BYTES)
+        .map_err(|e| external(e.to_string()))
 }
 
 /// Decodes `%XX` escapes; `None` when an escape is malformed or the result

@@ -52,6 +52,23 @@ pub fn load_mesh_file(path: &std::path::Path) -> Result<TriMesh, MeshError> {
     }
 }
 
+/// Largest mesh file read, bytes (1 GiB): a text OBJ of that size holds
+/// some 20 million triangles, far more than an object crossing grass needs;
+/// a larger file is refused before it is read (DESIGN §9 "absurd sizes").
+pub const MAX_MESH_FILE_BYTES: u64 = 1 << 30;
+
+/// The bytes of a mesh file: a regular file of at most
+/// [`MAX_MESH_FILE_BYTES`] (see [`crate::paths::read_regular_file`]).
+///
+/// # Errors
+/// [`MeshError::Io`] naming the file.
+pub fn read_mesh_bytes(path: &std::path::Path) -> Result<Vec<u8>, MeshError> {
+    crate::paths::read_regular_file(path, MAX_MESH_FILE_BYTES).map_err(|reason| MeshError::Io {
+        source_name: path.display().to_string(),
+        reason,
+    })
+}
+
 /// Runs a third-party parser, turning a panic inside it into
 /// [`MeshError::ParserPanic`] (meaningful with the default `panic = "unwind"`).
 pub(crate) fn catch_parser_panic<T>(

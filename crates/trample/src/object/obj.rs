@@ -14,22 +14,34 @@ use glam::Vec3;
 use std::path::Path;
 
 /// Loads every face of the OBJ file at `path` as one triangle mesh, in the
-/// file's units and frame. The mesh is not sanitised: pass it through
-/// [`super::sanitize::sanitize`] (as [`super::body::Object::from_params`]
-/// does).
+/// file's units and frame: [`super::read_mesh_bytes`] then [`parse_obj`].
+/// The mesh is not sanitised: pass it through [`super::sanitize::sanitize`]
+/// (as [`super::body::Object::from_params`] does).
 ///
 /// # Errors
-/// [`MeshError::Io`] when the file cannot be read, [`MeshError::ObjFaceIndex`]
-/// for a face index outside the file's vertices (or texture coordinates or
-/// normals), [`MeshError::ObjParse`] for anything else `tobj` refuses, and
-/// [`MeshError::ParserPanic`] if `tobj` panics. Every message names the file.
+/// [`MeshError::Io`] when the file cannot be read (missing, no permission,
+/// not a regular file, larger than [`super::MAX_MESH_FILE_BYTES`]), else
+/// those of [`parse_obj`]. Every message names the file.
 pub fn load_obj(path: &Path) -> Result<TriMesh, MeshError> {
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|reason| MeshError::Io {
-        source_name: name.clone(),
-        reason,
-    })?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| MeshError::ObjParse {
+    let bytes = super::read_mesh_bytes(path)?;
+    parse_obj(&bytes, &path.display().to_string())
+}
+
+/// Parses the bytes of an OBJ file (`name` is used in messages) as one
+/// triangle mesh. Polygons of more than three corners are triangulated as
+/// fans (a quad gives two triangles, a pentagon three); faces of fewer than
+/// three corners are refused ([`MeshError::ObjShortFace`]); `p` and `l`
+/// elements are ignored. Never panics (the fuzz target `obj` holds it to
+/// that).
+///
+/// # Errors
+/// [`MeshError::ObjParse`] for text that is not UTF-8 or that `tobj`
+/// refuses, [`MeshError::ObjFaceIndex`] for a face index outside the file's
+/// vertices (or texture coordinates or normals), [`MeshError::ObjShortFace`],
+/// and [`MeshError::ParserPanic`] if `tobj` panics.
+pub fn parse_obj(bytes: &[u8], name: &str) -> Result<TriMesh, MeshError> {
+    let name = name.to_owned();
+    let text = std::str::from_utf8(bytes).map_err(|e| MeshError::ObjParse {
         source_name: name.clone(),
         reason: format!("not UTF-8 text (bad byte at offset {})", e.valid_up_to()),
     })?;
@@ -85,6 +97,8 @@ const FACE_INDEX_KINDS: [&str; 3] = ["vertex", "texture coordinate", "normal"];
 /// the end), a negative one against the count above the line. Texture
 /// coordinate and normal indices are only checked when the file has some
 /// (otherwise `tobj` ignores them). Unparsable indices are left to `tobj`.
+/// A face of fewer than three corners is refused here: `tobj` would keep
+/// it as a point or a line and drop it without a word.
 fn check_face_indices(text: &str, name: &str) -> Result<(), MeshError> {
     let mut totals = [0usize; 3];
     for line in text.lines() {
@@ -101,6 +115,14 @@ fn check_face_indices(text: &str, name: &str) -> Result<(), MeshError> {
         let mut words = line.split_whitespace();
         if words.next() != Some("f") {
             continue;
+        }
+        let corners = words.clone().count();
+        if corners < 3 {
+            return Err(MeshError::ObjShortFace {
+                source_name: name.to_owned(),
+                line: line_index + 1,
+                corners,
+            });
         }
         for word in words {
             for (kind, part) in word.split('/').enumerate().take(3) {
@@ -177,6 +199,10 @@ mod tests {
         assert!(
             check("v 0 0 0\nf 0 1 1\n").is_err(),
             "OBJ indices start at 1"
+        );
+        assert_eq!(
+            check("v 0 0 0\nv 1 0 0\nf 1 2\n"),
+            Err("t.obj: line 3: face has 2 corners; at least 3 are needed (a point or a line is not a surface)".into())
         );
     }
 }

@@ -29,7 +29,13 @@ impl Scene {
                 lod.geometry_m
             ));
         }
-        if lod.billboard_m.is_nan() || lod.billboard_m < lod.geometry_m {
+        if lod.billboard_m.is_nan() {
+            return bad(format!(
+                "lod.billboard_m = NaN: must be a distance >= lod.geometry_m = {} metres (inf allowed)",
+                lod.geometry_m
+            ));
+        }
+        if lod.billboard_m < lod.geometry_m {
             return bad(format!(
                 "lod.billboard_m = {} is less than lod.geometry_m = {}: LOD distances must not decrease",
                 lod.billboard_m, lod.geometry_m
@@ -107,7 +113,7 @@ impl Scene {
         self.validate()?;
         let f = &self.file;
         let terrain = Terrain::from_params(&f.field.terrain, f.field.extent_m(), &self.base_dir)
-            .map_err(|e| SceneError::invalid(&self.source, format!("field.terrain: {e}")))?;
+            .map_err(|e| SceneError::invalid(&self.source, e))?;
         let bodies: Vec<Body> = self
             .objects()?
             .into_par_iter()

@@ -43,9 +43,17 @@ impl SceneError {
         let before = &text[..offset];
         let line = before.matches('\n').count() + 1;
         let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-        // The table the error is in: the last `[header]` on a line above the error's.
+        // The table the error is in: the last `[header]` above the error's
+        // line, or on it when the error is at its first column (a missing
+        // key is reported at the start of its table's header; an error
+        // inside a header, such as an unknown table, is not "in" it).
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-        let table = text[..line_start]
+        let search_end = if offset == line_start {
+            text[offset..].find('\n').map_or(text.len(), |i| offset + i)
+        } else {
+            line_start
+        };
+        let table = text[..search_end]
             .lines()
             .rev()
             .map(str::trim)

@@ -7,5 +7,5 @@ pub mod stages;
 pub mod timings;
 
 pub use params::{SimError, SimParams};
-pub use simulation::{BladeClass, Simulation};
+pub use simulation::{BladeClass, Simulation, SubstepClamp};
 pub use timings::StepTimings;

@@ -108,7 +108,43 @@ pub struct Simulation {
     pub view: CameraView,
     /// Timers and counts of the last step.
     pub timings: StepTimings,
+    /// Steps so far in which an object needed more sub-steps than
+    /// `params.max_substeps` allows (and may have skipped blades).
+    pub substep_clamps: u64,
+    /// The first of those steps, for a one-time warning.
+    pub first_substep_clamp: Option<SubstepClamp>,
     pub(crate) scratch: Scratch,
+}
+
+/// A step in which an object moved too far for `sim.max_substeps` (DESIGN
+/// §9, ours). The step ran with `max_substeps` sub-steps: each moved the
+/// object `needed / max_substeps` times its own thickness, so it may have
+/// skipped blades. The step is not refused — a real-time loop must go on —
+/// but it is counted ([`Simulation::substep_clamps`]) and the first one is
+/// kept ([`Simulation::first_substep_clamp`]) so that tools warn once (the
+/// CLI prints it and writes the count to `summary.json`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SubstepClamp {
+    /// Frame index of the step (0 = the first step).
+    pub frame: u64,
+    /// Simulated time at the start of the step, seconds.
+    pub time_s: f64,
+    /// Name of the object that needed the most sub-steps.
+    pub object: String,
+    /// Sub-steps it needed.
+    pub needed: u32,
+    /// Sub-steps run (`sim.max_substeps`).
+    pub max_substeps: u32,
+}
+
+impl std::fmt::Display for SubstepClamp {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "frame {} (t = {:.3} s): object \"{}\" moves {} times its own thickness in one step but sim.max_substeps = {}; it may skip blades (raise sim.max_substeps or lower dt)",
+            self.frame, self.time_s, self.object, self.needed, self.max_substeps
+        )
+    }
 }
 
 impl Simulation {
@@ -139,6 +175,8 @@ impl Simulation {
             visible: Vec::new(),
             view,
             timings: StepTimings::default(),
+            substep_clamps: 0,
+            first_substep_clamp: None,
             scratch: Scratch {
                 force: vec![Vec3::ZERO; blades],
                 num: vec![0; blades],
@@ -168,15 +206,34 @@ impl Simulation {
     /// Advances the simulation by `dt` seconds: poses → LOD and culling →
     /// broad phase → narrow phase → DBG forces (Eq. 2) → propagation (Eq. 4)
     /// → deformation (Eq. 5–8) → transitions (Eq. 9–13) → recovery. A fast
-    /// object is sub-stepped so it cannot skip blades (DESIGN §9).
+    /// object is sub-stepped so it cannot skip blades (DESIGN §9), up to
+    /// `params.max_substeps`; beyond, the step is taken with that many and
+    /// recorded as a [`SubstepClamp`].
     pub fn step(&mut self, dt: f32) -> Result<&StepTimings, SimError> {
         check_dt(dt)?;
         let start = Instant::now();
         let mut tm = StepTimings::default();
         let t_pose = Instant::now();
-        let substeps = stages::plan_substeps(self, dt);
+        let plan = stages::plan_substeps(self, dt);
         tm.poses_ms += ms(t_pose);
+        let substeps = plan.substeps;
         tm.substeps = substeps;
+        tm.substeps_needed = plan.needed;
+        if plan.needed > substeps {
+            self.substep_clamps += 1;
+            if self.first_substep_clamp.is_none() {
+                self.first_substep_clamp = Some(SubstepClamp {
+                    frame: self.frame,
+                    time_s: self.time,
+                    object: plan
+                        .fastest
+                        .map(|i| self.bodies[i].object.name.clone())
+                        .unwrap_or_default(),
+                    needed: plan.needed,
+                    max_substeps: substeps,
+                });
+            }
+        }
         let h = dt / substeps as f32;
         for i in 1..=substeps {
             let t = (self.time + f64::from(h) * f64::from(i)) as f32;

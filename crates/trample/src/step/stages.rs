@@ -21,13 +21,28 @@ use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 use std::time::Instant;
 
-/// Number of sub-steps for a step of `dt` (DESIGN §9, ours): no object may
-/// move farther than its own thickness (or one cell, if it is thinner) in
-/// one sub-step, up to `max_substeps`.
-pub(crate) fn plan_substeps(sim: &Simulation, dt: f32) -> u32 {
+/// How a step of `dt` is split (DESIGN §9, ours): no object may move
+/// farther than its own thickness (or one cell, if it is thinner) in one
+/// sub-step. `needed` is what that takes, `substeps` what is run: at most
+/// `max_substeps`. When `needed` is larger the step is still taken, with
+/// `max_substeps`, and the caller records the clamp (see
+/// [`super::simulation::SubstepClamp`]): objects may then skip blades.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct SubstepPlan {
+    /// Sub-steps to run, `1..=max_substeps`.
+    pub substeps: u32,
+    /// Sub-steps the fastest object needs (≥ 1; saturates at `u32::MAX`).
+    pub needed: u32,
+    /// Index of the body that needs the most (none when no body moves).
+    pub fastest: Option<usize>,
+}
+
+/// Plans the sub-steps of a step of `dt` from each body's travel (and spin,
+/// measured at the root box's half diagonal) between the step's ends.
+pub(crate) fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
     let t0 = sim.time as f32;
-    let mut k = 1u32;
-    for body in &sim.bodies {
+    let (mut needed, mut fastest) = (1u32, None);
+    for (i, body) in sim.bodies.iter().enumerate() {
         let (a, b) = (body.object.pose_at(t0), body.object.pose_at(t0 + dt));
         let root = body.tree.nodes[0].obb;
         let spin = 0.5
@@ -37,10 +52,18 @@ pub(crate) fn plan_substeps(sim: &Simulation, dt: f32) -> u32 {
         let travel = a.position.distance(b.position) + spin;
         let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
         if travel.is_finite() && allowed > 0.0 {
-            k = k.max((travel / allowed).ceil() as u32);
+            // `as` saturates: an absurd speed needs u32::MAX, not a wrap.
+            let k = (travel / allowed).ceil() as u32;
+            if k > needed {
+                (needed, fastest) = (k, Some(i));
+            }
         }
     }
-    k.clamp(1, sim.params.max_substeps)
+    SubstepPlan {
+        substeps: needed.clamp(1, sim.params.max_substeps),
+        needed,
+        fastest,
+    }
 }
 
 /// One sub-step ending at time `t`, `h` seconds long.
@@ -212,15 +235,18 @@ fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) {
     let w = weights(n, sim.params.weight_a, sim.params.weight_b);
     let terrain = &sim.field.terrain;
     let (force, num) = (&sim.scratch.force, &sim.scratch.num);
-    let bent: Vec<(u32, [Vec3A; MAX_SEGMENTS + 1])> = forced
-        .par_iter()
-        .map(|&b| {
+    // One work slot of n + 1 vertices per forced blade (not MAX_SEGMENTS + 1:
+    // with the whole field under an object this list is as large as the
+    // field's vertices).
+    let mut work = vec![Vec3A::ZERO; forced.len() * (n + 1)];
+    work.par_chunks_mut(n + 1)
+        .zip(forced.par_iter())
+        .for_each(|(v, &b)| {
             let bi = b as usize;
-            let mut v = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-            blades.load(bi, &mut v);
+            blades.load(bi, v);
             let count = u32::from(num[bi].max(1));
             bend_blade(
-                &mut v[..=n],
+                v,
                 blades.seg_len[bi],
                 force[bi] * h,
                 count,
@@ -228,11 +254,9 @@ fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) {
                 terrain,
                 GROUND_CLEARANCE_M,
             );
-            (b, v)
-        })
-        .collect();
-    for (b, v) in bent {
-        sim.field.blades.store(b as usize, &v[..=n]);
+        });
+    for (v, &b) in work.chunks_exact(n + 1).zip(forced) {
+        sim.field.blades.store(b as usize, v);
         mark_displaced(sim, b);
     }
 }
@@ -351,20 +375,20 @@ fn recover(sim: &mut Simulation, h: f32) {
     let blades = &sim.field.blades;
     let n = blades.segments;
     let terrain = &sim.field.terrain;
-    let moved: Vec<(u32, [Vec3A; MAX_SEGMENTS + 1], bool)> = sim
-        .scratch
-        .displaced
-        .par_iter()
-        .map(|&b| {
+    // One work slot of n + 1 vertices per displaced blade (see bend_blades).
+    let displaced = &sim.scratch.displaced;
+    let mut work = vec![Vec3A::ZERO; displaced.len() * (n + 1)];
+    let mut done = vec![false; displaced.len()];
+    work.par_chunks_mut(n + 1)
+        .zip(done.par_iter_mut())
+        .zip(displaced.par_iter())
+        .for_each(|((v, done), &b)| {
             let bi = b as usize;
-            let (mut v, mut rest) = (
-                [Vec3A::ZERO; MAX_SEGMENTS + 1],
-                [Vec3A::ZERO; MAX_SEGMENTS + 1],
-            );
-            blades.load(bi, &mut v);
+            let mut rest = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+            blades.load(bi, v);
             blades.load_rest(bi, &mut rest);
-            let done = recover_blade(
-                &mut v[..=n],
+            *done = recover_blade(
+                v,
                 &rest[..=n],
                 blades.seg_len[bi],
                 h,
@@ -372,12 +396,10 @@ fn recover(sim: &mut Simulation, h: f32) {
                 terrain,
                 GROUND_CLEARANCE_M,
             );
-            (b, v, done)
-        })
-        .collect();
-    let mut still = Vec::with_capacity(moved.len());
-    for (b, v, done) in moved {
-        sim.field.blades.store(b as usize, &v[..=n]);
+        });
+    let mut still = Vec::with_capacity(displaced.len());
+    for ((v, &done), &b) in work.chunks_exact(n + 1).zip(&done).zip(displaced) {
+        sim.field.blades.store(b as usize, v);
         if done {
             sim.scratch.displaced_flag[b as usize] = false;
         } else {

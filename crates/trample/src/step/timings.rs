@@ -44,6 +44,9 @@ pub struct StepTimings {
     pub displaced_blades: u32,
     /// Sub-steps this step was split into.
     pub substeps: u32,
+    /// Sub-steps the fastest object needed; more than `substeps` when
+    /// `sim.max_substeps` clamped them (see `SubstepClamp`).
+    pub substeps_needed: u32,
     /// Patches in the view frustum.
     pub visible_patches: u32,
     /// Cells per level of detail.
@@ -78,6 +81,10 @@ impl fmt::Display for StepTimings {
             f,
             "); DBG {}, PBG {}, generations {}, sub-steps {}",
             self.dbg_blades, self.pbg_blades, self.generations, self.substeps
-        )
+        )?;
+        if self.substeps_needed > self.substeps {
+            write!(f, " (clamped; {} needed)", self.substeps_needed)?;
+        }
+        Ok(())
     }
 }

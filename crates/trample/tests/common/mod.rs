@@ -1,6 +1,8 @@
 //! Small scenes for the integration tests (full-size runs belong to benchmarks).
 #![allow(dead_code)]
 
+pub mod gltf;
+
 use trample::Simulation;
 use trample::scene::Scene;
 
