@@ -2,8 +2,10 @@
 //!
 //! Subcommands: `simulate` (run a scene without rendering, write a summary
 //! and dumps), `collide` (hit flags of every blade at rest at one instant),
-//! `check` (validate a scene file and say what it describes).
+//! `check` (validate a scene file and say what it describes), `bench` (the
+//! paper's pressure test, collision accuracy, scaling).
 
+mod bench;
 mod check;
 mod collide;
 mod common;
@@ -30,6 +32,10 @@ enum Command {
     Collide(collide::Args),
     /// Validate a scene file and print what it describes.
     Check(check::Args),
+    /// The paper's pressure test (frame rate per precision, simulation alone),
+    /// collision accuracy against the exact reference; --scaling: step time
+    /// against blade and triangle counts.
+    Bench(bench::Args),
 }
 
 fn main() -> ExitCode {
@@ -67,6 +73,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => simulate::run(&a),
         Command::Collide(a) => collide::run(&a),
         Command::Check(a) => check::run(&a),
+        Command::Bench(a) => bench::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
