@@ -148,12 +148,12 @@ fn bounds(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
-/// A margin around the data: a factor on a log axis, half a unit for whole
-/// numbers, 8 % of the span otherwise (a linear axis of values ≥ 0 starts
-/// at 0, so heights compare).
+/// A margin around the data: a factor on a log axis (more above, where
+/// the legend goes), half a unit for whole numbers, 8 % of the span
+/// otherwise (a linear axis of values ≥ 0 starts at 0, so heights compare).
 fn pad((lo, hi): (f64, f64), log: bool, integers: bool) -> (f64, f64) {
     if log {
-        (lo / 1.5, hi * 1.5)
+        (lo / 1.5, hi * 4.0)
     } else if integers {
         (lo - 0.5, hi + 0.5)
     } else {

@@ -19,6 +19,10 @@ pub struct Machine {
     pub profile: &'static str,
     /// UTC date of the run, `YYYY-MM-DD`.
     pub date: String,
+    /// 1-minute load average when the run started (Linux: `/proc/loadavg`;
+    /// -1 where unknown): above the core count, other work shared the CPU
+    /// and the times are inflated.
+    pub load_average: f64,
 }
 
 impl Machine {
@@ -51,6 +55,10 @@ impl Machine {
                 "release"
             },
             date: civil_date(secs / 86_400),
+            load_average: std::fs::read_to_string("/proc/loadavg")
+                .ok()
+                .and_then(|l| l.split_whitespace().next()?.parse().ok())
+                .unwrap_or(-1.0),
         }
     }
 }

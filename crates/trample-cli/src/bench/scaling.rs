@@ -85,7 +85,8 @@ struct TrianglePoint {
 pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
     let clock = Instant::now();
     let mut skipped = Vec::new();
-    let memory_gib = Machine::read().memory_gib;
+    let machine = Machine::read();
+    let memory_gib = machine.memory_gib;
     let mut blade_scenes = Vec::new();
     for series in ["larger field", "denser field"] {
         for (name, factor) in BLADE_FACTORS {
@@ -199,7 +200,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         scene: scene.source.clone(),
         frames: setup.frames,
         threads: setup.threads,
-        machine: Machine::read(),
+        machine,
         blades,
         triangles,
         skipped,
@@ -355,7 +356,7 @@ fn triangles_chart(r: &Report, setup: &Setup) -> Result<()> {
     series.push(Series {
         name: "OBB-tree build (once per mesh)".into(),
         points: build,
-        color: COLORS[4],
+        color: COLORS[setup.precisions.len() % COLORS.len()],
     });
     let title = format!(
         "Step time vs the object's triangles (icosphere, CPU, {} threads)",
