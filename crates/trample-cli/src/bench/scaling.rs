@@ -25,7 +25,7 @@ use anyhow::{Result, bail};
 use glam::Vec3;
 use plotters::prelude::SeriesLabelPosition;
 use serde::Serialize;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::time::Instant;
 use trample::obb::build::DEFAULT_MAX_DEPTH;
 use trample::object::{ShapeParams, TriMesh};
@@ -65,6 +65,8 @@ struct BladePoint {
     precision: u32,
     step_ms: Stats,
     narrow_ms_median: f64,
+    /// Median of each stage, ms.
+    stages_ms: BTreeMap<&'static str, f64>,
     dbg_blades_mean: f64,
 }
 
@@ -143,6 +145,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
                 precision,
                 step_ms: rec.step_ms(),
                 narrow_ms_median: rec.stages_ms().get("narrow").copied().unwrap_or(0.0),
+                stages_ms: rec.stages_ms(),
                 dbg_blades_mean: mean_dbg(&rec),
             });
         }
@@ -383,7 +386,7 @@ fn print_tables(r: &Report) {
         r.scene, r.frames, r.threads
     );
     println!(
-        "{:>13} {:>10} {:>9} {:>6} {:>8} {:>5} {:>9} {:>10} {:>10} {:>10} {:>10} {:>9}",
+        "{:>13} {:>10} {:>9} {:>6} {:>8} {:>5} {:>9} {:>10} {:>10} {:>10} {:>10} {:>8} {:>9}",
         "series",
         "blades",
         "patches",
@@ -395,11 +398,12 @@ fn print_tables(r: &Report) {
         "median ms",
         "max ms",
         "narrow ms",
+        "LOD ms",
         "DBG/step"
     );
     for b in &r.blades {
         println!(
-            "{:>13} {:>10} {:>9} {:>6} {:>8.2} {:>5} {:>9.2} {:>10.0} {:>10.3} {:>10.3} {:>10.3} {:>9.0}  (precision {})",
+            "{:>13} {:>10} {:>9} {:>6} {:>8.2} {:>5} {:>9.2} {:>10.0} {:>10.3} {:>10.3} {:>10.3} {:>8.3} {:>9.0}  (precision {})",
             b.series,
             b.blades,
             format!("{}x{}", b.patches[0], b.patches[1]),
@@ -411,6 +415,7 @@ fn print_tables(r: &Report) {
             b.step_ms.median,
             b.step_ms.max,
             b.narrow_ms_median,
+            b.stages_ms.get("lod").copied().unwrap_or(0.0),
             b.dbg_blades_mean,
             b.precision
         );
