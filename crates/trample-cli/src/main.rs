@@ -1,9 +1,12 @@
 //! `trample`: simulate a grass field bending under moving objects.
 //!
 //! Subcommands: `simulate` (run a scene without rendering, write a summary
-//! and dumps), `run` (simulate and render headless to PNG/GIF), `collide` (hit flags of every blade at rest at one instant),
-//! `check` (validate a scene file and say what it describes).
+//! and dumps), `run` (simulate and render headless to PNG/GIF), `collide`
+//! (hit flags of every blade at rest at one instant), `check` (validate a
+//! scene file and say what it describes), `bench` (the paper's pressure
+//! test, collision accuracy, scaling).
 
+mod bench;
 mod check;
 mod collide;
 mod common;
@@ -34,6 +37,10 @@ enum Command {
     Collide(collide::Args),
     /// Validate a scene file and print what it describes.
     Check(check::Args),
+    /// The paper's pressure test (frame rate per precision, simulation alone),
+    /// collision accuracy against the exact reference; --scaling: step time
+    /// against blade and triangle counts.
+    Bench(bench::Args),
 }
 
 fn main() -> ExitCode {
@@ -72,6 +79,7 @@ fn main() -> ExitCode {
         Command::Run(a) => run::run(&a),
         Command::Collide(a) => collide::run(&a),
         Command::Check(a) => check::run(&a),
+        Command::Bench(a) => bench::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -2,7 +2,7 @@
 //! headless, to PNG frames, an optional GIF and a summary.
 
 use crate::common::{SimOverrides, load_scene, out_dir, set_threads};
-use crate::summary::{Recorder, SimSummary, Stats};
+use crate::summary::{Recorder, SimSummary, Stats, write_json};
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -277,10 +277,7 @@ pub fn run(a: &Args) -> Result<()> {
         pngs_written: pngs,
         gif: a.gif.then(|| "run.gif".to_string()),
     };
-    let json = serde_json::to_string_pretty(&summary)?;
-    let summary_path = out.join("summary.json");
-    trample::npy::write_atomic(&summary_path, json.as_bytes())
-        .with_context(|| format!("{}: cannot write", summary_path.display()))?;
+    write_json(&out.join("summary.json"), &summary)?;
     eprintln!(
         "trample: {frames} frames in {wall_s:.2} s on {adapter}; step median {:.2} ms, render median {:.1} ms, {:.1} fps avg; wrote {pngs} PNG(s){} and {}",
         summary.sim.step_ms.median,

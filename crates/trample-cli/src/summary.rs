@@ -140,6 +140,15 @@ impl SimSummary {
     }
 }
 
+/// Writes `value` as pretty JSON to `path` atomically (a temporary file
+/// beside it, renamed).
+pub fn write_json(path: &std::path::Path, value: &impl Serialize) -> anyhow::Result<()> {
+    use anyhow::Context;
+    let text = serde_json::to_string_pretty(value)?;
+    trample::npy::write_atomic(path, text.as_bytes())
+        .with_context(|| format!("{}: cannot write", path.display()))
+}
+
 /// Peak resident memory of this process, MiB: `VmHWM` of
 /// `/proc/self/status` (Linux); `None` where that cannot be read.
 pub fn peak_rss_mib() -> Option<f64> {

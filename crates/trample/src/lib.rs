@@ -10,8 +10,11 @@
 //! (Eq. 2, [`force`]) → propagation (Eq. 4) → deformation (Eq. 5–8,
 //! [`deform`]) → transitions (Eq. 9–13) → recovery ([`recovery`]).
 //!
+//! [`accuracy`] measures the narrow phase against the exact reference.
+//!
 //! Units: metres, seconds, radians; y is up, the ground is the x–z plane.
 
+pub mod accuracy;
 pub mod camera;
 pub mod collision;
 pub mod deform;

@@ -2,59 +2,54 @@
 //! the exact reference, for the built-in sphere and the complex shape (the
 //! knot) at sampled times of their paths: no exact hit is ever missed, hits
 //! shrink with depth, and false positives fall. Run with `--nocapture` for
-//! the table recorded in BENCHMARKS.md.
+//! the table recorded in BENCHMARKS.md. The counting is
+//! `trample::accuracy::measure_accuracy`, which `trample bench` also uses.
 
 use std::path::Path;
+use trample::accuracy::measure_accuracy;
 use trample::scene::Scene;
-use trample::step::query::HitMode;
 
 fn measure(scene: &str, times: &[f32]) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes")
         .join(scene);
     let sim = Scene::load(&path).unwrap().build().unwrap();
-    let (mut exact_total, mut hits) = (0usize, [0usize; 11]);
-    for &t in times {
-        let exact = sim.segment_hits_at_rest(t, HitMode::Exact);
-        exact_total += exact.iter().filter(|&&h| h == 1).count();
-        let mut previous: Option<Vec<u8>> = None;
-        for d in 1..=10u32 {
-            let at = sim.segment_hits_at_rest(t, HitMode::Precision(d));
-            for (i, (&e, &a)) in exact.iter().zip(&at).enumerate() {
-                assert!(
-                    e == 0 || a == 1,
-                    "{scene} t={t}: segment {i} hit exactly but missed at depth {d}"
-                );
-            }
-            if let Some(prev) = &previous {
-                for (i, (&p, &a)) in prev.iter().zip(&at).enumerate() {
-                    assert!(
-                        a <= p,
-                        "{scene} t={t}: segment {i} hit at depth {d} but not at depth {}",
-                        d - 1
-                    );
-                }
-            }
-            hits[d as usize] += at.iter().filter(|&&h| h == 1).count();
-            previous = Some(at);
-        }
-    }
+    let depths: Vec<u32> = (1..=10).collect();
+    let acc = measure_accuracy(&sim, times, &depths, || {});
+    assert_eq!(acc.per_precision.len(), depths.len());
     assert!(
-        exact_total > 100,
+        acc.first_false_negative.is_none(),
+        "{scene}: an exact hit was missed: {:?}",
+        acc.first_false_negative
+    );
+    assert!(
+        acc.first_not_in_previous.is_none(),
+        "{scene}: a segment hit at a depth but not at the one before: {:?}",
+        acc.first_not_in_previous
+    );
+    assert!(
+        acc.exact_hits > 100,
         "{scene}: the object must touch the grass"
     );
     print!(
-        "{scene}: exact hits {exact_total} over {} times; false positives per depth (share of reported hits):",
+        "{scene}: exact hits {} over {} times; false positives per depth (share of reported hits):",
+        acc.exact_hits,
         times.len()
     );
-    for d in 1..=10 {
-        let fp = hits[d] - exact_total;
-        print!(" d{d}={:.1}%", 100.0 * fp as f64 / hits[d] as f64);
-        if d > 1 {
-            assert!(hits[d] <= hits[d - 1]);
+    for (i, d) in acc.per_precision.iter().enumerate() {
+        assert_eq!(d.false_negatives, 0);
+        assert_eq!(d.reported, acc.exact_hits + d.false_positives);
+        print!(" d{}={:.1}%", d.precision, 100.0 * d.false_positive_rate());
+        if i > 0 {
+            assert!(d.reported <= acc.per_precision[i - 1].reported);
         }
     }
     println!();
+    let (first, last) = (&acc.per_precision[0], &acc.per_precision[9]);
+    assert!(
+        last.false_positives < first.false_positives,
+        "{scene}: depth 10 must be more exact than depth 1"
+    );
 }
 
 #[test]

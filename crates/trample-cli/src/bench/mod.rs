@@ -1,0 +1,183 @@
+//! `trample bench`: the paper's pressure test (Fig. 12) on the simulation
+//! alone, collision accuracy against the exact reference, and (with
+//! `--scaling`) step time against blade and triangle counts.
+
+mod chart;
+mod machine;
+mod precisions;
+mod pressure;
+mod scaling;
+
+use crate::common::{SimOverrides, load_scene, out_dir, set_threads};
+use anyhow::{Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use trample::Simulation;
+use trample::StepTimings;
+
+pub use precisions::parse_precisions;
+
+/// Frames per precision of the pressure test: the paper sampled 5000.
+const PRESSURE_FRAMES: u64 = 5000;
+/// Frames per point of `--scaling` (5 s of the default scene's 12 s path).
+const SCALING_FRAMES: u64 = 300;
+
+/// Which implementation to time.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    /// The CPU reference path.
+    Cpu,
+    /// The GPU path (not built yet).
+    Gpu,
+    /// Both, side by side (needs the GPU path).
+    Both,
+}
+
+/// Arguments of `trample bench` (a contract: later tools and checks rely on them).
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (TOML); none = the embedded default scene (the paper's
+    /// 262,144-blade field and a rolling ball).
+    pub scene: Option<PathBuf>,
+    /// Frames per precision (default 5000, as in the paper); with --scaling,
+    /// frames per point (default 300).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// Precisions to run: a range A..B (inclusive), a number or a comma list
+    /// (default 1..7, the paper's; with --scaling, 7).
+    #[arg(long)]
+    pub precisions: Option<String>,
+    /// Which path to time: cpu (the GPU path is not built yet).
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+    pub backend: Backend,
+    /// Time rendering too (not built yet: the bench times the simulation alone).
+    #[arg(long)]
+    pub render: bool,
+    /// Output folder: bench.json, bench.png, accuracy.png (with --scaling:
+    /// scaling.json, scaling_blades.png, scaling_triangles.png).
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Instead of the pressure test: step time against blade count (a larger
+    /// and a denser field) and against the object's triangle count.
+    #[arg(long)]
+    pub scaling: bool,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Runs the subcommand.
+pub fn run(a: &Args) -> Result<()> {
+    match a.backend {
+        Backend::Cpu => {}
+        Backend::Gpu | Backend::Both => bail!(
+            "--backend {}: the GPU path is not built yet; use --backend cpu",
+            if a.backend == Backend::Gpu {
+                "gpu"
+            } else {
+                "both"
+            }
+        ),
+    }
+    if a.render {
+        bail!("--render: rendering is not built yet; the bench times the simulation alone");
+    }
+    let frames = a.frames.unwrap_or(if a.scaling {
+        SCALING_FRAMES
+    } else {
+        PRESSURE_FRAMES
+    });
+    if frames == 0 {
+        bail!("--frames 0: the bench needs at least 1 frame");
+    }
+    let precisions =
+        parse_precisions(
+            a.precisions
+                .as_deref()
+                .unwrap_or(if a.scaling { "7" } else { "1..7" }),
+        )?;
+    let threads = set_threads(a.threads)?;
+    let scene = load_scene(a.scene.as_deref(), SimOverrides::default())?;
+    let out = out_dir(&a.out)?;
+    let setup = Setup {
+        frames,
+        precisions,
+        threads,
+        out,
+    };
+    if a.scaling {
+        scaling::run(&scene, &setup)
+    } else {
+        pressure::run(&scene, &setup)
+    }
+}
+
+/// What both modes share.
+pub struct Setup {
+    /// Frames per precision or per point.
+    pub frames: u64,
+    /// Precisions, ascending.
+    pub precisions: Vec<u32>,
+    /// Worker threads.
+    pub threads: usize,
+    /// Output folder.
+    pub out: PathBuf,
+}
+
+/// A progress bar over `len` units of work.
+fn progress(len: u64) -> ProgressBar {
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {percent:>3}% {msg} [{elapsed}, eta {eta}]")
+            .expect("static template"),
+    );
+    bar
+}
+
+/// Simulation time at which every object has finished its path, seconds;
+/// `None` when one never does (a circle) or none moves.
+fn motion_end_s(sim: &Simulation) -> Option<f32> {
+    let mut end: f32 = 0.0;
+    for b in &sim.bodies {
+        let m = &b.object.motion;
+        let path_end = m.path().end_time()?;
+        end = end.max(m.start_s() + path_end);
+    }
+    (end > 0.0).then_some(end)
+}
+
+/// Frames of one lap of the predefined path: after this many frames the
+/// run starts again from the scene's first frame (laps keep the object
+/// moving for the paper's 5000 frames; a 12 s path lasts 720). `None`: no
+/// restart (an endless or static path).
+fn lap_frames(sim: &Simulation) -> Option<u64> {
+    let end = motion_end_s(sim)?;
+    let frames = (f64::from(end) / f64::from(sim.params.dt_s)).ceil() as u64;
+    (frames > 0).then_some(frames)
+}
+
+/// Steps `sim` for `frames` frames of its `dt`, restarting from its
+/// first state after every lap (a copy is kept only then), and returns each
+/// step's timings. Calls `tick` after each step.
+fn time_frames(
+    mut sim: Simulation,
+    frames: u64,
+    mut tick: impl FnMut(&StepTimings),
+) -> Result<Vec<StepTimings>> {
+    let lap = lap_frames(&sim).filter(|&l| l < frames);
+    let start = lap.map(|_| sim.clone());
+    let dt = sim.params.dt_s;
+    let mut steps = Vec::with_capacity(frames as usize);
+    for i in 0..frames {
+        if let (Some(lap), Some(start)) = (lap, &start)
+            && i > 0
+            && i % lap == 0
+        {
+            sim.clone_from(start);
+        }
+        let t = sim.step(dt)?;
+        tick(t);
+        steps.push(t.clone());
+    }
+    Ok(steps)
+}

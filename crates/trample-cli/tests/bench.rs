@@ -1,0 +1,149 @@
+//! `trample bench`: the pressure test writes a valid bench.json and charts,
+//! the accuracy numbers in it are sane (no false negatives, false positives
+//! never grow with precision), and the paths that are not built yet say so
+//! in one line.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("trample-bench-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn trample(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trample"))
+        .args(args)
+        .output()
+        .expect("run trample")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Asserts `path` is a PNG of the charts' size, not blank.
+fn assert_chart(path: &std::path::Path) {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8();
+    assert_eq!(img.dimensions(), (960, 600), "{}", path.display());
+    let dark = img
+        .pixels()
+        .filter(|p| p.0.iter().all(|&c| c < 100))
+        .count();
+    assert!(dark > 500, "{}: only {dark} dark pixels", path.display());
+}
+
+#[test]
+fn bench_writes_json_and_charts_with_sane_numbers() {
+    let d = dir("pressure");
+    let out = d.join("out");
+    let o = trample(&[
+        "bench",
+        "--frames",
+        "20",
+        "--precisions",
+        "1..3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("fps avg"), "{table}");
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+    assert_eq!(r["blades"], 262_144);
+    assert_eq!(r["segments"], 4);
+    assert_eq!(r["frames"], 20);
+    assert_eq!(r["backend"], "cpu");
+    assert_eq!(r["objects"][0]["triangles"], 1280);
+    for key in ["cpu", "cores", "memory_gib", "os", "date"] {
+        assert!(!r["machine"][key].is_null(), "machine.{key}");
+    }
+
+    let runs = r["precisions"].as_array().unwrap();
+    assert_eq!(runs.len(), 3);
+    for (i, p) in runs.iter().enumerate() {
+        assert_eq!(p["precision"], i as u64 + 1);
+        let fps = |k: &str| p["fps"][k].as_f64().unwrap();
+        let ms = |k: &str| p["step_ms"][k].as_f64().unwrap();
+        assert!(fps("min") > 0.0 && fps("min") <= fps("avg") && fps("avg") <= fps("max"));
+        assert!(ms("min") > 0.0 && ms("min") <= ms("median") && ms("median") <= ms("max"));
+        // fps are the step times inverted.
+        assert!((fps("min") - 1000.0 / ms("max")).abs() < 1e-6 * fps("min"));
+        assert!((fps("avg") - 1000.0 / ms("mean")).abs() < 1e-6 * fps("avg"));
+        assert!(p["stages_ms"]["narrow"].as_f64().unwrap() >= 0.0);
+        // The ball starts on the grass: every frame bends some.
+        assert!(p["dbg_blades_mean"].as_f64().unwrap() > 10.0, "{p}");
+        assert!(p["wall_s"].as_f64().unwrap() > 0.0);
+    }
+
+    // Accuracy: the default scene's ball and the knot.
+    let acc = r["accuracy"].as_array().unwrap();
+    assert_eq!(acc.len(), 2);
+    assert_eq!(acc[0]["objects"][0]["name"], "ball");
+    assert_eq!(acc[1]["objects"][0]["name"], "knot");
+    for a in acc {
+        let exact = a["exact_hits"].as_u64().unwrap();
+        assert!(exact > 100, "{a}");
+        assert_eq!(a["times_s"].as_array().unwrap().len(), 8);
+        assert!(a["first_false_negative"].is_null(), "{a}");
+        let per = a["per_precision"].as_array().unwrap();
+        assert_eq!(per.len(), 3);
+        let mut last_fp = u64::MAX;
+        for (i, p) in per.iter().enumerate() {
+            let n = |k: &str| p[k].as_u64().unwrap();
+            assert_eq!(n("precision"), i as u64 + 1);
+            assert_eq!(n("false_negatives"), 0, "{p}");
+            assert_eq!(n("not_in_previous"), 0, "{p}");
+            assert_eq!(n("reported"), exact + n("false_positives"), "{p}");
+            assert!(n("false_positives") <= last_fp, "false positives grew: {a}");
+            last_fp = n("false_positives");
+            let rate = a["false_positive_rate"][i].as_f64().unwrap();
+            let want = n("false_positives") as f64 / n("reported") as f64;
+            assert!((rate - want).abs() < 1e-12 && (0.0..1.0).contains(&rate));
+        }
+    }
+    assert_chart(&out.join("bench.png"));
+    assert_chart(&out.join("accuracy.png"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
+    let d = dir("errors");
+    let out = d.join("out");
+    let out = out.to_str().unwrap();
+    let cases: [(&[&str], &str); 8] = [
+        (
+            &["--backend", "gpu"],
+            "--backend gpu: the GPU path is not built yet",
+        ),
+        (
+            &["--backend", "both"],
+            "--backend both: the GPU path is not built yet",
+        ),
+        (&["--render"], "--render: rendering is not built yet"),
+        (&["--backend", "tpu"], "--backend"),
+        (&["--precisions", "0..3"], "--precisions \"0..3\""),
+        (&["--precisions", "7..1"], "the range 7..1 is empty"),
+        (&["--precisions", "x"], "--precisions \"x\""),
+        (&["--frames", "0"], "--frames 0"),
+    ];
+    for (args, want) in cases {
+        let mut all = vec!["bench", "--out", out];
+        all.extend_from_slice(args);
+        let o = trample(&all);
+        let e = stderr(&o);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        assert!(e.contains(want), "{args:?}: {e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{args:?}: {e}");
+        assert!(!e.contains("panic"), "{args:?}: {e}");
+    }
+    // Nothing was measured, so nothing was written.
+    assert!(!d.join("out").join("bench.json").exists());
+    std::fs::remove_dir_all(&d).unwrap();
+}
