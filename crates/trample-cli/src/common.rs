@@ -94,3 +94,17 @@ pub fn npy_f32(shape: &[usize], values: &[f32]) -> Vec<u8> {
 pub fn npy_u8(shape: &[usize], values: &[u8]) -> Vec<u8> {
     encode(Dtype::U8, shape, values)
 }
+
+/// Parses an image size `WIDTHxHEIGHT` (`--size`), both sides 16..=8192.
+///
+/// # Errors
+/// A message that shows the expected form.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720, both sides 16..=8192");
+    let (w, h) = s.split_once('x').ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
+        return Err(bad());
+    }
+    Ok((w, h))
+}

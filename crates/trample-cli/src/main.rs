@@ -10,6 +10,7 @@ mod bench;
 mod check;
 mod collide;
 mod common;
+mod mp4;
 mod output;
 mod run;
 mod simulate;

@@ -19,7 +19,7 @@ pub struct Args {
     #[arg(long)]
     pub frames: Option<u64>,
     /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    #[arg(long, default_value = "1280x720", value_parser = crate::common::parse_size)]
     pub size: (u32, u32),
     /// Output folder: frame_NNNN.png, run.gif, summary.json.
     #[arg(long, default_value = "out")]
@@ -32,8 +32,13 @@ pub struct Args {
     /// Also write DIR/run.gif (at most 480 pixels wide).
     #[arg(long)]
     pub gif: bool,
-    /// Debug view: none, or classes (DBG red, PBG blue by generation,
-    /// billboards yellow, Texture-LOD ground grey).
+    /// Also write DIR/run.mp4 (H.264, full size) through the `ffmpeg` on
+    /// the PATH; without one the run stops before it starts.
+    #[arg(long)]
+    pub mp4: bool,
+    /// Debug view: none; classes (DBG red, PBG blue by generation,
+    /// billboards yellow, Texture-LOD ground grey); obb (the OBB-tree nodes
+    /// at the current precision over the scene); patches (the patch grid).
     #[arg(long, default_value = "none")]
     pub debug_view: DebugView,
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
@@ -45,16 +50,6 @@ pub struct Args {
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
     #[arg(long, allow_negative_numbers = true)]
     pub memory_limit_gib: Option<f32>,
-}
-
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720, both sides 16..=8192");
-    let (w, h) = s.split_once('x').ok_or_else(bad)?;
-    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
-    if !(16..=8192).contains(&w) || !(16..=8192).contains(&h) {
-        return Err(bad());
-    }
-    Ok((w, h))
 }
 
 /// Frames per second of the rendered frames, each timed over its simulation
@@ -81,6 +76,7 @@ struct RunSummary {
     fps: Fps,
     pngs_written: usize,
     gif: Option<String>,
+    mp4: Option<String>,
 }
 
 /// Streams frames into a GIF (written under a temporary name, renamed at the end).
@@ -161,6 +157,10 @@ fn write_png(path: &Path, img: &image::RgbaImage) -> Result<()> {
 /// Runs the subcommand.
 pub fn run(a: &Args) -> Result<()> {
     let threads = set_threads(a.threads)?;
+    if a.mp4 {
+        // Before the (long) run, not after it.
+        crate::mp4::find_ffmpeg()?;
+    }
     let flags = SimOverrides {
         precision: a.precision,
         memory_limit_gib: a.memory_limit_gib,
@@ -204,6 +204,15 @@ pub fn run(a: &Args) -> Result<()> {
     }
 
     let dt = sim.params.dt_s;
+    let mut mp4 = if a.mp4 {
+        Some(crate::mp4::Mp4Out::new(
+            &out.join("run.mp4"),
+            a.size,
+            1.0 / (f64::from(dt) * a.every as f64),
+        )?)
+    } else {
+        None
+    };
     let mut gif = if a.gif {
         Some(GifOut::new(
             &out.join("run.gif"),
@@ -246,6 +255,9 @@ pub fn run(a: &Args) -> Result<()> {
             if let Some(g) = gif.as_mut() {
                 g.push(&img)?;
             }
+            if let Some(m) = mp4.as_mut() {
+                m.push(&img)?;
+            }
         }
         bar.inc(1);
     }
@@ -253,6 +265,9 @@ pub fn run(a: &Args) -> Result<()> {
     let wall_s = clock.elapsed().as_secs_f64();
     if let Some(g) = gif {
         g.finish()?;
+    }
+    if let Some(m) = mp4 {
+        m.finish()?;
     }
 
     let total: f64 = frame_s.iter().sum();
@@ -276,6 +291,7 @@ pub fn run(a: &Args) -> Result<()> {
         },
         pngs_written: pngs,
         gif: a.gif.then(|| "run.gif".to_string()),
+        mp4: a.mp4.then(|| "run.mp4".to_string()),
     };
     write_json(&out.join("summary.json"), &summary)?;
     eprintln!(
@@ -283,7 +299,12 @@ pub fn run(a: &Args) -> Result<()> {
         summary.sim.step_ms.median,
         summary.render_ms.median,
         summary.fps.avg,
-        if a.gif { ", run.gif" } else { "" },
+        match (a.gif, a.mp4) {
+            (true, true) => ", run.gif, run.mp4",
+            (true, false) => ", run.gif",
+            (false, true) => ", run.mp4",
+            (false, false) => "",
+        },
         out.join("summary.json").display()
     );
     Ok(())

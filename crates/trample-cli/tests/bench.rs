@@ -1,7 +1,7 @@
 //! `trample bench`: the pressure test writes a valid bench.json and charts,
 //! the accuracy numbers in it are sane (no false negatives, false positives
-//! never grow with precision), and the paths that are not built yet say so
-//! in one line.
+//! never grow with precision), `--render` adds simulation + rendering frame
+//! rates, and the paths that are not built yet say so in one line.
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -118,6 +118,7 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
     let out = d.join("out");
     let out = out.to_str().unwrap();
     let cases: [(&[&str], &str); 8] = [
+        (&["--render", "--scaling"], "--render: not with --scaling"),
         (
             &["--backend", "gpu"],
             "--backend gpu: the GPU path is not built yet",
@@ -126,7 +127,6 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
             &["--backend", "both"],
             "--backend both: the GPU path is not built yet",
         ),
-        (&["--render"], "--render: rendering is not built yet"),
         (&["--backend", "tpu"], "--backend"),
         (&["--precisions", "0..3"], "--precisions \"0..3\""),
         (&["--precisions", "7..1"], "the range 7..1 is empty"),
@@ -145,5 +145,41 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
     }
     // Nothing was measured, so nothing was written.
     assert!(!d.join("out").join("bench.json").exists());
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn bench_render_adds_the_frame_rate_with_rendering() {
+    let d = dir("render");
+    let out = d.join("out");
+    let o = trample(&[
+        "bench",
+        "--frames",
+        "3",
+        "--precisions",
+        "2,3",
+        "--render",
+        "--size",
+        "160x90",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("Simulation + rendering on"), "{table}");
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+    assert!(r["adapter"].as_str().is_some_and(|a| !a.is_empty()), "{r}");
+    for p in r["precisions"].as_array().unwrap() {
+        let x = &p["render"];
+        assert_eq!(x["size"], serde_json::json!([160, 90]));
+        let render_ms = x["render_ms"]["median"].as_f64().unwrap();
+        assert!(render_ms > 0.0, "{x}");
+        // With rendering a frame takes longer than its step alone.
+        let fps = |k: &str| x["fps"][k].as_f64().unwrap();
+        assert!(fps("min") <= fps("avg") && fps("avg") <= fps("max"), "{x}");
+        assert!(fps("avg") < p["fps"]["avg"].as_f64().unwrap(), "{p}");
+    }
+    assert_chart(&out.join("bench.png"));
     std::fs::remove_dir_all(&d).unwrap();
 }

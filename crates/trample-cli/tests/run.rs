@@ -77,3 +77,83 @@ fn run_bad_size_is_one_line() {
     assert_eq!(e.trim().lines().count(), 1, "{e}");
     assert!(e.contains("WIDTHxHEIGHT"), "{e}");
 }
+
+/// A stand-in `ffmpeg` in a folder of its own: it records its arguments and
+/// copies the raw frames it is sent to the output path (its last argument),
+/// so the test sees exactly what `trample run --mp4` pipes.
+fn fake_ffmpeg(dir: &std::path::Path) {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::create_dir_all(dir).unwrap();
+    let script = dir.join("ffmpeg");
+    std::fs::write(
+        &script,
+        "#!/bin/sh\necho \"$@\" > \"$(/usr/bin/dirname \"$0\")/args.txt\"\nfor last in \"$@\"; do :; done\n/bin/cat > \"$last\"\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+}
+
+#[test]
+fn run_mp4_pipes_every_rendered_frame_to_ffmpeg() {
+    let base = std::env::temp_dir().join(format!("trample-mp4-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    let bin = base.join("bin");
+    fake_ffmpeg(&bin);
+    let out = base.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_trample"))
+        .args([
+            "run", "--frames", "4", "--every", "2", "--size", "64x36", "--mp4", "--out",
+        ])
+        .arg(&out)
+        .env("PATH", &bin)
+        .output()
+        .expect("run trample");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "exit {:?}: {stderr}", o.status);
+    let video = std::fs::read(out.join("run.mp4")).unwrap();
+    // Frames 0 and 2, raw RGBA.
+    assert_eq!(video.len(), 2 * 64 * 36 * 4);
+    let args = std::fs::read_to_string(bin.join("args.txt")).unwrap();
+    assert!(
+        args.contains("-s 64x36") && args.contains("-pix_fmt rgba"),
+        "{args}"
+    );
+    assert!(
+        args.contains("libx264") && args.contains("-framerate 30.000"),
+        "{args}"
+    );
+    // No temporary left behind.
+    let left: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["mp4"], "run.mp4");
+    std::fs::remove_dir_all(&base).unwrap();
+}
+
+#[test]
+fn run_mp4_without_ffmpeg_fails_before_the_run_in_one_line() {
+    let base = std::env::temp_dir().join(format!("trample-nompeg-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    std::fs::create_dir_all(base.join("empty")).unwrap();
+    let out = base.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_trample"))
+        .args(["run", "--frames", "2", "--size", "64x36", "--mp4", "--out"])
+        .arg(&out)
+        .env("PATH", base.join("empty"))
+        .output()
+        .expect("run trample");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        stderr.contains("--mp4: ffmpeg is not on the PATH"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(!out.join("summary.json").exists());
+    std::fs::remove_dir_all(&base).unwrap();
+}

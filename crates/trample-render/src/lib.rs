@@ -21,6 +21,7 @@ pub mod blades;
 pub mod error;
 pub mod globals;
 pub mod headless;
+pub mod lines;
 pub mod objects;
 pub mod pipeline;
 pub mod renderer;
@@ -52,6 +53,7 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ("terrain.wgsl", shader_source(include_str!("terrain.wgsl"))),
         ("objects.wgsl", shader_source(include_str!("objects.wgsl"))),
         ("sky.wgsl", shader_source(include_str!("sky.wgsl"))),
+        ("lines.wgsl", shader_source(include_str!("lines.wgsl"))),
     ]
 }
 

@@ -5,6 +5,7 @@ use crate::billboards::BillboardPass;
 use crate::blades::BladePass;
 use crate::error::RenderError;
 use crate::globals::Globals;
+use crate::lines::LinePass;
 use crate::objects::ObjectPass;
 use crate::sky::SkyPass;
 use crate::target::Target;
@@ -24,6 +25,12 @@ pub enum DebugView {
     /// touched in earlier frames dark red / dark blue, untouched green,
     /// billboards yellow, Texture-LOD ground grey.
     Classes,
+    /// The shaded scene with each object's OBB-tree nodes at the current
+    /// precision drawn over it (yellow; orange: leaves above the precision).
+    Obb,
+    /// The shaded scene with the patch grid over it (patch borders white,
+    /// cell lines grey on small grids).
+    Patches,
 }
 
 impl std::str::FromStr for DebugView {
@@ -32,8 +39,10 @@ impl std::str::FromStr for DebugView {
         match s {
             "none" => Ok(Self::None),
             "classes" => Ok(Self::Classes),
+            "obb" => Ok(Self::Obb),
+            "patches" => Ok(Self::Patches),
             _ => Err(format!(
-                "unknown debug view {s:?}: expected none or classes"
+                "unknown debug view {s:?}: expected none, classes, obb or patches"
             )),
         }
     }
@@ -95,6 +104,7 @@ pub struct Renderer {
     billboards: BillboardPass,
     blades: BladePass,
     objects: ObjectPass,
+    lines: LinePass,
 }
 
 /// Packs a linear colour as WGSL `unpack4x8unorm` reads it (alpha 255, so never 0).
@@ -169,6 +179,7 @@ impl Renderer {
             billboards: BillboardPass::new(device, queue, &layout, s),
             blades: BladePass::new(device, queue, &layout, sim, s)?,
             objects: ObjectPass::new(device, &layout, sim, s),
+            lines: LinePass::new(device, &layout, s),
             target,
         })
     }
@@ -229,6 +240,14 @@ impl Renderer {
         };
         self.billboards.prepare(device, queue, sim, bb_colour);
         self.objects.prepare(queue, sim);
+        let view = self.params.debug;
+        self.lines.prepare(
+            device,
+            queue,
+            sim,
+            view == DebugView::Obb,
+            view == DebugView::Patches,
+        );
 
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame"),
@@ -248,6 +267,7 @@ impl Renderer {
             self.objects.draw(&mut pass);
             self.blades.draw(&mut pass);
             self.billboards.draw(&mut pass);
+            self.lines.draw(&mut pass);
         }
         self.target.copy_out(&mut encoder);
         queue.submit([encoder.finish()]);

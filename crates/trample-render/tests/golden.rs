@@ -205,6 +205,22 @@ fn golden_debug_classes() {
 }
 
 #[test]
+fn golden_debug_obb_nodes() {
+    // The ball close up at precision 3: its depth-3 boxes over it.
+    let toml = small_scene([0.4, 0.6, 1.6], [-0.3, 0.2, 0.0], (50.0, 60.0), 0.1, 2)
+        .replace("[camera]", "[sim]\nprecision = 3\n[camera]");
+    let sim = stepped(&toml, 50);
+    check("debug_obb", &render(&sim, DebugView::Obb));
+}
+
+#[test]
+fn golden_debug_patch_grid() {
+    let toml = small_scene([0.0, 1.2, 4.5], [0.0, 0.0, -2.0], (4.0, 6.0), 0.2, 4);
+    let sim = stepped(&toml, 30);
+    check("debug_patches", &render(&sim, DebugView::Patches));
+}
+
+#[test]
 fn a_changed_frame_fails_the_comparison() {
     // The tolerance is not so loose that a visibly different frame passes.
     let toml = small_scene([0.4, 0.6, 1.6], [-0.3, 0.2, 0.0], (50.0, 60.0), 0.1, 2);

@@ -50,9 +50,16 @@ pub struct Args {
     /// Which path to time: cpu (the GPU path is not built yet).
     #[arg(long, value_enum, default_value_t = Backend::Cpu)]
     pub backend: Backend,
-    /// Time rendering too (not built yet: the bench times the simulation alone).
+    /// Also render every frame offscreen at --size (on the adapter of
+    /// `WGPU_BACKEND`) and report the frame rate of simulation + rendering,
+    /// as the paper's Fig. 12 did. On a software driver a 1280x720 frame
+    /// takes seconds: use a few --frames.
     #[arg(long)]
     pub render: bool,
+    /// Image size with --render, WIDTHxHEIGHT (default 1280x720, the paper's
+    /// comparison size).
+    #[arg(long, default_value = "1280x720", value_parser = crate::common::parse_size)]
+    pub size: (u32, u32),
     /// Output folder: bench.json, bench.png, accuracy.png (with --scaling:
     /// scaling.json, scaling_blades.png, scaling_triangles.png).
     #[arg(long, default_value = "out")]
@@ -79,8 +86,8 @@ pub fn run(a: &Args) -> Result<()> {
             }
         ),
     }
-    if a.render {
-        bail!("--render: rendering is not built yet; the bench times the simulation alone");
+    if a.render && a.scaling {
+        bail!("--render: not with --scaling (scaling times the simulation alone)");
     }
     let frames = a.frames.unwrap_or(if a.scaling {
         SCALING_FRAMES
@@ -104,6 +111,7 @@ pub fn run(a: &Args) -> Result<()> {
         precisions,
         threads,
         out,
+        render: a.render.then_some(a.size),
     };
     if a.scaling {
         scaling::run(&scene, &setup)
@@ -122,6 +130,8 @@ pub struct Setup {
     pub threads: usize,
     /// Output folder.
     pub out: PathBuf,
+    /// Render each frame at this size too (`--render`).
+    pub render: Option<(u32, u32)>,
 }
 
 /// A progress bar over `len` units of work.
@@ -158,11 +168,12 @@ fn lap_frames(sim: &Simulation) -> Option<u64> {
 
 /// Steps `sim` for `frames` frames of its `dt`, restarting from its
 /// first state after every lap (a copy is kept only then), and returns each
-/// step's timings. Calls `tick` after each step.
+/// step's timings. Calls `tick` with the simulation after each step (the
+/// step's timings are `sim.timings`).
 fn time_frames(
     mut sim: Simulation,
     frames: u64,
-    mut tick: impl FnMut(&StepTimings),
+    mut tick: impl FnMut(&Simulation) -> Result<()>,
 ) -> Result<Vec<StepTimings>> {
     let lap = lap_frames(&sim).filter(|&l| l < frames);
     let start = lap.map(|_| sim.clone());
@@ -175,9 +186,9 @@ fn time_frames(
         {
             sim.clone_from(start);
         }
-        let t = sim.step(dt)?;
-        tick(t);
-        steps.push(t.clone());
+        let t = sim.step(dt)?.clone();
+        tick(&sim)?;
+        steps.push(t);
     }
     Ok(steps)
 }

@@ -40,6 +40,8 @@ struct Report {
     /// path's length); null when it never does.
     lap_frames: Option<u64>,
     build_ms: f64,
+    /// The adapter that rendered (`--render`); null for the simulation alone.
+    adapter: Option<String>,
     precisions: Vec<PrecisionRun>,
     accuracy: Vec<AccuracyRun>,
 }
@@ -67,6 +69,21 @@ struct PrecisionRun {
     /// Blades hit directly, mean per frame.
     dbg_blades_mean: f64,
     wall_s: f64,
+    /// With `--render`: each frame also rendered offscreen and read back.
+    render: Option<RenderRun>,
+}
+
+/// Simulation + rendering of one precision (`--render`), the paper's
+/// measurement.
+#[derive(Serialize)]
+struct RenderRun {
+    /// Image size, pixels.
+    size: [u32; 2],
+    /// Render + read-back time per frame, ms.
+    render_ms: Stats,
+    /// Frame rate of step + render: `min` from the slowest frame, `max` from
+    /// the fastest, `avg` = frames / total time.
+    fps: Fps,
 }
 
 #[derive(Serialize, Clone, Copy)]
@@ -113,6 +130,16 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
     let accuracy_queries = accuracy_scenes.len() as u64 * ACCURACY_SAMPLES as u64 * (p + 1);
     let bar = progress(setup.frames * p + accuracy_queries);
 
+    let gpu = match setup.render {
+        Some(_) => Some(trample_render::headless::create_device()?),
+        None => None,
+    };
+    if let (Some(g), Some((w, h))) = (&gpu, setup.render) {
+        eprintln!(
+            "trample bench: rendering every frame at {w}x{h} on {}",
+            g.adapter_name()
+        );
+    }
     let mut runs = Vec::new();
     for &precision in &setup.precisions {
         bar.set_message(format!(
@@ -121,9 +148,46 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         ));
         let mut sim = base.clone();
         sim.params.precision = precision;
+        let mut renderer = match (&gpu, setup.render) {
+            (Some(g), Some((width, height))) => {
+                let params = trample_render::RenderParams {
+                    width,
+                    height,
+                    samples: g.msaa(4),
+                    ..Default::default()
+                };
+                Some(trample_render::Renderer::new(
+                    &g.device, &g.queue, &sim, params,
+                )?)
+            }
+            _ => None,
+        };
+        let (mut render_ms, mut frame_ms) = (Vec::new(), Vec::new());
         let clock = Instant::now();
-        let steps = time_frames(sim, setup.frames, |_| bar.inc(1))?;
+        let steps = time_frames(sim, setup.frames, |sim| {
+            if let (Some(r), Some(g)) = (renderer.as_mut(), &gpu) {
+                let c = Instant::now();
+                r.render(&g.device, &g.queue, sim)?;
+                let ms = c.elapsed().as_secs_f64() * 1e3;
+                render_ms.push(ms);
+                frame_ms.push(sim.timings.total_ms + ms);
+            }
+            bar.inc(1);
+            Ok(())
+        })?;
         let rec = Recorder { steps };
+        let render = setup.render.map(|(w, h)| {
+            let frames = Stats::of(&frame_ms);
+            RenderRun {
+                size: [w, h],
+                render_ms: Stats::of(&render_ms),
+                fps: Fps {
+                    min: 1000.0 / frames.max,
+                    avg: 1000.0 / frames.mean,
+                    max: 1000.0 / frames.min,
+                },
+            }
+        });
         let step_ms = rec.step_ms();
         runs.push(PrecisionRun {
             precision,
@@ -142,6 +206,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
                 .sum::<f64>()
                 / rec.steps.len() as f64,
             wall_s: clock.elapsed().as_secs_f64(),
+            render,
         });
     }
 
@@ -179,6 +244,9 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         dt_s: base.params.dt_s,
         lap_frames: lap_frames(&base).filter(|&l| l < setup.frames),
         build_ms,
+        adapter: gpu
+            .as_ref()
+            .map(trample_render::headless::Gpu::adapter_name),
         precisions: runs,
         accuracy,
     };
@@ -248,18 +316,35 @@ fn fps_chart(r: &Report, path: &Path) -> Result<()> {
             .collect(),
         color,
     };
-    let series = [
+    let mut series = vec![
         series("highest", COLORS[2], |f| f.max),
         series("average", COLORS[0], |f| f.avg),
         series("lowest", COLORS[1], |f| f.min),
     ];
+    // With --render: the paper's measurement, simulation + rendering.
+    let rendered = |name: &str, color, f: fn(&Fps) -> f64| Series {
+        name: name.into(),
+        points: r
+            .precisions
+            .iter()
+            .filter_map(|p| Some((f64::from(p.precision), f(&p.render.as_ref()?.fps))))
+            .collect(),
+        color,
+    };
+    if r.precisions.iter().any(|p| p.render.is_some()) {
+        series.push(rendered("average, with rendering", COLORS[3], |f| f.avg));
+        series.push(rendered("lowest, with rendering", COLORS[4], |f| f.min));
+    }
     // The fastest steps (the object off the grass) can be 100x the slowest:
-    // a log axis keeps all three lines readable.
-    let (lo, hi) = r.precisions.iter().fold((f64::MAX, 0.0f64), |(lo, hi), p| {
-        (lo.min(p.fps.min), hi.max(p.fps.max))
-    });
+    // a log axis keeps all lines readable.
+    let (lo, hi) = series
+        .iter()
+        .flat_map(|s| &s.points)
+        .fold((f64::MAX, 0.0f64), |(lo, hi), &(_, y)| {
+            (lo.min(y), hi.max(y))
+        });
     let title = format!(
-        "Simulation rate vs precision: {} blades, {} frames each, CPU, {} threads",
+        "Frame rate vs precision: {} blades, {} frames each, CPU, {} threads",
         thousands(r.blades as u64),
         thousands(r.frames),
         r.threads
@@ -269,7 +354,7 @@ fn fps_chart(r: &Report, path: &Path) -> Result<()> {
         &Chart {
             title: &title,
             x_label: "collision precision (OBB-tree depth)",
-            y_label: "frames per second (simulation alone)",
+            y_label: "frames per second",
             x_log: false,
             y_log: hi > 20.0 * lo,
             x_integers: true,
@@ -355,6 +440,30 @@ fn print_tables(r: &Report) {
             p.step_ms.max,
             p.stages_ms.get("narrow").copied().unwrap_or(0.0)
         );
+    }
+    if r.precisions.iter().any(|p| p.render.is_some()) {
+        println!();
+        println!(
+            "Simulation + rendering on {}:",
+            r.adapter.as_deref().unwrap_or("?")
+        );
+        println!(
+            "{:>9} {:>11} {:>9} {:>9} {:>9} {:>16}",
+            "precision", "size", "fps min", "fps avg", "fps max", "render median ms"
+        );
+        for p in &r.precisions {
+            if let Some(x) = &p.render {
+                println!(
+                    "{:>9} {:>11} {:>9.1} {:>9.1} {:>9.1} {:>16.1}",
+                    p.precision,
+                    format!("{}x{}", x.size[0], x.size[1]),
+                    x.fps.min,
+                    x.fps.avg,
+                    x.fps.max,
+                    x.render_ms.median
+                );
+            }
+        }
     }
     println!();
     println!(

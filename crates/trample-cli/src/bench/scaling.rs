@@ -131,7 +131,10 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
             let mut sim = last_or_clone(&mut base, i + 1 == setup.precisions.len());
             sim.params.precision = precision;
             let rec = Recorder {
-                steps: time_frames(sim, setup.frames, |_| bar.inc(1))?,
+                steps: time_frames(sim, setup.frames, |_| {
+                    bar.inc(1);
+                    Ok(())
+                })?,
             };
             blades.push(BladePoint {
                 series,
@@ -182,7 +185,10 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
                 let mut sim = base.clone();
                 sim.params.precision = precision;
                 let rec = Recorder {
-                    steps: time_frames(sim, setup.frames, |_| bar.inc(1))?,
+                    steps: time_frames(sim, setup.frames, |_| {
+                        bar.inc(1);
+                        Ok(())
+                    })?,
                 };
                 triangles.push(TrianglePoint {
                     subdivisions,

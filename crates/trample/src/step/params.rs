@@ -42,6 +42,12 @@ pub struct SimParams {
     /// Largest memory the field may take, GiB; a larger field is refused
     /// before anything is allocated. Default 8.
     pub memory_limit_gib: f32,
+    /// Apply the transition rules between levels of detail (Eq. 9–13).
+    /// Default `true`. `false` exists to show what they are for: a trampled
+    /// cell that leaves geometry then gets an upright billboard, and one that
+    /// comes back gets its blades as they were (the renderer's no-popping
+    /// test measures the difference).
+    pub transitions: bool,
 }
 
 impl Default for SimParams {
@@ -58,6 +64,7 @@ impl Default for SimParams {
             trail: 2.0,
             max_substeps: 16,
             memory_limit_gib: 8.0,
+            transitions: true,
         }
     }
 }

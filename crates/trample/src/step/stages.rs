@@ -170,7 +170,9 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     // Transitions between levels of detail (Eq. 9–13).
     let clock = Instant::now();
     tm.transitions += changes.len() as u32;
-    apply_transitions(sim, &changes);
+    if sim.params.transitions {
+        apply_transitions(sim, &changes);
+    }
     tm.transitions_ms += ms(clock);
 
     // Recovery towards rest.
