@@ -4,7 +4,9 @@
 use crate::globals::shader_module;
 use glam::{UVec4, Vec4};
 use trample::Simulation;
+use trample::deform::billboard::billboard_top;
 use trample::field::Lod;
+use trample::field::generate::GROUND_CLEARANCE_M;
 
 /// Billboard width / cell side: "a bit longer than the cell" (DESIGN §8), so
 /// neighbouring billboards overlap and no gap shows between cells.
@@ -21,7 +23,8 @@ pub const CLUMP_BLADES: u32 = 6;
 pub struct BillboardInstance {
     /// xyz base centre, w half width (m).
     pub base: Vec4,
-    /// xyz base → top edge, `normalize(slope) · height` (Eq. 8); w unused.
+    /// xyz base → top edge, `normalize(slope) · height` (Eq. 8) kept above
+    /// the ground ([`billboard_top`]); w unused.
     pub top: Vec4,
     /// x debug colour (RGBA8, 0 = textured), y per-cell seed.
     pub extra: UVec4,
@@ -155,7 +158,15 @@ impl BillboardPass {
                 if cells.lod[c] != Lod::Billboard {
                     continue;
                 }
-                let top = cells.slope[c].normalize_or(glam::Vec3::Y) * cells.height[c];
+                // Eq. 8's top edge with the core's ground guard: a slope that
+                // points into the ground lays the billboard on it instead.
+                let top = billboard_top(
+                    cells.base[c],
+                    cells.slope[c],
+                    cells.height[c],
+                    &sim.field.terrain,
+                    GROUND_CLEARANCE_M,
+                ) - cells.base[c];
                 self.list.push(BillboardInstance {
                     base: cells.base[c].extend(half),
                     top: top.extend(0.0),
