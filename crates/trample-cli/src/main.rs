@@ -15,6 +15,7 @@ mod run;
 mod simulate;
 mod summary;
 mod track;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -41,6 +42,8 @@ enum Command {
     /// collision accuracy against the exact reference; --scaling: step time
     /// against blade and triangle counts.
     Bench(bench::Args),
+    /// Open a window on the scene: drive, fly, tune every parameter live.
+    View(view::Args),
 }
 
 fn main() -> ExitCode {
@@ -80,6 +83,7 @@ fn main() -> ExitCode {
         Command::Collide(a) => collide::run(&a),
         Command::Check(a) => check::run(&a),
         Command::Bench(a) => bench::run(&a),
+        Command::View(a) => view::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -47,7 +47,7 @@ pub struct Args {
     pub memory_limit_gib: Option<f32>,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720, both sides 16..=8192");
     let (w, h) = s.split_once('x').ok_or_else(bad)?;
     let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
