@@ -4,7 +4,7 @@
 //! and dumps), `run` (simulate and render headless to PNG/GIF), `collide`
 //! (hit flags of every blade at rest at one instant), `check` (validate a
 //! scene file and say what it describes), `bench` (the paper's pressure
-//! test, collision accuracy, scaling).
+//! test, collision accuracy, scaling), `view` (an interactive window).
 
 mod bench;
 mod check;

@@ -35,7 +35,7 @@ fn view_default_scene_under_xvfb_saves_a_screenshot() {
             "--frames",
             "30",
             "--size",
-            "640x360",
+            "480x270",
             "--screenshot",
         ])
         .arg(&shot)
@@ -45,7 +45,7 @@ fn view_default_scene_under_xvfb_saves_a_screenshot() {
     assert!(o.status.success(), "exit {:?}: {stderr}", o.status);
     let img = image::open(&shot).unwrap().to_rgba8();
     let (w, h) = img.dimensions();
-    assert_eq!((w, h), (640, 360));
+    assert_eq!((w, h), (480, 270));
     // Right of the panel: sky above (blue over green), grass below (green
     // over blue and red).
     let sky = img.get_pixel(w - 8, 4);

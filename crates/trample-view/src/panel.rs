@@ -32,7 +32,7 @@ pub fn show(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
         return;
     }
     egui::Panel::left("trample")
-        .default_size(250.0)
+        .default_size(230.0)
         .resizable(false)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| contents(ui, app, stats));

@@ -234,10 +234,11 @@ impl Viewer {
         g.egui_state
             .handle_platform_output(&g.window, out.platform_output);
         let jobs = g.egui_ctx.tessellate(out.shapes, out.pixels_per_point);
-        for (id, deltas) in &out.textures_delta.set {
-            for delta in deltas {
+        let mut textures = out.textures_delta;
+        for (id, deltas) in textures.set.drain() {
+            for delta in &deltas {
                 g.egui_renderer
-                    .update_texture(&g.device, &g.queue, *id, delta);
+                    .update_texture(&g.device, &g.queue, id, delta);
             }
         }
         let screen = egui_wgpu::ScreenDescriptor {
@@ -301,8 +302,8 @@ impl Viewer {
             g.window.pre_present_notify();
             g.queue.present(t);
         }
-        for id in &out.textures_delta.free {
-            g.egui_renderer.free_texture(id);
+        for id in textures.free.drain() {
+            g.egui_renderer.free_texture(&id);
         }
         self.frames += 1;
 

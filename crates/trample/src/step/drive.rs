@@ -35,7 +35,7 @@ impl Drive {
     #[must_use]
     pub fn pose_at(&self, t: f32) -> Pose {
         let span = self.t1 - self.t0;
-        if !(span > 0.0) || t >= self.t1 {
+        if span.is_nan() || span <= 0.0 || t >= self.t1 {
             return Pose {
                 velocity: Vec3::ZERO,
                 angular_velocity: Vec3::ZERO,
