@@ -4,7 +4,7 @@
 //! and dumps), `run` (simulate and render headless to PNG/GIF), `collide`
 //! (hit flags of every blade at rest at one instant), `check` (validate a
 //! scene file and say what it describes), `bench` (the paper's pressure
-//! test, collision accuracy, scaling).
+//! test, collision accuracy, scaling), `view` (an interactive window).
 
 mod bench;
 mod check;
@@ -16,6 +16,7 @@ mod run;
 mod simulate;
 mod summary;
 mod track;
+mod view;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -42,6 +43,8 @@ enum Command {
     /// collision accuracy against the exact reference; --scaling: step time
     /// against blade and triangle counts.
     Bench(bench::Args),
+    /// Open a window on the scene: drive, fly, tune every parameter live.
+    View(view::Args),
 }
 
 fn main() -> ExitCode {
@@ -81,6 +84,7 @@ fn main() -> ExitCode {
         Command::Collide(a) => collide::run(&a),
         Command::Check(a) => check::run(&a),
         Command::Bench(a) => bench::run(&a),
+        Command::View(a) => view::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -33,6 +33,18 @@ pub enum DebugView {
     Patches,
 }
 
+impl DebugView {
+    /// Every view, in the order a viewer cycles through them.
+    pub const ALL: [DebugView; 4] = [Self::None, Self::Classes, Self::Obb, Self::Patches];
+
+    /// The view after this one in [`DebugView::ALL`], wrapping round.
+    #[must_use]
+    pub fn next(self) -> Self {
+        let i = Self::ALL.iter().position(|&v| v == self).unwrap_or(0);
+        Self::ALL[(i + 1) % Self::ALL.len()]
+    }
+}
+
 impl std::str::FromStr for DebugView {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
@@ -225,6 +237,26 @@ impl Renderer {
         queue: &wgpu::Queue,
         sim: &Simulation,
     ) -> FrameCounts {
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame"),
+        });
+        let counts = self.encode(device, queue, sim, &mut encoder);
+        self.target.copy_out(&mut encoder);
+        queue.submit([encoder.finish()]);
+        counts
+    }
+
+    /// Uploads `sim`'s current state and records the scene pass into
+    /// `encoder` (the caller submits it): the frame is then in
+    /// [`Renderer::frame_view`], where a window can draw an overlay on it
+    /// and present it. [`Renderer::draw`] is this plus the copy for read-back.
+    pub fn encode(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: &Simulation,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> FrameCounts {
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&self.globals_of(sim)));
         let debug = self.params.debug == DebugView::Classes;
         if debug {
@@ -249,9 +281,6 @@ impl Renderer {
             view == DebugView::Patches,
         );
 
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("frame"),
-        });
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("scene"),
@@ -269,12 +298,59 @@ impl Renderer {
             self.billboards.draw(&mut pass);
             self.lines.draw(&mut pass);
         }
-        self.target.copy_out(&mut encoder);
-        queue.submit([encoder.finish()]);
         FrameCounts {
             blades: self.blades.drawn(),
             billboards: self.billboards.drawn(),
         }
+    }
+
+    /// The frame the passes resolve into: single-sample [`crate::COLOR_FORMAT`],
+    /// `params().width × params().height`, sampleable (see [`Renderer::encode`]).
+    #[must_use]
+    pub fn frame_view(&self) -> &wgpu::TextureView {
+        self.target.frame_view()
+    }
+
+    /// Reads back what is in [`Renderer::frame_view`] now (the last frame
+    /// and whatever was drawn over it), sRGB RGBA8.
+    ///
+    /// # Errors
+    /// [`RenderError::Readback`] when the frame cannot be read.
+    pub fn read_frame(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<image::RgbaImage, RenderError> {
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("read frame"),
+        });
+        self.target.copy_out(&mut encoder);
+        queue.submit([encoder.finish()]);
+        self.target.read(device)
+    }
+
+    /// Resizes the frame to `width × height` pixels (a window was resized).
+    ///
+    /// # Errors
+    /// [`RenderError::BadSize`] for a zero or too large side; the renderer
+    /// keeps its old size then.
+    pub fn resize(
+        &mut self,
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        if (width, height) != (self.params.width, self.params.height) {
+            self.target = Target::new(device, width, height, self.params.samples)?;
+            self.params.width = width;
+            self.params.height = height;
+        }
+        Ok(())
+    }
+
+    /// Switches the debug view from the next frame on.
+    pub fn set_debug(&mut self, debug: DebugView) {
+        self.params.debug = debug;
     }
 
     /// Draws `sim`'s current state and reads it back (sRGB RGBA8).

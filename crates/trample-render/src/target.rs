@@ -56,11 +56,12 @@ impl Target {
             texture("colour (msaa)", crate::COLOR_FORMAT, samples, attach)
                 .create_view(&wgpu::TextureViewDescriptor::default())
         });
+        // TEXTURE_BINDING: a window samples the frame to present it.
         let resolved = texture(
             "colour",
             crate::COLOR_FORMAT,
             1,
-            attach | wgpu::TextureUsages::COPY_SRC,
+            attach | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let resolved_view = resolved.create_view(&wgpu::TextureViewDescriptor::default());
         let depth = texture("depth", crate::DEPTH_FORMAT, samples, attach)
@@ -84,6 +85,13 @@ impl Target {
             readback,
             padded_row,
         })
+    }
+
+    /// The single-sample frame ([`crate::COLOR_FORMAT`]) the passes resolve
+    /// into: overlays draw on it, windows sample it to present it.
+    #[must_use]
+    pub fn frame_view(&self) -> &wgpu::TextureView {
+        &self.resolved_view
     }
 
     /// The colour attachment (resolving into the RGBA8 texture under MSAA).

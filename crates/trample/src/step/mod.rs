@@ -1,11 +1,13 @@
 //! One simulation step (DESIGN §7) and the parameters and timings around it.
 
+pub mod drive;
 pub mod params;
 pub mod query;
 pub mod simulation;
 pub mod stages;
 pub mod timings;
 
+pub use drive::Drive;
 pub use params::{SimError, SimParams};
 pub use simulation::{BladeClass, Simulation, SubstepClamp};
 pub use timings::StepTimings;

@@ -36,6 +36,9 @@ pub struct Body {
     pub pose: Pose,
     /// The tree's root box in world space at that pose.
     pub world_root: Obb,
+    /// Set while the caller drives the body ([`Simulation::drive`]): its
+    /// poses come from this instead of its path. `None` for scene objects.
+    pub drive: Option<super::drive::Drive>,
 }
 
 impl Body {
@@ -50,12 +53,23 @@ impl Body {
             tree,
             pose,
             world_root,
+            drive: None,
         }
     }
 
-    /// Moves the body to its pose at time `t`.
+    /// The pose at time `t`: from [`Body::drive`] while driven, else from
+    /// the object's path ([`Object::pose_at`]).
+    #[must_use]
+    pub fn pose_at(&self, t: f32) -> Pose {
+        match &self.drive {
+            Some(d) => d.pose_at(t),
+            None => self.object.pose_at(t),
+        }
+    }
+
+    /// Moves the body to its pose at time `t` ([`Body::pose_at`]).
     pub fn set_time(&mut self, t: f32) {
-        self.pose = self.object.pose_at(t);
+        self.pose = self.pose_at(t);
         self.world_root = world_obb(&self.tree.nodes[0].obb, &self.pose);
     }
 }

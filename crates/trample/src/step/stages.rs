@@ -43,7 +43,7 @@ pub(crate) fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
     let t0 = sim.time as f32;
     let (mut needed, mut fastest) = (1u32, None);
     for (i, body) in sim.bodies.iter().enumerate() {
-        let (a, b) = (body.object.pose_at(t0), body.object.pose_at(t0 + dt));
+        let (a, b) = (body.pose_at(t0), body.pose_at(t0 + dt));
         let root = body.tree.nodes[0].obb;
         let spin = 0.5
             * (a.angular_velocity.length() + b.angular_velocity.length())

@@ -1,0 +1,46 @@
+//! `trample view`: the interactive viewer (crate `trample-view`) on a scene.
+
+use crate::common::{SimOverrides, load_scene};
+use anyhow::Result;
+use std::path::PathBuf;
+use trample_view::{ViewOptions, run as view};
+
+/// Arguments of `trample view`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (TOML); none = the embedded default scene.
+    pub scene: Option<PathBuf>,
+    /// Window size, WIDTHxHEIGHT. Default 960x540: a software driver
+    /// renders the default scene at 1280x720 in seconds per frame.
+    #[arg(long, default_value = "960x540", value_parser = crate::common::parse_size)]
+    pub size: (u32, u32),
+    /// Close after N frames (for tests and scripts).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames: Option<u64>,
+    /// Write the last frame, panel included, to this PNG on closing
+    /// (with --frames: after N frames).
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
+    #[arg(long)]
+    pub precision: Option<u32>,
+}
+
+/// Runs the viewer until its window closes.
+pub fn run(a: &Args) -> Result<()> {
+    let scene = load_scene(
+        a.scene.as_deref(),
+        SimOverrides {
+            precision: a.precision,
+            ..SimOverrides::default()
+        },
+    )?;
+    view(ViewOptions {
+        scene,
+        size: [a.size.0, a.size.1],
+        frames: a.frames,
+        screenshot: a.screenshot.clone(),
+        samples: 4,
+    })?;
+    Ok(())
+}

@@ -1,0 +1,390 @@
+//! The viewer's state and what each key and panel control does to it, with
+//! no window: [`App`] owns the simulation, the camera controllers, the
+//! driven object and the settings that wait for a reset. The window feeds it
+//! keys and mouse motion and draws what it holds; tests script it directly.
+
+use crate::ViewError;
+use crate::camera::{CameraMode, Fly, Orbit};
+use crate::driver::Driver;
+use crate::input::{Action, Input, Key};
+use glam::Vec3;
+use trample::Simulation;
+use trample::camera::{Camera, CameraTarget};
+use trample::field::cull_patches;
+use trample::object::body::Orientation;
+use trample::object::{Motion, Path, PathParams, ShapeParams};
+use trample::scene::Scene;
+use trample_render::DebugView;
+
+/// Highest precision the panel and keys offer (the paper's range is 1–7).
+pub const MAX_PRECISION: u32 = 10;
+/// Most blades per cell the panel offers for the next reset.
+pub const MAX_BLADES_PER_CELL: u32 = 8;
+
+/// The first object's shape as the panel offers it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeChoice {
+    /// The scene's own shape.
+    Scene,
+    /// A 1 m sphere.
+    Sphere,
+    /// A 1.6 × 1 × 1 m box.
+    Box,
+    /// A capsule, 0.5 m radius, 1 m long.
+    Capsule,
+    /// The built-in torus knot, 2 m across.
+    Knot,
+    /// The mesh file in [`Pending::mesh_path`].
+    MeshFile,
+}
+
+impl ShapeChoice {
+    /// Every choice, in panel order.
+    pub const ALL: [ShapeChoice; 6] = [
+        Self::Scene,
+        Self::Sphere,
+        Self::Box,
+        Self::Capsule,
+        Self::Knot,
+        Self::MeshFile,
+    ];
+
+    /// Name shown in the panel.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Scene => "as in the scene",
+            Self::Sphere => "sphere",
+            Self::Box => "box",
+            Self::Capsule => "capsule",
+            Self::Knot => "knot",
+            Self::MeshFile => "mesh file",
+        }
+    }
+}
+
+/// Settings that take effect at the next field reset (they rebuild the field
+/// or the object's tree).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pending {
+    /// Blades per cell.
+    pub blades_per_cell: u32,
+    /// Shape of the first object.
+    pub shape: ShapeChoice,
+    /// Mesh file for [`ShapeChoice::MeshFile`] (`.obj`, `.gltf`, `.glb`),
+    /// relative to the scene's folder and inside it.
+    pub mesh_path: String,
+}
+
+/// The viewer's state.
+pub struct App {
+    /// The scene as last built (with the settings of the last reset).
+    pub scene: Scene,
+    /// The running simulation; its `params` and `lod` are edited live.
+    pub sim: Simulation,
+    /// Held keys.
+    pub input: Input,
+    /// Simulation paused.
+    pub paused: bool,
+    step_once: bool,
+    /// The first object is driven by the arrow keys (else it follows its path).
+    pub driving: bool,
+    /// The driven object's state.
+    pub driver: Driver,
+    /// Camera in use.
+    pub camera_mode: CameraMode,
+    /// Orbit camera state.
+    pub orbit: Orbit,
+    /// Free-fly camera state.
+    pub fly: Fly,
+    /// Debug view of the renderer.
+    pub debug: DebugView,
+    /// Panel shown.
+    pub show_panel: bool,
+    /// Settings for the next reset.
+    pub pending: Pending,
+    /// A screenshot was asked for (the window takes it and clears this).
+    pub screenshot_requested: bool,
+    /// Counts field rebuilds: the window rebuilds its renderer when it changes.
+    pub field_version: u64,
+    /// Last message for the panel (errors of a reset, screenshot written, ...).
+    pub message: String,
+    scene_camera: Camera,
+    aspect: f32,
+}
+
+impl App {
+    /// Builds the scene's simulation.
+    ///
+    /// # Errors
+    /// [`ViewError::Scene`] when the scene does not build.
+    pub fn new(scene: Scene) -> Result<Self, ViewError> {
+        let sim = scene.build().map_err(|e| ViewError::Scene(e.to_string()))?;
+        let view = sim.view;
+        let pending = Pending {
+            blades_per_cell: scene.file.field.blades_per_cell,
+            shape: ShapeChoice::Scene,
+            mesh_path: String::new(),
+        };
+        let mut app = Self {
+            input: Input::default(),
+            paused: false,
+            step_once: false,
+            driving: false,
+            driver: driver_for(&sim),
+            camera_mode: CameraMode::default(),
+            orbit: Orbit::default(),
+            fly: Fly::looking_at(view.eye, view.target),
+            debug: DebugView::None,
+            show_panel: true,
+            pending,
+            screenshot_requested: false,
+            field_version: 0,
+            message: String::new(),
+            scene_camera: sim.camera.clone(),
+            aspect: sim.camera.params.aspect,
+            scene,
+            sim,
+        };
+        app.apply_camera();
+        app.refresh_view();
+        Ok(app)
+    }
+
+    /// A key went down (`pressed`) or up; `repeat` for auto-repeat.
+    pub fn key(&mut self, key: Key, pressed: bool, repeat: bool) {
+        if let Some(action) = self.input.key(key, pressed, repeat) {
+            self.act(action);
+        }
+    }
+
+    /// Does what `action` asks.
+    pub fn act(&mut self, action: Action) {
+        match action {
+            Action::TogglePause => self.paused = !self.paused,
+            Action::SingleStep => {
+                self.paused = true;
+                self.step_once = true;
+            }
+            Action::ResetField => {
+                if let Err(e) = self.reset_field() {
+                    self.message = format!("reset failed: {e}");
+                }
+            }
+            Action::RestartPath => self.restart_paths(),
+            Action::ToggleDrive => self.set_driving(!self.driving),
+            Action::NextCamera => self.camera_mode = self.camera_mode.next(),
+            Action::NextDebugView => {
+                self.debug = self.debug.next();
+            }
+            Action::Screenshot => self.screenshot_requested = true,
+            Action::TogglePanel => self.show_panel = !self.show_panel,
+            Action::Precision(d) => {
+                let p = self.sim.params.precision as i32 + d;
+                self.sim.params.precision = p.clamp(1, MAX_PRECISION as i32) as u32;
+            }
+        }
+    }
+
+    /// A mouse drag over the scene of (dx, dy) pixels: turns the orbit or
+    /// free-fly camera.
+    pub fn drag(&mut self, dx: f32, dy: f32) {
+        match self.camera_mode {
+            CameraMode::Orbit => self.orbit.drag(dx, dy),
+            CameraMode::Fly => self.fly.drag(dx, dy),
+            CameraMode::Scene => {}
+        }
+    }
+
+    /// Mouse wheel over the scene, in notches (orbit zoom).
+    pub fn scroll(&mut self, lines: f32) {
+        self.orbit.zoom(lines);
+    }
+
+    /// Width / height of the picture (culling and the camera's aspect).
+    pub fn set_aspect(&mut self, aspect: f32) {
+        if aspect.is_finite() && aspect > 0.0 {
+            self.aspect = aspect;
+        }
+    }
+
+    /// Starts or stops driving the first object. Driving starts where the
+    /// object is, facing where it goes; stopping gives it back to its path.
+    pub fn set_driving(&mut self, on: bool) {
+        if self.sim.bodies.is_empty() || on == self.driving {
+            return;
+        }
+        self.driving = on;
+        if on {
+            self.driver = driver_for(&self.sim);
+        } else {
+            self.sim.release(0);
+        }
+    }
+
+    /// One frame that took `frame_dt` seconds of wall time: the free-fly
+    /// camera moves in wall time; the simulation takes one step of its
+    /// `dt_s` unless paused (so a slow machine shows slow motion, not a
+    /// coarser simulation). Returns whether it stepped.
+    ///
+    /// # Errors
+    /// [`ViewError::Step`] when the step refuses its parameters.
+    pub fn update(&mut self, frame_dt: f32) -> Result<bool, ViewError> {
+        let held = self.input.held;
+        if self.camera_mode == CameraMode::Fly {
+            self.fly
+                .update(held.fly(), held.shift, frame_dt.clamp(0.0, 0.1));
+        }
+        if held.arrows() && !self.driving {
+            self.set_driving(true);
+        }
+        let step = !self.paused || std::mem::take(&mut self.step_once);
+        if !step {
+            self.apply_camera();
+            self.refresh_view();
+            return Ok(false);
+        }
+        let dt = self.sim.params.dt_s;
+        if self.driving {
+            self.driver.update(&held, dt);
+            self.sim
+                .drive(0, self.driver.position, self.driver.rotation, dt);
+        }
+        self.apply_camera();
+        self.sim
+            .step(dt)
+            .map_err(|e| ViewError::Step(e.to_string()))?;
+        Ok(true)
+    }
+
+    /// Rebuilds the field at rest with the live parameters and the pending
+    /// settings (blade density, shape). On error the running simulation is
+    /// kept and the error returned.
+    ///
+    /// # Errors
+    /// The scene's message for a setting it refuses (e.g. a mesh path
+    /// outside the scene's folder).
+    pub fn reset_field(&mut self) -> Result<(), String> {
+        let mut scene = self.scene.clone();
+        scene.file.sim = self.sim.params.clone();
+        scene.file.lod = self.sim.lod.clone();
+        scene.file.field.blades_per_cell = self.pending.blades_per_cell;
+        if let Some(object) = scene.file.objects.first_mut() {
+            object.shape = self.pending_shape(&object.shape);
+        }
+        let sim = scene.build().map_err(|e| e.to_string())?;
+        self.scene = scene;
+        self.scene_camera = sim.camera.clone();
+        self.sim = sim;
+        self.driving = false;
+        self.driver = driver_for(&self.sim);
+        self.field_version += 1;
+        self.message = format!("field reset: {} blades", self.sim.field.blades.count);
+        self.apply_camera();
+        self.refresh_view();
+        Ok(())
+    }
+
+    /// Every object starts its path again from now (the field is kept).
+    pub fn restart_paths(&mut self) {
+        self.set_driving(false);
+        let t = self.sim.time as f32;
+        for (body, params) in self.sim.bodies.iter_mut().zip(&self.scene.file.objects) {
+            let m = &body.object.motion;
+            if let Ok(motion) = Motion::new(
+                m.path().clone(),
+                m.orientation(),
+                params.start_s + t,
+                m.roll_radius(),
+            ) {
+                body.object.motion = motion;
+                body.set_time(t);
+            }
+        }
+    }
+
+    fn pending_shape(&self, current: &ShapeParams) -> ShapeParams {
+        match self.pending.shape {
+            ShapeChoice::Scene => current.clone(),
+            ShapeChoice::Sphere => ShapeParams::Sphere {
+                radius_m: 1.0,
+                subdivisions: 3,
+            },
+            ShapeChoice::Box => ShapeParams::Box {
+                half_extents_m: [0.8, 0.5, 0.5],
+            },
+            ShapeChoice::Capsule => ShapeParams::Capsule {
+                radius_m: 0.5,
+                length_m: 1.0,
+            },
+            ShapeChoice::Knot => ShapeParams::Knot { size_m: 2.0 },
+            ShapeChoice::MeshFile => ShapeParams::Mesh {
+                path: self.pending.mesh_path.clone().into(),
+                anchor: Default::default(),
+            },
+        }
+    }
+
+    /// Puts the current camera into the simulation (its eye is the LOD
+    /// viewpoint and culls the patches).
+    fn apply_camera(&mut self) {
+        let target = self
+            .sim
+            .bodies
+            .first()
+            .map_or(Vec3::ZERO, |b| b.pose.position);
+        let mut camera = match self.camera_mode {
+            CameraMode::Scene => self.scene_camera.clone(),
+            CameraMode::Orbit => fixed_camera(&self.scene_camera, self.orbit.eye(target), target),
+            CameraMode::Fly => fixed_camera(&self.scene_camera, self.fly.eye, self.fly.target()),
+        };
+        camera.params.aspect = self.aspect;
+        self.sim.camera = camera;
+    }
+
+    /// View and culling for the current camera without a step (paused).
+    /// Levels of detail wait for the next step, which blends them (Eq. 9–13).
+    fn refresh_view(&mut self) {
+        let positions: Vec<Vec3> = self.sim.bodies.iter().map(|b| b.pose.position).collect();
+        self.sim.view = self.sim.camera.view_at(self.sim.time as f32, &positions);
+        self.sim.timings.visible_patches = cull_patches(
+            &self.sim.field.layout.patch_list,
+            &self.sim.view.frustum(),
+            &mut self.sim.visible,
+        );
+    }
+}
+
+/// A camera that stays at `eye` and looks at `target`; `scene`'s lens.
+fn fixed_camera(scene: &Camera, eye: Vec3, target: Vec3) -> Camera {
+    match Path::new(PathParams::Static {
+        position: eye.to_array(),
+    }) {
+        Ok(path) => Camera {
+            eye: path,
+            target: CameraTarget::Point(target),
+            params: scene.params.clone(),
+        },
+        // A non-finite eye (cannot come from the controllers): keep the scene's.
+        Err(_) => scene.clone(),
+    }
+}
+
+/// A driver starting at the first object's pose, facing its motion.
+fn driver_for(sim: &Simulation) -> Driver {
+    let Some(body) = sim.bodies.first() else {
+        return Driver::new(Vec3::ZERO, 0.0, glam::Quat::IDENTITY, 0.0);
+    };
+    let pose = body.pose;
+    let motion = &body.object.motion;
+    let heading = motion
+        .path()
+        .heading(sim.time as f32 - motion.start_s())
+        .map_or(0.0, |h| h.x.atan2(h.z));
+    let roll = if motion.orientation() == Orientation::Rolling {
+        motion.roll_radius()
+    } else {
+        0.0
+    };
+    Driver::new(pose.position, heading, pose.rotation, roll)
+}

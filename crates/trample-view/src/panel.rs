@@ -1,0 +1,229 @@
+//! The egui panel: every live simulation parameter, the settings applied at
+//! the next reset, the camera and debug view, and the stats of the frame.
+
+use crate::app::{App, MAX_BLADES_PER_CELL, MAX_PRECISION, ShapeChoice};
+use crate::camera::CameraMode;
+use egui::{RichText, Slider};
+use trample_render::DebugView;
+
+/// What the window measured for the panel's stats.
+#[derive(Clone, Debug, Default)]
+pub struct FrameStats {
+    /// Wall time of a frame, milliseconds (smoothed).
+    pub frame_ms: f64,
+    /// Geometric blades drawn in the last frame.
+    pub blades_drawn: usize,
+    /// Billboards drawn in the last frame.
+    pub billboards_drawn: usize,
+    /// The adapter: name, backend, device type.
+    pub adapter: String,
+}
+
+/// Tooltip of the controls that have no simulation behind them yet.
+const NO_WIND: &str = "Wind is not in the simulation core yet (DESIGN lists it; no stage \
+                       computes it): these controls are shown disabled until it is.";
+/// Tooltip of the GPU backend choice.
+const NO_GPU: &str = "The GPU compute path is being built on its own branch; \
+                      the viewer simulates on the CPU (rayon) until it lands.";
+
+/// Draws the panel on the left of `ui` (the root ui of the frame).
+pub fn show(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
+    if !app.show_panel {
+        return;
+    }
+    egui::Panel::left("trample")
+        .default_size(230.0)
+        .resizable(false)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| contents(ui, app, stats));
+        });
+}
+
+fn contents(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
+    ui.heading("trample");
+    ui.horizontal(|ui| {
+        if ui
+            .button(if app.paused { "▶ run" } else { "⏸ pause" })
+            .clicked()
+        {
+            app.paused = !app.paused;
+        }
+        if ui.button("step").clicked() {
+            app.act(crate::input::Action::SingleStep);
+        }
+        if ui.button("reset field").clicked() {
+            app.act(crate::input::Action::ResetField);
+        }
+        if ui
+            .button("restart")
+            .on_hover_text("objects start their paths again")
+            .clicked()
+        {
+            app.restart_paths();
+        }
+    });
+    let mut driving = app.driving;
+    if ui
+        .checkbox(&mut driving, "drive the first object (arrows)")
+        .changed()
+    {
+        app.set_driving(driving);
+    }
+    ui.horizontal(|ui| {
+        ui.label("camera");
+        for mode in [CameraMode::Orbit, CameraMode::Fly, CameraMode::Scene] {
+            ui.radio_value(&mut app.camera_mode, mode, mode.name());
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.label("view");
+        ui.radio_value(&mut app.debug, DebugView::None, "shaded");
+        ui.radio_value(&mut app.debug, DebugView::Classes, "classes")
+            .on_hover_text("DBG red, PBG blue by generation, billboards yellow");
+        ui.radio_value(&mut app.debug, DebugView::Obb, "OBB nodes")
+            .on_hover_text("the OBB-tree nodes at the current precision");
+        ui.radio_value(&mut app.debug, DebugView::Patches, "patches")
+            .on_hover_text("the patch grid");
+    });
+    if ui.button("screenshot (P)").clicked() {
+        app.screenshot_requested = true;
+    }
+
+    egui::CollapsingHeader::new("simulation")
+        .default_open(true)
+        .show(ui, |ui| parameters(ui, app));
+    egui::CollapsingHeader::new("next reset")
+        .default_open(false)
+        .show(ui, |ui| rebuild(ui, app));
+    egui::CollapsingHeader::new("stats")
+        .default_open(true)
+        .show(ui, |ui| statistics(ui, app, stats));
+    egui::CollapsingHeader::new("keys")
+        .default_open(false)
+        .show(ui, |ui| {
+            ui.label(
+                "arrows drive · G drive/path · WASD QE fly (Shift fast) · mouse drag turn · \
+                 wheel zoom · C camera · Space pause · N step · R reset · T restart path · \
+                 [ ] precision · V debug view · P screenshot · H panel · Esc quit",
+            );
+        });
+    if !app.message.is_empty() {
+        ui.separator();
+        ui.label(&app.message);
+    }
+}
+
+fn parameters(ui: &mut egui::Ui, app: &mut App) {
+    let p = &mut app.sim.params;
+    ui.add(Slider::new(&mut p.precision, 1..=MAX_PRECISION).text("precision"))
+        .on_hover_text("depth of the OBB tree the collision test goes down to (root = 1)");
+    ui.add(Slider::new(&mut p.att, 0.0..=1.0).text("att"))
+        .on_hover_text("decay of propagation per generation (Eq. 4)");
+    ui.add(
+        Slider::new(&mut p.threshold, 0.01..=2.0)
+            .logarithmic(true)
+            .text("threshold L, m/s"),
+    );
+    ui.add(Slider::new(&mut p.weight_a, 0.1..=5.0).text("weight a"))
+        .on_hover_text("P(x) = a·sqrt(1 + x²/b²) − a (Eq. 7)");
+    ui.add(Slider::new(&mut p.weight_b, 0.1..=10.0).text("weight b"));
+    let mut lasting = p.recovery_s.is_infinite();
+    if ui
+        .checkbox(&mut lasting, "lasting track (no recovery)")
+        .changed()
+    {
+        p.recovery_s = if lasting { f32::INFINITY } else { 3.0 };
+    }
+    if !lasting {
+        ui.add(
+            Slider::new(&mut p.recovery_s, 0.2..=60.0)
+                .logarithmic(true)
+                .text("recovery τ, s"),
+        );
+    }
+    ui.add(Slider::new(&mut p.trail, 0.0..=5.0).text("trail"));
+    let lod = &mut app.sim.lod;
+    ui.add(Slider::new(&mut lod.geometry_m, 1.0..=60.0).text("blades up to, m"));
+    let low = lod.geometry_m + 0.5;
+    lod.billboard_m = lod.billboard_m.max(low);
+    ui.add(Slider::new(&mut lod.billboard_m, low..=200.0).text("billboards up to, m"));
+
+    ui.add_enabled_ui(false, |ui| {
+        let mut placeholder = (0.0f32, 0.0f32, 0.0f32);
+        ui.add(Slider::new(&mut placeholder.0, 0.0..=360.0).text("wind direction, °"))
+            .on_disabled_hover_text(NO_WIND);
+        ui.add(Slider::new(&mut placeholder.1, 0.0..=10.0).text("wind strength, m/s"))
+            .on_disabled_hover_text(NO_WIND);
+        ui.add(Slider::new(&mut placeholder.2, 0.0..=1.0).text("gusts"))
+            .on_disabled_hover_text(NO_WIND);
+    });
+    ui.horizontal(|ui| {
+        ui.label("backend");
+        let _ = ui.radio(true, "CPU");
+        ui.add_enabled(false, egui::RadioButton::new(false, "GPU"))
+            .on_disabled_hover_text(NO_GPU);
+    });
+}
+
+fn rebuild(ui: &mut egui::Ui, app: &mut App) {
+    ui.add(
+        Slider::new(&mut app.pending.blades_per_cell, 1..=MAX_BLADES_PER_CELL)
+            .text("blades per cell"),
+    );
+    egui::ComboBox::from_label("shape")
+        .selected_text(app.pending.shape.name())
+        .show_ui(ui, |ui| {
+            for s in ShapeChoice::ALL {
+                ui.selectable_value(&mut app.pending.shape, s, s.name());
+            }
+        });
+    if app.pending.shape == ShapeChoice::MeshFile {
+        ui.horizontal(|ui| {
+            ui.label("mesh");
+            ui.text_edit_singleline(&mut app.pending.mesh_path)
+                .on_hover_text(".obj, .gltf or .glb, relative to the scene's folder");
+        });
+    }
+    if ui.button("reset field now (R)").clicked() {
+        app.act(crate::input::Action::ResetField);
+    }
+}
+
+fn statistics(ui: &mut egui::Ui, app: &App, stats: &FrameStats) {
+    let t = &app.sim.timings;
+    let fps = if stats.frame_ms > 0.0 {
+        1000.0 / stats.frame_ms
+    } else {
+        0.0
+    };
+    ui.label(format!("frame {:.1} ms ({fps:.1} fps)", stats.frame_ms));
+    ui.label(format!(
+        "step {:.2} ms, t = {:.2} s, frame {}",
+        t.total_ms, app.sim.time, app.sim.frame
+    ));
+    egui::Grid::new("stages").num_columns(2).show(ui, |ui| {
+        for (name, ms) in t.stages() {
+            ui.label(name);
+            ui.label(format!("{ms:.3} ms"));
+            ui.end_row();
+        }
+    });
+    ui.label(format!(
+        "DBG {} · PBG {} · generations {}",
+        t.dbg_blades, t.pbg_blades, t.generations
+    ));
+    ui.label(format!(
+        "cells: blades {} · billboards {} · texture {}",
+        t.lod.geometry, t.lod.billboard, t.lod.texture
+    ));
+    ui.label(format!(
+        "drawn: {} blades, {} billboards; {} patches visible",
+        stats.blades_drawn, stats.billboards_drawn, t.visible_patches
+    ));
+    ui.label(format!(
+        "field: {} blades, camera {}",
+        app.sim.field.blades.count,
+        app.camera_mode.name()
+    ));
+    ui.label(RichText::new(&stats.adapter).small());
+}

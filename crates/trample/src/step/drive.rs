@@ -1,0 +1,196 @@
+//! Driven bodies (ours): a body whose pose the caller sets step by step —
+//! the viewer's arrow-key driving — instead of a path.
+//!
+//! A path's pose is a pure function of time ([`crate::object::Motion::pose_at`]);
+//! a driven body instead goes, over the next step, from where it is to a
+//! pose the caller chooses. Its sub-step poses are interpolated between the
+//! two (position linearly, rotation by slerp) and its velocities are the
+//! displacement and turn over the step, so the force of Eq. 2 matches what
+//! the body really sweeps through and sub-stepping (DESIGN §9) sees its
+//! true travel. Bodies that are never driven behave exactly as before.
+
+use super::simulation::Simulation;
+use crate::object::Pose;
+use glam::{Quat, Vec3};
+
+/// One step of a driven body: from `from` at time `t0` to `to` at `t1`
+/// (seconds, `t1 > t0`). Set by [`Simulation::drive`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drive {
+    /// Pose at the start of the step.
+    pub from: Pose,
+    /// Pose at its end (its velocities are ignored: see [`Drive::pose_at`]).
+    pub to: Pose,
+    /// Start time, seconds.
+    pub t0: f32,
+    /// End time, seconds.
+    pub t1: f32,
+}
+
+impl Drive {
+    /// The pose at time `t`: before `t0` the start pose, after `t1` the end
+    /// pose at rest, in between position lerped and rotation slerped, with
+    /// the constant linear and angular velocity that carry `from` to `to`
+    /// over `[t0, t1]`.
+    #[must_use]
+    pub fn pose_at(&self, t: f32) -> Pose {
+        let span = self.t1 - self.t0;
+        if span.is_nan() || span <= 0.0 || t >= self.t1 {
+            return Pose {
+                velocity: Vec3::ZERO,
+                angular_velocity: Vec3::ZERO,
+                ..self.to
+            };
+        }
+        let s = ((t - self.t0) / span).clamp(0.0, 1.0);
+        let velocity = (self.to.position - self.from.position) / span;
+        let turn = (self.to.rotation * self.from.rotation.inverse()).normalize();
+        // The shorter way round (q and -q are the same rotation).
+        let turn = if turn.w < 0.0 { -turn } else { turn };
+        let (axis, angle) = turn.to_axis_angle();
+        let angular_velocity = if angle.abs() > 1e-7 {
+            axis * (angle / span)
+        } else {
+            Vec3::ZERO
+        };
+        Pose {
+            position: self.from.position.lerp(self.to.position, s),
+            rotation: self.from.rotation.slerp(self.to.rotation, s),
+            velocity,
+            angular_velocity,
+        }
+    }
+}
+
+impl Simulation {
+    /// Drives body `index` over the next step of `dt` seconds: it moves from
+    /// its current pose to `position` with `rotation` (world from local),
+    /// sweeping the grass on the way. Call it before each [`Simulation::step`]
+    /// of that `dt`; between calls the body stays where it was left, at rest.
+    /// [`Simulation::release`] gives it back to its path. Returns `false`
+    /// (and does nothing) when there is no such body or a value is not finite.
+    pub fn drive(&mut self, index: usize, position: Vec3, rotation: Quat, dt: f32) -> bool {
+        let t0 = self.time as f32;
+        let Some(body) = self.bodies.get_mut(index) else {
+            return false;
+        };
+        if !(position.is_finite() && rotation.is_finite() && dt.is_finite() && dt > 0.0) {
+            return false;
+        }
+        body.drive = Some(Drive {
+            from: body.pose,
+            to: Pose {
+                position,
+                rotation: rotation.normalize(),
+                velocity: Vec3::ZERO,
+                angular_velocity: Vec3::ZERO,
+            },
+            t0,
+            t1: t0 + dt,
+        });
+        true
+    }
+
+    /// Body `index` follows its path again (from its pose at the current
+    /// time: it jumps there). No-op for an unknown index.
+    pub fn release(&mut self, index: usize) {
+        let t = self.time as f32;
+        if let Some(body) = self.bodies.get_mut(index) {
+            body.drive = None;
+            body.set_time(t);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Scene;
+
+    #[test]
+    fn driven_pose_interpolates_and_carries_the_step_velocity() {
+        let from = Pose::at_rest(Vec3::ZERO);
+        let to = Pose {
+            rotation: Quat::from_rotation_y(0.5),
+            ..Pose::at_rest(Vec3::new(1.0, 0.0, 2.0))
+        };
+        let d = Drive {
+            from,
+            to,
+            t0: 1.0,
+            t1: 1.5,
+        };
+        let mid = d.pose_at(1.25);
+        assert!((mid.position - Vec3::new(0.5, 0.0, 1.0)).length() < 1e-6);
+        assert!((mid.velocity - Vec3::new(2.0, 0.0, 4.0)).length() < 1e-5);
+        assert!((mid.angular_velocity - Vec3::Y).length() < 1e-5);
+        assert_eq!(d.pose_at(0.0).position, Vec3::ZERO);
+        let end = d.pose_at(2.0);
+        assert_eq!(end.position, to.position);
+        assert_eq!(end.velocity, Vec3::ZERO);
+    }
+
+    #[test]
+    fn a_driven_ball_goes_where_it_is_driven_and_bends_the_grass() {
+        let mut sim = Scene::parse(SMALL, "small", std::path::Path::new("."))
+            .unwrap()
+            .build()
+            .unwrap();
+        let dt = sim.params.dt_s;
+        let start = sim.bodies[0].pose.position;
+        // 2 m/s along +x for 30 steps, turning.
+        for i in 1..=30 {
+            let p = start + Vec3::X * (2.0 * dt * i as f32);
+            assert!(sim.drive(0, p, Quat::from_rotation_y(0.01 * i as f32), dt));
+            sim.step(dt).unwrap();
+            assert!((sim.bodies[0].pose.position - p).length() < 1e-5);
+        }
+        assert!(sim.blades_away_from_rest() > 0, "the ball bent no blade");
+        // Not driven any more: it stays, at rest.
+        let here = sim.bodies[0].pose.position;
+        sim.step(dt).unwrap();
+        assert_eq!(sim.bodies[0].pose.position, here);
+        assert_eq!(sim.bodies[0].pose.velocity, Vec3::ZERO);
+        // Released: back on its path (static here: where it started).
+        sim.release(0);
+        assert_eq!(sim.bodies[0].pose.position, start);
+        assert!(!sim.drive(7, Vec3::ZERO, Quat::IDENTITY, dt));
+        assert!(!sim.drive(0, Vec3::NAN, Quat::IDENTITY, dt));
+    }
+
+    #[test]
+    fn an_undriven_scene_is_unchanged() {
+        let mut a = Scene::parse(MOVING, "moving", std::path::Path::new("."))
+            .unwrap()
+            .build()
+            .unwrap();
+        let mut b = a.clone();
+        a.run(20).unwrap();
+        // Release of a body that was never driven changes nothing.
+        b.release(0);
+        b.run(20).unwrap();
+        assert_eq!(a.blade_vertices(), b.blade_vertices());
+    }
+
+    const SMALL: &str = r#"
+[field]
+patches = [2, 2]
+cells_per_patch = 16
+[[objects]]
+name = "ball"
+shape = { kind = "sphere", radius_m = 0.3 }
+path = { kind = "static", position = [-0.5, 0.2, 0.0] }
+[camera]
+path = { kind = "static", position = [0.0, 3.0, 4.0] }
+"#;
+
+    const MOVING: &str = r#"
+[field]
+patches = [2, 2]
+cells_per_patch = 16
+[[objects]]
+name = "ball"
+shape = { kind = "sphere", radius_m = 0.3 }
+path = { kind = "line", from = [-1.5, 0.2, 0.0], to = [1.5, 0.2, 0.0], duration_s = 1.0 }
+"#;
+}
