@@ -43,7 +43,7 @@ fn contents(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
     ui.heading("trample");
     ui.horizontal(|ui| {
         if ui
-            .button(if app.paused { "▶ run" } else { "⏸ pause" })
+            .button(if app.paused { "run" } else { "pause" })
             .clicked()
         {
             app.paused = !app.paused;

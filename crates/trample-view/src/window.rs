@@ -212,7 +212,8 @@ impl Viewer {
         let now = Instant::now();
         let dt = now.duration_since(self.last).as_secs_f64();
         self.last = now;
-        self.stats.frame_ms = if self.frames == 0 {
+        // The first frame also builds pipelines: the average starts after it.
+        self.stats.frame_ms = if self.frames <= 1 {
             dt * 1e3
         } else {
             0.9 * self.stats.frame_ms + 0.1 * dt * 1e3
