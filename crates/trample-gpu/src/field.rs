@@ -1,0 +1,158 @@
+//! The field's blades and cells on the GPU, in the CPU's layout (DESIGN §2,
+//! Eq. 1): `pos[k * count + b]` is vertex k of blade b, blades patch-major,
+//! the blades of a cell contiguous. The buffers stay on the GPU across
+//! steps; reading back is for tests and dumps only.
+//!
+//! Not yet done: fields over one storage binding (128 MiB on the software
+//! drivers, ≈ 1.6 M blades of 5 vertices) are refused with
+//! [`GpuError::TooLarge`] instead of being split into chunks of patches.
+
+use bytemuck::{Pod, Zeroable};
+use trample::field::{Blades, Lod};
+use wgpu::util::DeviceExt;
+
+use crate::error::GpuError;
+use crate::readback::read_buffer;
+
+/// Per-blade output of the narrow phase: Σ EqF (Eq. 2) over the blade's hit
+/// segments and all objects in xyz, `num` (hit count, saturating at 255) in
+/// w. Layout-compatible with `force` in `narrow_phase.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GpuForce {
+    /// Σ EqF, world frame.
+    pub force: [f32; 3],
+    /// Eq. 5's `num`, as a float (exact up to 255).
+    pub num: f32,
+}
+const _: () = assert!(std::mem::size_of::<GpuForce>() == 16);
+
+/// Blade and cell buffers of one field.
+pub struct GpuField {
+    /// Blades.
+    pub count: u32,
+    /// Segments per blade.
+    pub segments: u32,
+    /// Blades per cell.
+    pub blades_per_cell: u32,
+    /// Vertex positions, vertex-major, `vec4<f32>` (w unused). Usable as a
+    /// vertex or storage buffer by a renderer.
+    pub pos: wgpu::Buffer,
+    pub(crate) cell_lod: wgpu::Buffer,
+    pub(crate) force: wgpu::Buffer,
+    pub(crate) hit_mask: wgpu::Buffer,
+}
+
+impl GpuField {
+    /// Uploads `blades` and the cells' levels of detail (`lod.len()` cells of
+    /// `blades_per_cell` blades each).
+    ///
+    /// # Errors
+    /// [`GpuError::Layout`] when the cells do not cover the blades;
+    /// [`GpuError::TooLarge`] when the positions exceed one storage binding.
+    pub fn new(
+        device: &wgpu::Device,
+        blades: &Blades,
+        lod: &[Lod],
+        blades_per_cell: u32,
+    ) -> Result<Self, GpuError> {
+        if blades.count == 0
+            || blades_per_cell == 0
+            || lod.len() * blades_per_cell as usize != blades.count
+        {
+            return Err(GpuError::Layout(format!(
+                "{} cells of {blades_per_cell} blades do not make {} blades",
+                lod.len(),
+                blades.count
+            )));
+        }
+        let limit = u64::from(device.limits().max_storage_buffer_binding_size);
+        let pos = to_vec4(&blades.pos);
+        let bytes = (pos.len() * 16) as u64;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "blade positions",
+                bytes,
+                limit,
+            });
+        }
+        let init = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        use wgpu::BufferUsages as U;
+        let lod_u32: Vec<u32> = lod.iter().map(|&l| l as u32).collect();
+        Ok(Self {
+            count: blades.count as u32,
+            segments: blades.segments as u32,
+            blades_per_cell,
+            pos: init(
+                "trample-gpu blade positions",
+                bytemuck::cast_slice(&pos),
+                U::STORAGE | U::VERTEX | U::COPY_DST | U::COPY_SRC,
+            ),
+            cell_lod: init(
+                "trample-gpu cell lod",
+                bytemuck::cast_slice(&lod_u32),
+                U::STORAGE | U::COPY_DST,
+            ),
+            force: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu blade forces"),
+                size: blades.count as u64 * 16,
+                usage: U::STORAGE | U::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            hit_mask: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu hit masks"),
+                size: blades.count as u64 * 4,
+                usage: U::STORAGE | U::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+        })
+    }
+
+    /// Reads back the per-blade forces of the last narrow phase.
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn read_forces(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<GpuForce>, GpuError> {
+        read_buffer(device, queue, &self.force, "forces")
+    }
+
+    /// Reads back the hit masks of the last object's narrow phase (bit k:
+    /// segment k hit).
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn read_hit_masks(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<u32>, GpuError> {
+        read_buffer(device, queue, &self.hit_mask, "hit masks")
+    }
+
+    /// Reads back the vertex positions (vertex-major, xyz).
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn read_positions(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        read_buffer(device, queue, &self.pos, "positions")
+    }
+}
+
+/// `Vec3A`s as `[x, y, z, 0]`.
+fn to_vec4(v: &[glam::Vec3A]) -> Vec<[f32; 4]> {
+    v.iter().map(|p| [p.x, p.y, p.z, 0.0]).collect()
+}

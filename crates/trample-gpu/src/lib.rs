@@ -1,0 +1,39 @@
+//! # trample-gpu — the stages of `Simulation::step` as wgpu compute
+//!
+//! The GPU path of DESIGN §7: the same stages as the CPU reference in
+//! `trample` (which is the specification), one WGSL file per stage beside
+//! the Rust file that dispatches it, and a parity test per stage. The
+//! library never creates a device: every function takes a `&wgpu::Device`
+//! and `&wgpu::Queue` (STYLE rule 3). Blade buffers live on the GPU in the
+//! CPU's vertex-major layout ([`field::GpuField`]), so a renderer can draw
+//! from them.
+//!
+//! ## Status (issue 4) — what is done and what is not
+//!
+//! | stage | status |
+//! | --- | --- |
+//! | poses | **CPU** (pure function of time), uploaded per object ([`object::GpuObject::set_pose`]) |
+//! | LOD per cell | not yet on the GPU: the cells' levels are uploaded |
+//! | broad phase | not yet: every geometric blade runs the root-box test (same hits, more work) |
+//! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested |
+//! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
+//! | propagation, deformation, billboards, transitions, recovery | not yet |
+//! | chunking of fields over one storage binding | not yet: refused with [`GpuError::TooLarge`] |
+//! | `--backend`, timestamps in `summary.json` | not yet |
+
+pub mod error;
+pub mod field;
+pub mod narrow_phase;
+pub mod object;
+pub mod readback;
+
+pub use error::GpuError;
+pub use field::{GpuField, GpuForce};
+pub use narrow_phase::NarrowPhase;
+pub use object::{GpuNode, GpuObject, GpuObjectParams};
+
+/// Every WGSL source of the crate, by file name (for the naga validation test).
+#[must_use]
+pub fn shader_sources() -> Vec<(&'static str, &'static str)> {
+    vec![("narrow_phase.wgsl", narrow_phase::SOURCE)]
+}
