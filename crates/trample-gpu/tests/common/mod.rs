@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub fn gpu() -> trample_render::headless::Gpu {
-    trample_render::headless::create_device()
-        .unwrap_or_else(|e| panic!("no GPU adapter for the GPU tests (set WGPU_BACKEND=gl for llvmpipe): {e}"))
+    trample_render::headless::create_device().unwrap_or_else(|e| {
+        panic!("no GPU adapter for the GPU tests (set WGPU_BACKEND=gl for llvmpipe): {e}")
+    })
 }
