@@ -66,7 +66,7 @@ impl GpuField {
                 blades.count
             )));
         }
-        let limit = u64::from(device.limits().max_storage_buffer_binding_size);
+        let limit = device.limits().max_storage_buffer_binding_size;
         let pos = to_vec4(&blades.pos);
         let bytes = (pos.len() * 16) as u64;
         if bytes > limit {

@@ -109,7 +109,7 @@ impl GpuObject {
     /// # Errors
     /// [`GpuError::TooLarge`] when the triangles exceed one storage binding.
     pub fn new(device: &wgpu::Device, tree: &ObbTree) -> Result<Self, GpuError> {
-        let limit = u64::from(device.limits().max_storage_buffer_binding_size);
+        let limit = device.limits().max_storage_buffer_binding_size;
         let mut nodes = flatten_nodes(tree);
         if nodes.is_empty() {
             nodes.push(GpuNode::zeroed()); // bindings may not be empty
