@@ -18,6 +18,9 @@ pub enum GpuError {
     /// The field and the simulation disagree (e.g. a cell count that does not divide the blade count).
     #[error("field layout: {0}")]
     Layout(String),
+    /// A feature of the scene the GPU path does not have yet.
+    #[error("not yet on the GPU path: {0}")]
+    Unsupported(&'static str),
     /// Mapping a buffer for read-back failed (device lost, out of memory).
     #[error("reading back {what} failed: {why}")]
     ReadBack {

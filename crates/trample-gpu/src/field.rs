@@ -8,7 +8,7 @@
 //! [`GpuError::TooLarge`] instead of being split into chunks of patches.
 
 use bytemuck::{Pod, Zeroable};
-use trample::field::{Blades, Lod};
+use trample::field::{Blades, Field, Lod};
 use wgpu::util::DeviceExt;
 
 use crate::error::GpuError;
@@ -38,14 +38,39 @@ pub struct GpuField {
     /// Vertex positions, vertex-major, `vec4<f32>` (w unused). Usable as a
     /// vertex or storage buffer by a renderer.
     pub pos: wgpu::Buffer,
+    /// Rest positions, same layout as `pos`.
+    pub rest: wgpu::Buffer,
+    pub(crate) seg_len: wgpu::Buffer,
+    pub(crate) neighbours: wgpu::Buffer,
     pub(crate) cell_lod: wgpu::Buffer,
     pub(crate) force: wgpu::Buffer,
     pub(crate) hit_mask: wgpu::Buffer,
+    /// Generation per blade this sub-step (0 = DBG, 1… = PBG, 255 = none).
+    pub generation: wgpu::Buffer,
+    /// `BladeClass` per blade (0 untouched, 1 DBG, 2 PBG), as `u32`.
+    pub class: wgpu::Buffer,
+    /// 1 where a blade is away from rest (recovery works on those).
+    pub(crate) displaced: wgpu::Buffer,
 }
 
 impl GpuField {
-    /// Uploads `blades` and the cells' levels of detail (`lod.len()` cells of
-    /// `blades_per_cell` blades each).
+    /// Uploads `field` (blades, levels of detail, neighbour table).
+    ///
+    /// # Errors
+    /// As [`GpuField::new`].
+    pub fn from_field(device: &wgpu::Device, field: &Field) -> Result<Self, GpuError> {
+        Self::new(
+            device,
+            &field.blades,
+            &field.cells.lod,
+            field.layout.blades_per_cell,
+            &field.layout.neighbours,
+        )
+    }
+
+    /// Uploads `blades`, the cells' levels of detail (`lod.len()` cells of
+    /// `blades_per_cell` blades each) and the blades' neighbour table
+    /// (Definition 6, order −x, +x, −z, +z; one entry per blade).
     ///
     /// # Errors
     /// [`GpuError::Layout`] when the cells do not cover the blades;
@@ -55,7 +80,15 @@ impl GpuField {
         blades: &Blades,
         lod: &[Lod],
         blades_per_cell: u32,
+        neighbours: &[[u32; 4]],
     ) -> Result<Self, GpuError> {
+        if neighbours.len() != blades.count {
+            return Err(GpuError::Layout(format!(
+                "{} neighbour entries for {} blades",
+                neighbours.len(),
+                blades.count
+            )));
+        }
         if blades.count == 0
             || blades_per_cell == 0
             || lod.len() * blades_per_cell as usize != blades.count
@@ -93,6 +126,36 @@ impl GpuField {
                 "trample-gpu blade positions",
                 bytemuck::cast_slice(&pos),
                 U::STORAGE | U::VERTEX | U::COPY_DST | U::COPY_SRC,
+            ),
+            rest: init(
+                "trample-gpu blade rest positions",
+                bytemuck::cast_slice(&to_vec4(&blades.rest)),
+                U::STORAGE | U::COPY_SRC,
+            ),
+            seg_len: init(
+                "trample-gpu segment lengths",
+                bytemuck::cast_slice(&blades.seg_len),
+                U::STORAGE,
+            ),
+            neighbours: init(
+                "trample-gpu neighbours",
+                bytemuck::cast_slice(neighbours),
+                U::STORAGE,
+            ),
+            generation: init(
+                "trample-gpu generations",
+                bytemuck::cast_slice(&vec![255u32; blades.count]),
+                U::STORAGE | U::COPY_SRC,
+            ),
+            class: init(
+                "trample-gpu blade classes",
+                bytemuck::cast_slice(&vec![0u32; blades.count]),
+                U::STORAGE | U::COPY_SRC,
+            ),
+            displaced: init(
+                "trample-gpu displaced flags",
+                bytemuck::cast_slice(&vec![0u32; blades.count]),
+                U::STORAGE | U::COPY_SRC,
             ),
             cell_lod: init(
                 "trample-gpu cell lod",
@@ -137,6 +200,19 @@ impl GpuField {
         queue: &wgpu::Queue,
     ) -> Result<Vec<u32>, GpuError> {
         read_buffer(device, queue, &self.hit_mask, "hit masks")
+    }
+
+    /// Reads back a `u32` per blade: [`GpuField::class`] or [`GpuField::generation`].
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn read_u32(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        buffer: &wgpu::Buffer,
+    ) -> Result<Vec<u32>, GpuError> {
+        read_buffer(device, queue, buffer, "per-blade u32")
     }
 
     /// Reads back the vertex positions (vertex-major, xyz).

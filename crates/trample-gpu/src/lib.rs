@@ -21,19 +21,37 @@
 //! | chunking of fields over one storage binding | not yet: refused with [`GpuError::TooLarge`] |
 //! | `--backend`, timestamps in `summary.json` | not yet |
 
+pub mod bend;
 pub mod error;
 pub mod field;
+mod kernel;
 pub mod narrow_phase;
 pub mod object;
+pub mod propagation;
 pub mod readback;
+pub mod recovery;
+pub mod simulation;
+pub mod step_params;
 
 pub use error::GpuError;
 pub use field::{GpuField, GpuForce};
 pub use narrow_phase::NarrowPhase;
 pub use object::{GpuNode, GpuObject, GpuObjectParams};
+pub use simulation::GpuSimulation;
+pub use step_params::{GpuCounters, GpuStepParams};
 
-/// Every WGSL source of the crate, by file name (for the naga validation test).
+/// `blade.wgsl`: step parameters, counters and length preservation, shared
+/// by the step stages (prepended to their sources; not a stage itself).
+pub const BLADE_WGSL: &str = include_str!("blade.wgsl");
+
+/// Every WGSL stage of the crate as compiled, by file name (for the naga
+/// validation test). `blade.wgsl` is part of each step stage.
 #[must_use]
-pub fn shader_sources() -> Vec<(&'static str, &'static str)> {
-    vec![("narrow_phase.wgsl", narrow_phase::SOURCE)]
+pub fn shader_sources() -> Vec<(&'static str, String)> {
+    vec![
+        ("narrow_phase.wgsl", narrow_phase::SOURCE.to_string()),
+        ("propagation.wgsl", propagation::source()),
+        ("bend.wgsl", bend::source()),
+        ("recovery.wgsl", recovery::source()),
+    ]
 }

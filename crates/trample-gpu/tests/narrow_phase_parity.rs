@@ -126,7 +126,8 @@ fn hit_flags_identical_and_forces_close_at_every_precision_on_builtin_shapes() {
     let pose = pose();
     let blades = blades_around(pose.position, 0.9, 64, 0x5eed);
     let lod = vec![Lod::Geometry; blades.count];
-    let field = GpuField::new(device, &blades, &lod, 1).unwrap();
+    let field =
+        GpuField::new(device, &blades, &lod, 1, &vec![[u32::MAX; 4]; blades.count]).unwrap();
     let mut worst = 0.0f32;
     for (name, mesh) in shapes() {
         let tree = ObbTree::build(&mesh, DEFAULT_MAX_DEPTH);
@@ -197,7 +198,8 @@ fn several_objects_sum_their_forces_and_skip_non_geometric_cells() {
             }
         })
         .collect();
-    let field = GpuField::new(device, &blades, &lod, 1).unwrap();
+    let field =
+        GpuField::new(device, &blades, &lod, 1, &vec![[u32::MAX; 4]; blades.count]).unwrap();
     let trees = [
         ObbTree::build(&sphere(0.5, 3), DEFAULT_MAX_DEPTH),
         ObbTree::build(&knot(1.0), DEFAULT_MAX_DEPTH),

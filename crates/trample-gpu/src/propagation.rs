@@ -1,0 +1,103 @@
+//! Force propagation on the GPU (paper §5.2, Eq. 4; DESIGN §5): dispatches
+//! `propagation.wgsl` as generation passes, a gather with a fixed
+//! neighbour order (no float atomics), all in the caller's encoder. Matches
+//! `trample::force::propagation::propagate_forces` on grids whose neighbour
+//! relation is mutual (every field layout's is).
+//!
+//! Without a read-back the host does not know when propagation ends, so it
+//! records `max_generations` gather passes; those after the end return at
+//! once (the `stop` flag set by `advance`).
+
+use crate::field::GpuField;
+use crate::kernel::{Kernel, Slot};
+
+/// The WGSL source as compiled (`blade.wgsl` prepended).
+#[must_use]
+pub fn source() -> String {
+    format!(
+        "{}\n{}",
+        crate::BLADE_WGSL,
+        include_str!("propagation.wgsl")
+    )
+}
+
+const BEGIN: usize = 0;
+const SEED: usize = 1;
+const GATHER: usize = 2;
+const ADVANCE: usize = 3;
+
+/// The compiled propagation kernels.
+pub struct Propagation {
+    kernel: Kernel,
+}
+
+impl Propagation {
+    /// Compiles the kernels on `device`.
+    #[must_use]
+    pub fn new(device: &wgpu::Device) -> Self {
+        use Slot::{Read, ReadWrite, Uniform};
+        Self {
+            kernel: Kernel::new(
+                device,
+                "trample-gpu propagation",
+                &source(),
+                &[Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read],
+                &["begin", "seed", "gather", "advance"],
+            ),
+        }
+    }
+
+    /// Records only the reset of the counters (a sub-step with no object).
+    pub fn record_reset(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &GpuField,
+        params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
+    ) {
+        let group = self.kernel.bind(
+            device,
+            &[
+                params,
+                state,
+                &field.force,
+                &field.generation,
+                &field.class,
+                &field.neighbours,
+            ],
+        );
+        self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
+    }
+
+    /// Records: reset of the counters, generation 0 (DBG) from the narrow
+    /// phase's hit counts, then `passes` gather passes (Eq. 4).
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &GpuField,
+        params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
+        groups: (u32, u32),
+        passes: u32,
+    ) {
+        let group = self.kernel.bind(
+            device,
+            &[
+                params,
+                state,
+                &field.force,
+                &field.generation,
+                &field.class,
+                &field.neighbours,
+            ],
+        );
+        self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
+        self.kernel.dispatch(encoder, SEED, &group, groups);
+        for _ in 0..passes {
+            self.kernel.dispatch(encoder, GATHER, &group, groups);
+            self.kernel.dispatch(encoder, ADVANCE, &group, (1, 1));
+        }
+    }
+}

@@ -1,0 +1,222 @@
+//! `GpuSimulation::step`: the sub-steps of DESIGN §7 on the GPU, each one
+//! submission of named passes in a fixed order (narrow phase + EqF per
+//! object → propagation generations → bending → recovery), with no
+//! read-back. The blade buffers stay on the GPU across steps.
+//!
+//! The wrapped [`Simulation`] supplies what is still computed on the CPU:
+//! the sub-step plan (`plan_substeps`, shared with the core) and the poses
+//! (`Motion::pose_at`, a pure function of time, a few floats per object).
+//! Its own blade arrays are **not** updated by [`GpuSimulation::step`]:
+//! read the field back with [`GpuField::read_positions`].
+//!
+//! Not yet on the GPU (see the crate docs): LOD per cell (the levels
+//! uploaded at creation stay), billboards (Eq. 8), transitions (Eq. 9–13),
+//! broad phase by patch, terrain other than flat, per-stage timestamps.
+
+use trample::Simulation;
+use trample::deform::bend::weights;
+use trample::field::Terrain;
+use trample::field::generate::GROUND_CLEARANCE_M;
+use trample::force::propagation::GENERATION_CAP;
+use trample::step::stages::plan_substeps;
+use wgpu::util::DeviceExt;
+
+use crate::bend::Bend;
+use crate::error::GpuError;
+use crate::field::GpuField;
+use crate::kernel::grid;
+use crate::narrow_phase::NarrowPhase;
+use crate::object::GpuObject;
+use crate::propagation::Propagation;
+use crate::readback::read_buffer;
+use crate::recovery::Recovery;
+use crate::step_params::{GpuCounters, GpuStepParams};
+
+/// A simulation whose blades live and move on the GPU.
+pub struct GpuSimulation {
+    /// CPU side: parameters, bodies and their poses, time, frame. Its blade
+    /// arrays keep their state from creation (see the module docs).
+    pub sim: Simulation,
+    /// The field on the GPU: draw from [`GpuField::pos`].
+    pub field: GpuField,
+    objects: Vec<GpuObject>,
+    narrow: NarrowPhase,
+    propagation: Propagation,
+    bend: Bend,
+    recovery: Recovery,
+    params: wgpu::Buffer,
+    state: wgpu::Buffer,
+    ground: f32,
+}
+
+impl GpuSimulation {
+    /// Uploads `sim`'s field and objects to `device`.
+    ///
+    /// # Errors
+    /// [`GpuError::Unsupported`] for terrain other than flat (not yet on the
+    /// GPU); [`GpuError::TooLarge`] / [`GpuError::Layout`] from the uploads.
+    pub fn new(device: &wgpu::Device, sim: Simulation) -> Result<Self, GpuError> {
+        let ground = match sim.field.terrain {
+            Terrain::Flat(h) => h,
+            _ => {
+                return Err(GpuError::Unsupported(
+                    "terrain other than flat (the GPU ground guard is flat only)",
+                ));
+            }
+        };
+        let field = GpuField::from_field(device, &sim.field)?;
+        let objects = sim
+            .bodies
+            .iter()
+            .map(|b| GpuObject::new(device, &b.tree))
+            .collect::<Result<Vec<_>, _>>()?;
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("trample-gpu step params"),
+            size: std::mem::size_of::<GpuStepParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let state = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("trample-gpu counters"),
+            contents: bytemuck::bytes_of(&GpuCounters::default()),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        Ok(Self {
+            sim,
+            field,
+            objects,
+            narrow: NarrowPhase::new(device),
+            propagation: Propagation::new(device),
+            bend: Bend::new(device),
+            recovery: Recovery::new(device),
+            params,
+            state,
+            ground,
+        })
+    }
+
+    /// The step uniform for a sub-step of `h` seconds.
+    fn step_params(&self, h: f32, groups_x: u32) -> GpuStepParams {
+        let p = &self.sim.params;
+        let n = self.field.segments as usize;
+        let w = weights(n, p.weight_a, p.weight_b);
+        let mut packed = [[0.0; 4]; 4];
+        for (i, wi) in w.iter().enumerate() {
+            packed[i / 4][i % 4] = *wi;
+        }
+        let att = if p.att.is_nan() {
+            0.0
+        } else {
+            p.att.clamp(0.0, 1.0)
+        };
+        let recovery_on = p.recovery_s.is_finite();
+        GpuStepParams {
+            a: [h, att, p.threshold, self.ground],
+            b: [
+                GROUND_CLEARANCE_M,
+                if recovery_on { p.recovery_s } else { 0.0 },
+                p.trail,
+                if recovery_on { 1.0 } else { 0.0 },
+            ],
+            weights: packed,
+            counts: [
+                self.field.count,
+                self.field.segments,
+                p.max_generations.min(GENERATION_CAP),
+                groups_x,
+            ],
+        }
+    }
+
+    /// Advances the simulation by `dt` seconds: the same sub-steps and
+    /// poses as `Simulation::step`, every stage on the GPU, one submission
+    /// per sub-step, nothing read back. Returns the number of sub-steps.
+    ///
+    /// # Errors
+    /// `dt` must be positive and finite ([`GpuError::Layout`] otherwise).
+    pub fn step(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        dt: f32,
+    ) -> Result<u32, GpuError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(GpuError::Layout(format!(
+                "dt = {dt} must be positive and finite"
+            )));
+        }
+        let plan = plan_substeps(&self.sim, dt);
+        let substeps = plan.substeps;
+        let h = dt / substeps as f32;
+        let groups = grid(
+            self.field.count,
+            device.limits().max_compute_workgroups_per_dimension,
+        );
+        let params = self.step_params(h, groups.0);
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        for i in 1..=substeps {
+            let t = (self.sim.time + f64::from(h) * f64::from(i)) as f32;
+            for (body, obj) in self.sim.bodies.iter_mut().zip(&mut self.objects) {
+                body.set_time(t);
+                obj.set_pose(&body.pose);
+            }
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("trample-gpu sub-step"),
+            });
+            if !self.objects.is_empty() {
+                self.narrow.record(
+                    device,
+                    queue,
+                    &mut encoder,
+                    &self.field,
+                    &mut self.objects,
+                    self.sim.params.precision,
+                );
+                self.propagation.record(
+                    device,
+                    &mut encoder,
+                    &self.field,
+                    &self.params,
+                    &self.state,
+                    groups,
+                    params.counts[2],
+                );
+                self.bend
+                    .record(device, &mut encoder, &self.field, &self.params, groups);
+            } else {
+                self.propagation.record_reset(
+                    device,
+                    &mut encoder,
+                    &self.field,
+                    &self.params,
+                    &self.state,
+                );
+            }
+            self.recovery.record(
+                device,
+                &mut encoder,
+                &self.field,
+                &self.params,
+                &self.state,
+                groups,
+            );
+            queue.submit([encoder.finish()]);
+        }
+        self.sim.time += f64::from(dt);
+        self.sim.frame += 1;
+        Ok(substeps)
+    }
+
+    /// Reads back the counters of the last sub-step (DBG, PBG, generations,
+    /// displaced blades). For tests and summaries; not per frame.
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn read_counters(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<GpuCounters, GpuError> {
+        Ok(read_buffer::<GpuCounters>(device, queue, &self.state, "counters")?[0])
+    }
+}

@@ -1,0 +1,42 @@
+//! The per-step uniform and the GPU-side counters shared by the step
+//! kernels (`blade.wgsl`).
+
+use bytemuck::{Pod, Zeroable};
+
+/// Step parameters. Layout-compatible with `StepParams` in `blade.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct GpuStepParams {
+    /// Sub-step h (s), att (Eq. 4), threshold L (m/s), ground height (m).
+    pub a: [f32; 4],
+    /// Ground clearance (m), recovery_s, trail, recovery on (1) / off (0).
+    pub b: [f32; 4],
+    /// P(1) … P(15) of Eq. 7 (`trample::deform::bend::weights`), zero beyond n.
+    pub weights: [[f32; 4]; 4],
+    /// Blade count, segments, generation passes (cap), workgroups in x.
+    pub counts: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 112);
+
+/// Counters of the last sub-step. Layout-compatible with `State` in `blade.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct GpuCounters {
+    /// Current generation of the propagation.
+    pub g: u32,
+    /// 1 once propagation has ended.
+    pub stop: u32,
+    /// Set by a gather pass that reached a blade.
+    pub any: u32,
+    /// Generations of children created (PBG generations).
+    pub generations: u32,
+    /// DBG blades.
+    pub dbg: u32,
+    /// PBG blades.
+    pub pbg: u32,
+    /// Blades still away from rest after recovery.
+    pub displaced: u32,
+    /// Padding.
+    pub pad: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuCounters>() == 32);
