@@ -13,6 +13,12 @@ struct StepParams {
     weights: array<vec4<f32>, 4>,
     // blade count, segments, generation passes, workgroups in x
     counts: vec4<u32>,
+    // viewpoint (LOD eye) xyz, geometry_m
+    eye: vec4<f32>,
+    // billboard_m, unused ×3
+    lod: vec4<f32>,
+    // cell count, blades per cell, object count, cell workgroups in x
+    cells: vec4<u32>,
 }
 
 // Layout-compatible with `GpuCounters` in step_params.rs.
@@ -24,14 +30,21 @@ struct State {
     dbg: atomic<u32>,
     pbg: atomic<u32>,
     displaced: atomic<u32>,
-    pad: u32,
+    // cells that changed level this sub-step
+    transitions: atomic<u32>,
 }
 
 const NO_GENERATION: u32 = 255u;
 const MAX_VERTS: u32 = 16u;
+// `recovery::REST_EPSILON`: closer than this to rest (m) snaps to rest.
+const REST_EPSILON: f32 = 1e-4;
 
 fn blade_index(gid: vec3<u32>) -> u32 {
     return gid.x + gid.y * params.counts.w * 64u;
+}
+
+fn cell_index(gid: vec3<u32>) -> u32 {
+    return gid.x + gid.y * params.cells.w * 64u;
 }
 
 fn weight(i: u32) -> f32 {
@@ -91,15 +104,66 @@ fn guarded_end(start: vec3<f32>, dir: vec3<f32>, len: f32, fallback: vec3<f32>) 
 // `bend::preserve_lengths`: from the root up, every segment back to
 // `seg_len` along its new direction, above the ground guard.
 fn preserve_lengths(v: ptr<function, array<vec3<f32>, MAX_VERTS>>, n: u32, seg_len: f32) {
-    if !(seg_len > 0.0) {
+    preserve_from(v, 1u, n, seg_len);
+}
+
+// `bend::preserve_from`: as `preserve_lengths` for vertices first ..= n.
+fn preserve_from(v: ptr<function, array<vec3<f32>, MAX_VERTS>>, first: u32, n: u32, seg_len: f32) {
+    if !(seg_len > 0.0) || first == 0u || first > n {
         return;
     }
     var last_dir = vec3<f32>(0.0, 1.0, 0.0);
-    for (var i = 1u; i <= n; i++) {
+    if first >= 2u {
+        last_dir = unit_or((*v)[first - 1u] - (*v)[first - 2u], last_dir);
+    }
+    for (var i = first; i <= n; i++) {
         let start = (*v)[i - 1u];
         let dir = unit_or((*v)[i] - start, last_dir);
         let end = guarded_end(start, dir, seg_len, last_dir);
         last_dir = unit_or(end - start, dir);
         (*v)[i] = end;
     }
+}
+
+// exp(y) − 1 without the cancellation near 0 (WGSL has no expm1).
+fn expm1(y: f32) -> f32 {
+    if abs(y) < 0.5 {
+        // Taylor to y^9: relative error < 1e-9 for |y| < 0.5.
+        var term = y;
+        var sum = y;
+        for (var k = 2; k <= 9; k++) {
+            term *= y / f32(k);
+            sum += term;
+        }
+        return sum;
+    }
+    return exp(y) - 1.0;
+}
+
+// `recovery::recovered_fraction`.
+fn recovered_fraction(dt: f32, tau: f32) -> f32 {
+    if dt > 0.0 && tau > 0.0 {
+        return clamp(-expm1(-(dt / tau)), 0.0, 1.0);
+    }
+    if tau <= 0.0 && dt > 0.0 {
+        return 1.0;
+    }
+    return 0.0;
+}
+
+// `recovery::flatness`.
+fn flatness(height: f32, rest_height: f32) -> f32 {
+    if rest_height > 0.0 {
+        return clamp(1.0 - height / rest_height, 0.0, 1.0);
+    }
+    return 0.0;
+}
+
+// `recovery::time_constant`: τ = recovery_s · (1 + trail · flatness).
+fn time_constant(flat: f32) -> f32 {
+    var extra = 0.0;
+    if params.b.z > 0.0 && flat > 0.0 {
+        extra = params.b.z * flat;
+    }
+    return params.b.y * (1.0 + extra);
 }

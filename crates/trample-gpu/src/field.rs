@@ -42,7 +42,15 @@ pub struct GpuField {
     pub rest: wgpu::Buffer,
     pub(crate) seg_len: wgpu::Buffer,
     pub(crate) neighbours: wgpu::Buffer,
-    pub(crate) cell_lod: wgpu::Buffer,
+    /// Cells.
+    pub cell_count: u32,
+    /// Per cell: bits 0–1 level of detail, 2–3 level before this sub-step's
+    /// change (3: none), bit 4 billboard bent (see `cells.wgsl`).
+    pub cell_state: wgpu::Buffer,
+    /// Per cell: (base, billboard height), (slope_origin_b, 0).
+    pub(crate) cell_rest: wgpu::Buffer,
+    /// Per cell: current billboard slope `slope_b` (Eq. 8, 12), xyz.
+    pub slope: wgpu::Buffer,
     pub(crate) force: wgpu::Buffer,
     pub(crate) hit_mask: wgpu::Buffer,
     /// Generation per blade this sub-step (0 = DBG, 1… = PBG, 255 = none).
@@ -54,18 +62,39 @@ pub struct GpuField {
 }
 
 impl GpuField {
-    /// Uploads `field` (blades, levels of detail, neighbour table).
+    /// Uploads `field` (blades, cells with their levels, billboards and
+    /// slopes, neighbour table).
     ///
     /// # Errors
     /// As [`GpuField::new`].
-    pub fn from_field(device: &wgpu::Device, field: &Field) -> Result<Self, GpuError> {
-        Self::new(
+    pub fn from_field(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        field: &Field,
+    ) -> Result<Self, GpuError> {
+        let out = Self::new(
             device,
             &field.blades,
             &field.cells.lod,
             field.layout.blades_per_cell,
             &field.layout.neighbours,
-        )
+        )?;
+        let cells = &field.cells;
+        let rest: Vec<[f32; 4]> = (0..cells.lod.len())
+            .flat_map(|c| {
+                let (b, o) = (cells.base[c], cells.slope_origin[c]);
+                let coords = crate::cells::packed_cell_coords(&field.layout, c);
+                [[b.x, b.y, b.z, cells.height[c]], [o.x, o.y, o.z, coords]]
+            })
+            .collect();
+        let slope: Vec<[f32; 4]> = cells.slope.iter().map(|s| [s.x, s.y, s.z, 0.0]).collect();
+        let state: Vec<u32> = (0..cells.lod.len())
+            .map(|c| cell_state(cells.lod[c], !cells.slope_at_rest(c)))
+            .collect();
+        queue.write_buffer(&out.cell_rest, 0, bytemuck::cast_slice(&rest));
+        queue.write_buffer(&out.slope, 0, bytemuck::cast_slice(&slope));
+        queue.write_buffer(&out.cell_state, 0, bytemuck::cast_slice(&state));
+        Ok(out)
     }
 
     /// Uploads `blades`, the cells' levels of detail (`lod.len()` cells of
@@ -117,7 +146,13 @@ impl GpuField {
             })
         };
         use wgpu::BufferUsages as U;
-        let lod_u32: Vec<u32> = lod.iter().map(|&l| l as u32).collect();
+        let state: Vec<u32> = lod.iter().map(|&l| cell_state(l, false)).collect();
+        // Vertex 0 of `rest` carries the segment length in w (cells.wgsl).
+        let mut rest = to_vec4(&blades.rest);
+        for (r, &l) in rest.iter_mut().zip(&blades.seg_len) {
+            r[3] = l;
+        }
+        let cells = lod.len() as u64;
         Ok(Self {
             count: blades.count as u32,
             segments: blades.segments as u32,
@@ -129,7 +164,7 @@ impl GpuField {
             ),
             rest: init(
                 "trample-gpu blade rest positions",
-                bytemuck::cast_slice(&to_vec4(&blades.rest)),
+                bytemuck::cast_slice(&rest),
                 U::STORAGE | U::COPY_SRC,
             ),
             seg_len: init(
@@ -157,11 +192,24 @@ impl GpuField {
                 bytemuck::cast_slice(&vec![0u32; blades.count]),
                 U::STORAGE | U::COPY_SRC,
             ),
-            cell_lod: init(
-                "trample-gpu cell lod",
-                bytemuck::cast_slice(&lod_u32),
-                U::STORAGE | U::COPY_DST,
+            cell_count: lod.len() as u32,
+            cell_state: init(
+                "trample-gpu cell state",
+                bytemuck::cast_slice(&state),
+                U::STORAGE | U::COPY_DST | U::COPY_SRC,
             ),
+            cell_rest: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu cell rest"),
+                size: cells * 32,
+                usage: U::STORAGE | U::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            slope: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu billboard slopes"),
+                size: cells * 16,
+                usage: U::STORAGE | U::COPY_DST | U::COPY_SRC,
+                mapped_at_creation: false,
+            }),
             force: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu blade forces"),
                 size: blades.count as u64 * 16,
@@ -226,6 +274,11 @@ impl GpuField {
     ) -> Result<Vec<[f32; 4]>, GpuError> {
         read_buffer(device, queue, &self.pos, "positions")
     }
+}
+
+/// The packed per-cell state of `cells.wgsl`: level, no change, bent flag.
+fn cell_state(lod: Lod, bent: bool) -> u32 {
+    lod as u32 | (3 << 2) | (u32::from(bent) << 4)
 }
 
 /// `Vec3A`s as `[x, y, z, 0]`.

@@ -13,15 +13,17 @@
 //! | stage | status |
 //! | --- | --- |
 //! | poses | **CPU** (pure function of time), uploaded per object ([`object::GpuObject::set_pose`]) |
-//! | LOD per cell | not yet on the GPU: the cells' levels are uploaded |
+//! | LOD per cell, billboards (Eq. 8), transitions (Eq. 9–13), billboard recovery | **done** ([`cells`]), whole-run parity-tested |
 //! | broad phase | not yet: every geometric blade runs the root-box test (same hits, more work) |
 //! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested |
 //! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
-//! | propagation, deformation, billboards, transitions, recovery | not yet |
+//! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested; flat terrain only |
+//! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
 //! | chunking of fields over one storage binding | not yet: refused with [`GpuError::TooLarge`] |
 //! | `--backend`, timestamps in `summary.json` | not yet |
 
 pub mod bend;
+pub mod cells;
 pub mod error;
 pub mod field;
 mod kernel;
@@ -44,12 +46,17 @@ pub use step_params::{GpuCounters, GpuStepParams};
 /// by the step stages (prepended to their sources; not a stage itself).
 pub const BLADE_WGSL: &str = include_str!("blade.wgsl");
 
+/// `segment_obb.wgsl`: the segment–OBB test, shared by the narrow phase and
+/// the billboards (prepended; not a stage itself).
+pub const SEGMENT_OBB_WGSL: &str = include_str!("segment_obb.wgsl");
+
 /// Every WGSL stage of the crate as compiled, by file name (for the naga
 /// validation test). `blade.wgsl` is part of each step stage.
 #[must_use]
 pub fn shader_sources() -> Vec<(&'static str, String)> {
     vec![
-        ("narrow_phase.wgsl", narrow_phase::SOURCE.to_string()),
+        ("narrow_phase.wgsl", narrow_phase::source()),
+        ("cells.wgsl", cells::source()),
         ("propagation.wgsl", propagation::source()),
         ("bend.wgsl", bend::source()),
         ("recovery.wgsl", recovery::source()),

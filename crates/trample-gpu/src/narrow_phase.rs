@@ -19,8 +19,15 @@
 use crate::field::GpuField;
 use crate::object::{GpuObject, GpuObjectParams};
 
-/// The WGSL source.
-pub const SOURCE: &str = include_str!("narrow_phase.wgsl");
+/// The WGSL source as compiled (`segment_obb.wgsl` prepended).
+#[must_use]
+pub fn source() -> String {
+    format!(
+        "{}\n{}",
+        crate::SEGMENT_OBB_WGSL,
+        include_str!("narrow_phase.wgsl")
+    )
+}
 
 /// Threads per workgroup (`@workgroup_size` in the WGSL).
 const WORKGROUP: u32 = 64;
@@ -51,7 +58,7 @@ impl NarrowPhase {
     pub fn new(device: &wgpu::Device) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("trample-gpu narrow_phase.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(SOURCE.into()),
+            source: wgpu::ShaderSource::Wgsl(source().into()),
         });
         let field_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("trample-gpu narrow phase: field"),
@@ -120,7 +127,7 @@ impl NarrowPhase {
             layout: &self.field_layout,
             entries: &[
                 entry(0, &field.pos),
-                entry(1, &field.cell_lod),
+                entry(1, &field.cell_state),
                 entry(2, &field.force),
                 entry(3, &field.hit_mask),
             ],

@@ -43,7 +43,8 @@ struct ObjectParams {
 }
 
 @group(0) @binding(0) var<storage, read> pos: array<vec4<f32>>;
-@group(0) @binding(1) var<storage, read> cell_lod: array<u32>;
+// Bits 0–1: the cell's level of detail (see cells.wgsl).
+@group(0) @binding(1) var<storage, read> cell_state: array<u32>;
 @group(0) @binding(2) var<storage, read_write> force: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read_write> hit_mask: array<u32>;
 
@@ -65,33 +66,13 @@ const INSIDE_RAY: vec3<f32> = vec3<f32>(0.012345679, -1.0, 0.017320508);
 // `Walk::contact`: a sum of unit vectors shorter than this has cancelled.
 const CANCELLED: f32 = 1e-3;
 
-// glam's `Vec3A::cross` (no fma): a.y b.z - a.z b.y, ...
-fn cross3(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
-    return vec3<f32>(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-}
-
-// glam's dot3: (x x' + y y') + z z'.
-fn dot3(a: vec3<f32>, b: vec3<f32>) -> f32 {
-    return (a.x * b.x + a.y * b.y) + a.z * b.z;
-}
-
 // Vector into the box frame: rows u, v, w (glam: transposed `Mat3A` times v).
 fn to_box(n: Node, v: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot3(n.axis_u.xyz, v), dot3(n.axis_v.xyz, v), dot3(n.axis_w.xyz, v));
 }
 
-// `segment_obb::hits_centred_local` after `segment_hits_obb_centred`: the six
-// separating axes, touching counts.
 fn hits_obb(centre: vec3<f32>, half: vec3<f32>, n: Node) -> bool {
-    let c = to_box(n, centre - n.center.xyz);
-    let h = to_box(n, half);
-    let e = n.half.xyz;
-    let ah = abs(h);
-    let faces = abs(c) <= e + ah;
-    let cr = abs(cross3(c, h));
-    let reach = vec3<f32>(e.y, e.x, e.x) * vec3<f32>(ah.z, ah.z, ah.y)
-        + vec3<f32>(e.z, e.z, e.y) * vec3<f32>(ah.y, ah.x, ah.x);
-    return all(faces) && all(cr <= reach);
+    return hits_box(centre, half, n.center.xyz, n.axis_u.xyz, n.axis_v.xyz, n.axis_w.xyz, n.half.xyz);
 }
 
 // glam `Quat::mul_vec3a` (SSE path) for a unit quaternion q = (x, y, z, w).
@@ -352,7 +333,7 @@ fn collide(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
     var mask = 0u;
     let segments = min(obj.field.y, MAX_SEGMENTS);
     let cell = b / max(obj.field.z, 1u);
-    if cell_lod[cell] == LOD_GEOMETRY {
+    if (cell_state[cell] & 3u) == LOD_GEOMETRY {
         var prev = to_local(pos[b].xyz);
         var sum = vec3<f32>(0.0);
         for (var k = 0u; k < segments; k++) {

@@ -47,7 +47,8 @@ impl Propagation {
         }
     }
 
-    /// Records only the reset of the counters (a sub-step with no object).
+    /// Records the reset of the counters and of the propagation state: the
+    /// first pass of every sub-step.
     pub fn record_reset(
         &self,
         device: &wgpu::Device,
@@ -70,8 +71,9 @@ impl Propagation {
         self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
     }
 
-    /// Records: reset of the counters, generation 0 (DBG) from the narrow
-    /// phase's hit counts, then `passes` gather passes (Eq. 4).
+    /// Records generation 0 (DBG) from the narrow phase's hit counts, then
+    /// `passes` gather passes (Eq. 4). [`Propagation::record_reset`] must
+    /// come first in the sub-step.
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -93,7 +95,6 @@ impl Propagation {
                 &field.neighbours,
             ],
         );
-        self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
         self.kernel.dispatch(encoder, SEED, &group, groups);
         for _ in 0..passes {
             self.kernel.dispatch(encoder, GATHER, &group, groups);

@@ -27,6 +27,7 @@ fn begin() {
     atomicStore(&state.dbg, 0u);
     atomicStore(&state.pbg, 0u);
     atomicStore(&state.displaced, 0u);
+    atomicStore(&state.transitions, 0u);
     if params.counts.z == 0u {
         state.stop = 1u;
     }

@@ -12,41 +12,6 @@
 @group(0) @binding(4) var<storage, read> seg_len: array<f32>;
 @group(0) @binding(5) var<storage, read_write> displaced: array<u32>;
 
-const REST_EPSILON: f32 = 1e-4;
-
-// exp(y) − 1 without the cancellation near 0 (WGSL has no expm1).
-fn expm1(y: f32) -> f32 {
-    if abs(y) < 0.5 {
-        // Taylor to y^9: relative error < 1e-9 for |y| < 0.5.
-        var term = y;
-        var sum = y;
-        for (var k = 2; k <= 9; k++) {
-            term *= y / f32(k);
-            sum += term;
-        }
-        return sum;
-    }
-    return exp(y) - 1.0;
-}
-
-// `recovery::recovered_fraction`.
-fn recovered_fraction(dt: f32, tau: f32) -> f32 {
-    if dt > 0.0 && tau > 0.0 {
-        return clamp(-expm1(-(dt / tau)), 0.0, 1.0);
-    }
-    if tau <= 0.0 && dt > 0.0 {
-        return 1.0;
-    }
-    return 0.0;
-}
-
-// `recovery::flatness`.
-fn flatness(height: f32, rest_height: f32) -> f32 {
-    if rest_height > 0.0 {
-        return clamp(1.0 - height / rest_height, 0.0, 1.0);
-    }
-    return 0.0;
-}
 
 @compute @workgroup_size(64)
 fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -73,11 +38,7 @@ fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let flat = flatness(v[n].y - v[0].y, r[n].y - r[0].y);
-    var extra = 0.0;
-    if params.b.z > 0.0 && flat > 0.0 {
-        extra = params.b.z * flat;
-    }
-    let q = recovered_fraction(params.a.x, params.b.y * (1.0 + extra));
+    let q = recovered_fraction(params.a.x, time_constant(flat));
     if q == 0.0 {
         atomicAdd(&state.displaced, 1u);
         return;

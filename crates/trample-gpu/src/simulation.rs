@@ -9,9 +9,9 @@
 //! Its own blade arrays are **not** updated by [`GpuSimulation::step`]:
 //! read the field back with [`GpuField::read_positions`].
 //!
-//! Not yet on the GPU (see the crate docs): LOD per cell (the levels
-//! uploaded at creation stay), billboards (Eq. 8), transitions (Eq. 9–13),
-//! broad phase by patch, terrain other than flat, per-stage timestamps.
+//! Not yet on the GPU (see the crate docs): broad phase by patch (every
+//! blade runs the root-box test instead), terrain other than flat,
+//! per-stage timestamps, fields over one storage binding.
 
 use trample::Simulation;
 use trample::deform::bend::weights;
@@ -22,6 +22,7 @@ use trample::step::stages::plan_substeps;
 use wgpu::util::DeviceExt;
 
 use crate::bend::Bend;
+use crate::cells::{Cells, GpuWorldObb};
 use crate::error::GpuError;
 use crate::field::GpuField;
 use crate::kernel::grid;
@@ -44,6 +45,8 @@ pub struct GpuSimulation {
     propagation: Propagation,
     bend: Bend,
     recovery: Recovery,
+    cells: Cells,
+    world_roots: wgpu::Buffer,
     params: wgpu::Buffer,
     state: wgpu::Buffer,
     ground: f32,
@@ -55,7 +58,11 @@ impl GpuSimulation {
     /// # Errors
     /// [`GpuError::Unsupported`] for terrain other than flat (not yet on the
     /// GPU); [`GpuError::TooLarge`] / [`GpuError::Layout`] from the uploads.
-    pub fn new(device: &wgpu::Device, sim: Simulation) -> Result<Self, GpuError> {
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: Simulation,
+    ) -> Result<Self, GpuError> {
         let ground = match sim.field.terrain {
             Terrain::Flat(h) => h,
             _ => {
@@ -64,7 +71,7 @@ impl GpuSimulation {
                 ));
             }
         };
-        let field = GpuField::from_field(device, &sim.field)?;
+        let field = GpuField::from_field(device, queue, &sim.field)?;
         let objects = sim
             .bodies
             .iter()
@@ -81,7 +88,15 @@ impl GpuSimulation {
             contents: bytemuck::bytes_of(&GpuCounters::default()),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         });
+        let world_roots = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("trample-gpu world root boxes"),
+            size: (sim.bodies.len().max(1) * std::mem::size_of::<GpuWorldObb>()) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         Ok(Self {
+            cells: Cells::new(device),
+            world_roots,
             sim,
             field,
             objects,
@@ -96,7 +111,7 @@ impl GpuSimulation {
     }
 
     /// The step uniform for a sub-step of `h` seconds.
-    fn step_params(&self, h: f32, groups_x: u32) -> GpuStepParams {
+    fn step_params(&self, h: f32, groups_x: u32, cell_groups_x: u32) -> GpuStepParams {
         let p = &self.sim.params;
         let n = self.field.segments as usize;
         let w = weights(n, p.weight_a, p.weight_b);
@@ -125,6 +140,19 @@ impl GpuSimulation {
                 p.max_generations.min(GENERATION_CAP),
                 groups_x,
             ],
+            eye: [
+                self.sim.view.eye.x,
+                self.sim.view.eye.y,
+                self.sim.view.eye.z,
+                self.sim.lod.geometry_m,
+            ],
+            lod: [self.sim.lod.billboard_m, 0.0, 0.0, 0.0],
+            cells: [
+                self.field.cell_count,
+                self.field.blades_per_cell,
+                self.objects.len() as u32,
+                cell_groups_x,
+            ],
         }
     }
 
@@ -148,21 +176,44 @@ impl GpuSimulation {
         let plan = plan_substeps(&self.sim, dt);
         let substeps = plan.substeps;
         let h = dt / substeps as f32;
-        let groups = grid(
-            self.field.count,
-            device.limits().max_compute_workgroups_per_dimension,
+        let max = device.limits().max_compute_workgroups_per_dimension;
+        let groups = grid(self.field.count, max);
+        let cell_groups = grid(self.field.cell_count, max);
+        let cell_group = self.cells.bind(
+            device,
+            &self.field,
+            &self.params,
+            &self.state,
+            &self.world_roots,
         );
-        let params = self.step_params(h, groups.0);
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         for i in 1..=substeps {
             let t = (self.sim.time + f64::from(h) * f64::from(i)) as f32;
+            // Poses and the viewpoint: on the CPU (pure functions of time).
+            let mut roots = Vec::with_capacity(self.objects.len().max(1));
             for (body, obj) in self.sim.bodies.iter_mut().zip(&mut self.objects) {
                 body.set_time(t);
                 obj.set_pose(&body.pose);
+                roots.push(GpuWorldObb::new(&body.world_root, &self.sim.field.layout));
+            }
+            let positions: Vec<_> = self.sim.bodies.iter().map(|b| b.pose.position).collect();
+            self.sim.view = self.sim.camera.view_at(t, &positions);
+            let params = self.step_params(h, groups.0, cell_groups.0);
+            queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+            if !roots.is_empty() {
+                queue.write_buffer(&self.world_roots, 0, bytemuck::cast_slice(&roots));
             }
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("trample-gpu sub-step"),
             });
+            self.propagation.record_reset(
+                device,
+                &mut encoder,
+                &self.field,
+                &self.params,
+                &self.state,
+            );
+            self.cells
+                .record_classify(&mut encoder, &cell_group, cell_groups);
             if !self.objects.is_empty() {
                 self.narrow.record(
                     device,
@@ -183,15 +234,9 @@ impl GpuSimulation {
                 );
                 self.bend
                     .record(device, &mut encoder, &self.field, &self.params, groups);
-            } else {
-                self.propagation.record_reset(
-                    device,
-                    &mut encoder,
-                    &self.field,
-                    &self.params,
-                    &self.state,
-                );
             }
+            self.cells
+                .record_billboards_and_transitions(&mut encoder, &cell_group, cell_groups);
             self.recovery.record(
                 device,
                 &mut encoder,
@@ -200,8 +245,15 @@ impl GpuSimulation {
                 &self.state,
                 groups,
             );
+            self.cells
+                .record_recover_slopes(&mut encoder, &cell_group, cell_groups);
             queue.submit([encoder.finish()]);
         }
+        self.sim.timings.visible_patches = trample::field::cull_patches(
+            &self.sim.field.layout.patch_list,
+            &self.sim.view.frustum(),
+            &mut self.sim.visible,
+        );
         self.sim.time += f64::from(dt);
         self.sim.frame += 1;
         Ok(substeps)

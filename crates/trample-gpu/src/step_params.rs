@@ -15,8 +15,14 @@ pub struct GpuStepParams {
     pub weights: [[f32; 4]; 4],
     /// Blade count, segments, generation passes (cap), workgroups in x.
     pub counts: [u32; 4],
+    /// LOD viewpoint xyz (the camera eye of the sub-step), `geometry_m`.
+    pub eye: [f32; 4],
+    /// `billboard_m`, unused ×3.
+    pub lod: [f32; 4],
+    /// Cell count, blades per cell, object count, cell workgroups in x.
+    pub cells: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 112);
+const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 160);
 
 /// Counters of the last sub-step. Layout-compatible with `State` in `blade.wgsl`.
 #[repr(C)]
@@ -36,7 +42,7 @@ pub struct GpuCounters {
     pub pbg: u32,
     /// Blades still away from rest after recovery.
     pub displaced: u32,
-    /// Padding.
-    pub pad: u32,
+    /// Cells that changed level of detail (transitions).
+    pub transitions: u32,
 }
 const _: () = assert!(std::mem::size_of::<GpuCounters>() == 32);
