@@ -6,10 +6,12 @@
 //! scene file and say what it describes), `bench` (the paper's pressure
 //! test, collision accuracy, scaling).
 
+mod backend;
 mod bench;
 mod check;
 mod collide;
 mod common;
+mod gpu_run;
 mod output;
 mod run;
 mod simulate;

@@ -237,8 +237,8 @@ impl GpuField {
         read_buffer(device, queue, &self.force, "forces")
     }
 
-    /// Reads back the hit masks of the last object's narrow phase (bit k:
-    /// segment k hit).
+    /// Reads back the hit masks of the last narrow phase (bit k: segment k
+    /// hit one of the objects).
     ///
     /// # Errors
     /// [`GpuError::ReadBack`] when mapping fails.

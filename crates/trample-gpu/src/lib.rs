@@ -30,6 +30,7 @@ mod kernel;
 pub mod narrow_phase;
 pub mod object;
 pub mod propagation;
+pub mod query;
 pub mod readback;
 pub mod recovery;
 pub mod simulation;
@@ -41,6 +42,8 @@ pub use narrow_phase::NarrowPhase;
 pub use object::{GpuNode, GpuObject, GpuObjectParams};
 pub use simulation::GpuSimulation;
 pub use step_params::{GpuCounters, GpuStepParams};
+/// The wgpu this crate is built against (the workspace pins one major version).
+pub use wgpu;
 
 /// `blade.wgsl`: step parameters, counters and length preservation, shared
 /// by the step stages (prepended to their sources; not a stage itself).

@@ -111,7 +111,7 @@ impl NarrowPhase {
     /// `precision` (root = 1; clamped to 1..=64 as on the CPU) into
     /// `encoder`, writing each object's uniform through `queue` first. After
     /// the submission `field`'s forces hold Σ EqF and `num` over all objects
-    /// (zero for blades nothing hit); its hit masks hold the last object's.
+    /// (zero for blades nothing hit); its hit masks the segments any object hit.
     /// With no object nothing is recorded (forces keep their old contents).
     pub fn record(
         &self,

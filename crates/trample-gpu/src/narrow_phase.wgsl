@@ -356,5 +356,10 @@ fn collide(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
         f = vec4<f32>(f.xyz + sum, min(f.w + f32(countOneBits(mask)), 255.0));
     }
     force[b] = f;
-    hit_mask[b] = mask;
+    // Bit k: segment k hit any object so far this step.
+    if first_object {
+        hit_mask[b] = mask;
+    } else {
+        hit_mask[b] = hit_mask[b] | mask;
+    }
 }

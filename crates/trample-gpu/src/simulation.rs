@@ -15,8 +15,8 @@
 
 use trample::Simulation;
 use trample::deform::bend::weights;
-use trample::field::Terrain;
 use trample::field::generate::GROUND_CLEARANCE_M;
+use trample::field::{Lod, Terrain};
 use trample::force::propagation::GENERATION_CAP;
 use trample::step::stages::plan_substeps;
 use wgpu::util::DeviceExt;
@@ -53,6 +53,30 @@ pub struct GpuSimulation {
 }
 
 impl GpuSimulation {
+    /// Whether the GPU path can run `sim` on `device`: flat terrain, and
+    /// blade positions within one storage binding (chunking is not done
+    /// yet). Checks before anything is allocated.
+    ///
+    /// # Errors
+    /// [`GpuError::Unsupported`] or [`GpuError::TooLarge`], saying why.
+    pub fn supports(device: &wgpu::Device, sim: &Simulation) -> Result<(), GpuError> {
+        if !matches!(sim.field.terrain, Terrain::Flat(_)) {
+            return Err(GpuError::Unsupported(
+                "terrain other than flat (the GPU ground guard is flat only)",
+            ));
+        }
+        let bytes = sim.field.blades.pos.len() as u64 * 16;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "blade positions (chunking into patches is not done yet)",
+                bytes,
+                limit,
+            });
+        }
+        Ok(())
+    }
+
     /// Uploads `sim`'s field and objects to `device`.
     ///
     /// # Errors
@@ -257,6 +281,51 @@ impl GpuSimulation {
         self.sim.time += f64::from(dt);
         self.sim.frame += 1;
         Ok(substeps)
+    }
+
+    /// Copies the GPU state back into [`GpuSimulation::sim`]: blade
+    /// positions, classes and generations, cell levels and billboard slopes,
+    /// and the last sub-step's counters into `sim.timings` (DBG, PBG,
+    /// generations, displaced blades). For dumps and summaries at the end of
+    /// a run, not per frame.
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails (device lost).
+    pub fn sync_to_cpu(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<(), GpuError> {
+        let pos = self.field.read_positions(device, queue)?;
+        for (p, q) in self.sim.field.blades.pos.iter_mut().zip(&pos) {
+            *p = glam::Vec3A::new(q[0], q[1], q[2]);
+        }
+        let class = self.field.read_u32(device, queue, &self.field.class)?;
+        for (c, &k) in self.sim.class.iter_mut().zip(&class) {
+            *c = k.min(2) as u8;
+        }
+        let generation = self.field.read_u32(device, queue, &self.field.generation)?;
+        for (g, &k) in self.sim.generation.iter_mut().zip(&generation) {
+            *g = k.min(255) as u8;
+        }
+        let state = self.field.read_u32(device, queue, &self.field.cell_state)?;
+        let slopes: Vec<[f32; 4]> = read_buffer(device, queue, &self.field.slope, "slopes")?;
+        let cells = &mut self.sim.field.cells;
+        for (c, &s) in state.iter().enumerate().take(cells.lod.len()) {
+            cells.lod[c] = match s & 3 {
+                0 => Lod::Geometry,
+                1 => Lod::Billboard,
+                _ => Lod::Texture,
+            };
+            cells.slope[c] = glam::Vec3::new(slopes[c][0], slopes[c][1], slopes[c][2]);
+        }
+        let k = self.read_counters(device, queue)?;
+        let t = &mut self.sim.timings;
+        t.dbg_blades = k.dbg;
+        t.pbg_blades = k.pbg;
+        t.generations = k.generations;
+        t.displaced_blades = k.displaced;
+        Ok(())
     }
 
     /// Reads back the counters of the last sub-step (DBG, PBG, generations,
