@@ -73,7 +73,9 @@ pub fn simulate_on_gpu(
     g.sync_to_cpu(device, queue)?;
     check()?;
     if let Some(last) = rec.steps.last() {
+        let lod = g.sim.timings.lod;
         g.sim.timings = last.clone();
+        g.sim.timings.lod = lod;
     }
     Ok((g.sim, rec))
 }

@@ -286,7 +286,7 @@ impl GpuSimulation {
     /// Copies the GPU state back into [`GpuSimulation::sim`]: blade
     /// positions, classes and generations, cell levels and billboard slopes,
     /// and the last sub-step's counters into `sim.timings` (DBG, PBG,
-    /// generations, displaced blades). For dumps and summaries at the end of
+    /// generations, displaced blades, cells per level). For dumps and summaries at the end of
     /// a run, not per frame.
     ///
     /// # Errors
@@ -319,8 +319,17 @@ impl GpuSimulation {
             };
             cells.slope[c] = glam::Vec3::new(slopes[c][0], slopes[c][1], slopes[c][2]);
         }
+        let mut lod = trample::field::LodCounts::default();
+        for l in &cells.lod {
+            match l {
+                Lod::Geometry => lod.geometry += 1,
+                Lod::Billboard => lod.billboard += 1,
+                Lod::Texture => lod.texture += 1,
+            }
+        }
         let k = self.read_counters(device, queue)?;
         let t = &mut self.sim.timings;
+        t.lod = lod;
         t.dbg_blades = k.dbg;
         t.pbg_blades = k.pbg;
         t.generations = k.generations;
