@@ -160,15 +160,23 @@ impl Cells {
         self.kernel.dispatch(encoder, CLASSIFY, group, groups);
     }
 
-    /// Records billboards (Eq. 8) and transitions (Eq. 9–13), after the
-    /// blades bend.
-    pub fn record_billboards_and_transitions(
+    /// Records billboards (Eq. 8), after the blades bend.
+    pub fn record_billboards(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         group: &wgpu::BindGroup,
         groups: (u32, u32),
     ) {
         self.kernel.dispatch(encoder, BILLBOARDS, group, groups);
+    }
+
+    /// Records transitions (Eq. 9–13), after the billboards.
+    pub fn record_transitions(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        group: &wgpu::BindGroup,
+        groups: (u32, u32),
+    ) {
         self.kernel.dispatch(encoder, TRANSITIONS, group, groups);
     }
 

@@ -29,6 +29,7 @@ pub mod field;
 mod kernel;
 pub mod narrow_phase;
 pub mod object;
+mod profile;
 pub mod propagation;
 pub mod query;
 pub mod readback;

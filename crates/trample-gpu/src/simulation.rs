@@ -28,6 +28,7 @@ use crate::field::GpuField;
 use crate::kernel::grid;
 use crate::narrow_phase::NarrowPhase;
 use crate::object::GpuObject;
+use crate::profile::{Laps, new_encoder};
 use crate::propagation::Propagation;
 use crate::readback::read_buffer;
 use crate::recovery::Recovery;
@@ -50,9 +51,22 @@ pub struct GpuSimulation {
     params: wgpu::Buffer,
     state: wgpu::Buffer,
     ground: f32,
+    /// Profiling mode (see [`GpuSimulation::set_profiling`]).
+    profiling: bool,
 }
 
 impl GpuSimulation {
+    /// Profiling mode: each stage of a sub-step is submitted and waited
+    /// for on its own, and its wall time goes into `sim.timings`
+    /// (`lod_ms`, `narrow_ms` (with EqF), `propagation_ms`,
+    /// `deformation_ms` (blades and billboards), `transitions_ms`,
+    /// `recovery_ms`). Slower; off by default, when `sim.timings` holds only
+    /// `total_ms` (recording time, the GPU runs on asynchronously), the
+    /// sub-step counts and, after [`GpuSimulation::sync_to_cpu`], the counters.
+    pub fn set_profiling(&mut self, on: bool) {
+        self.profiling = on;
+    }
+
     /// Whether the GPU path can run `sim` on `device`: flat terrain, and
     /// blade positions within one storage binding (chunking is not done
     /// yet). Checks before anything is allocated.
@@ -131,6 +145,7 @@ impl GpuSimulation {
             params,
             state,
             ground,
+            profiling: false,
         })
     }
 
@@ -197,6 +212,8 @@ impl GpuSimulation {
                 "dt = {dt} must be positive and finite"
             )));
         }
+        let start = std::time::Instant::now();
+        self.sim.timings = trample::StepTimings::default();
         let plan = plan_substeps(&self.sim, dt);
         let substeps = plan.substeps;
         let h = dt / substeps as f32;
@@ -226,9 +243,9 @@ impl GpuSimulation {
             if !roots.is_empty() {
                 queue.write_buffer(&self.world_roots, 0, bytemuck::cast_slice(&roots));
             }
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("trample-gpu sub-step"),
-            });
+            let mut encoder = new_encoder(device);
+            let mut laps = Laps::new(self.profiling);
+            let tm = &mut self.sim.timings;
             self.propagation.record_reset(
                 device,
                 &mut encoder,
@@ -238,6 +255,7 @@ impl GpuSimulation {
             );
             self.cells
                 .record_classify(&mut encoder, &cell_group, cell_groups);
+            laps.lap(device, queue, &mut encoder, &mut tm.lod_ms);
             if !self.objects.is_empty() {
                 self.narrow.record(
                     device,
@@ -247,6 +265,7 @@ impl GpuSimulation {
                     &mut self.objects,
                     self.sim.params.precision,
                 );
+                laps.lap(device, queue, &mut encoder, &mut tm.narrow_ms);
                 self.propagation.record(
                     device,
                     &mut encoder,
@@ -256,11 +275,16 @@ impl GpuSimulation {
                     groups,
                     params.counts[2],
                 );
+                laps.lap(device, queue, &mut encoder, &mut tm.propagation_ms);
                 self.bend
                     .record(device, &mut encoder, &self.field, &self.params, groups);
             }
             self.cells
-                .record_billboards_and_transitions(&mut encoder, &cell_group, cell_groups);
+                .record_billboards(&mut encoder, &cell_group, cell_groups);
+            laps.lap(device, queue, &mut encoder, &mut tm.deformation_ms);
+            self.cells
+                .record_transitions(&mut encoder, &cell_group, cell_groups);
+            laps.lap(device, queue, &mut encoder, &mut tm.transitions_ms);
             self.recovery.record(
                 device,
                 &mut encoder,
@@ -271,6 +295,7 @@ impl GpuSimulation {
             );
             self.cells
                 .record_recover_slopes(&mut encoder, &cell_group, cell_groups);
+            laps.lap(device, queue, &mut encoder, &mut tm.recovery_ms);
             queue.submit([encoder.finish()]);
         }
         self.sim.timings.visible_patches = trample::field::cull_patches(
@@ -280,6 +305,10 @@ impl GpuSimulation {
         );
         self.sim.time += f64::from(dt);
         self.sim.frame += 1;
+        let tm = &mut self.sim.timings;
+        tm.substeps = substeps;
+        tm.substeps_needed = plan.needed;
+        tm.total_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(substeps)
     }
 
