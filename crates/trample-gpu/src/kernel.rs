@@ -109,6 +109,26 @@ impl Kernel {
     }
 }
 
+impl Kernel {
+    /// As [`Kernel::dispatch`], with the workgroup counts read from
+    /// `args` (three `u32`, written by an earlier pass).
+    pub(crate) fn dispatch_indirect(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        entry: usize,
+        group: &wgpu::BindGroup,
+        args: &wgpu::Buffer,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: None,
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipelines[entry]);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups_indirect(args, 0);
+    }
+}
+
 /// Workgroups (x, y) covering `count` threads of 64: at most
 /// `max_per_dimension` in x (the shaders index x + y · x_groups · 64).
 pub(crate) fn grid(count: u32, max_per_dimension: u32) -> (u32, u32) {

@@ -5,8 +5,9 @@
 //! relation is mutual (every field layout's is).
 //!
 //! Without a read-back the host does not know when propagation ends, so it
-//! records `max_generations` gather passes; those after the end return at
-//! once (the `stop` flag set by `advance`).
+//! records `max_generations` gather passes as indirect dispatches whose
+//! size `advance` writes: zero workgroups once a generation reached no
+//! blade (or at the cap).
 
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
@@ -26,9 +27,14 @@ const SEED: usize = 1;
 const GATHER: usize = 2;
 const ADVANCE: usize = 3;
 
-/// The compiled propagation kernels.
+/// The compiled propagation kernels and the indirect arguments of the
+/// gather passes.
 pub struct Propagation {
     kernel: Kernel,
+    next_gather: wgpu::Buffer,
+    /// Stands in for `next_gather` in the gather passes' bind group: a
+    /// buffer may not be storage and indirect arguments in one dispatch.
+    unused_args: wgpu::Buffer,
 }
 
 impl Propagation {
@@ -41,9 +47,23 @@ impl Propagation {
                 device,
                 "trample-gpu propagation",
                 &source(),
-                &[Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read],
+                &[
+                    Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite,
+                ],
                 &["begin", "seed", "gather", "advance"],
             ),
+            unused_args: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu gather dispatch (unused)"),
+                size: 12,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+            next_gather: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu gather dispatch"),
+                size: 12,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
         }
     }
 
@@ -66,6 +86,7 @@ impl Propagation {
                 &field.generation,
                 &field.class,
                 &field.neighbours,
+                &self.next_gather,
             ],
         );
         self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
@@ -93,11 +114,25 @@ impl Propagation {
                 &field.generation,
                 &field.class,
                 &field.neighbours,
+                &self.next_gather,
             ],
         );
         self.kernel.dispatch(encoder, SEED, &group, groups);
+        let gather_group = self.kernel.bind(
+            device,
+            &[
+                params,
+                state,
+                &field.force,
+                &field.generation,
+                &field.class,
+                &field.neighbours,
+                &self.unused_args,
+            ],
+        );
         for _ in 0..passes {
-            self.kernel.dispatch(encoder, GATHER, &group, groups);
+            self.kernel
+                .dispatch_indirect(encoder, GATHER, &gather_group, &self.next_gather);
             self.kernel.dispatch(encoder, ADVANCE, &group, (1, 1));
         }
     }

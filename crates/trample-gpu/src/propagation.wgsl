@@ -12,6 +12,10 @@
 @group(0) @binding(3) var<storage, read_write> generation: array<u32>;
 @group(0) @binding(4) var<storage, read_write> blade_class: array<u32>;
 @group(0) @binding(5) var<storage, read> neighbours: array<vec4<u32>>;
+// Workgroups of the next gather pass (x, y, z), read as indirect dispatch
+// arguments: (0, 1, 1) once propagation has ended, so the passes left over
+// cost a dispatch of nothing.
+@group(0) @binding(6) var<storage, read_write> next_gather: array<u32, 3>;
 
 const CLASS_UNTOUCHED: u32 = 0u;
 const CLASS_DIRECT: u32 = 1u;
@@ -28,8 +32,12 @@ fn begin() {
     atomicStore(&state.pbg, 0u);
     atomicStore(&state.displaced, 0u);
     atomicStore(&state.transitions, 0u);
+    next_gather[0] = params.counts.w;
+    next_gather[1] = (params.counts.x + params.counts.w * 64u - 1u) / (params.counts.w * 64u);
+    next_gather[2] = 1u;
     if params.counts.z == 0u {
         state.stop = 1u;
+        next_gather[0] = 0u;
     }
 }
 
@@ -103,6 +111,7 @@ fn advance() {
     }
     if atomicLoad(&state.any) == 0u {
         state.stop = 1u;
+        next_gather[0] = 0u;
         return;
     }
     state.generations += 1u;
@@ -110,5 +119,6 @@ fn advance() {
     atomicStore(&state.any, 0u);
     if state.generations >= params.counts.z {
         state.stop = 1u;
+        next_gather[0] = 0u;
     }
 }
