@@ -60,3 +60,22 @@ pub fn choose(backend: Backend) -> Result<Option<Gpu>> {
 fn wgpu_device_type_cpu() -> trample_gpu::wgpu::DeviceType {
     trample_gpu::wgpu::DeviceType::Cpu
 }
+
+/// For `run`, which has its render device already: whether to simulate on
+/// it too. `auto`: only on a hardware adapter; `gpu`: always; `cpu`: never.
+#[must_use]
+pub fn simulate_on(backend: Backend, gpu: &Gpu) -> bool {
+    let software = gpu.adapter.get_info().device_type == wgpu_device_type_cpu();
+    match backend {
+        Backend::Cpu => false,
+        Backend::Gpu => true,
+        Backend::Auto if software => {
+            eprintln!(
+                "trample: {} is a software adapter: simulating on the CPU path (--backend gpu forces the GPU path)",
+                gpu.adapter_name()
+            );
+            false
+        }
+        Backend::Auto => true,
+    }
+}
