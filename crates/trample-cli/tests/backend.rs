@@ -146,3 +146,30 @@ fn auto_takes_the_cpu_on_a_software_adapter() {
         assert_eq!(s["backend"], "gpu", "{err}");
     }
 }
+
+#[test]
+fn run_on_the_gpu_renders_and_says_so() {
+    let d = dir("run");
+    let scene = d.join("scene.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let out = d.join("out");
+    let o = trample(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--frames",
+        "20",
+        "--every",
+        "10",
+        "--size",
+        "64x64",
+        "--backend",
+        "gpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    ok(&o);
+    let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(s["backend"], "gpu");
+    assert!(out.join("frame_0010.png").exists());
+}
