@@ -213,7 +213,7 @@ impl GpuField {
             force: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu blade forces"),
                 size: blades.count as u64 * 16,
-                usage: U::STORAGE | U::COPY_SRC,
+                usage: U::STORAGE | U::COPY_SRC | U::COPY_DST,
                 mapped_at_creation: false,
             }),
             hit_mask: device.create_buffer(&wgpu::BufferDescriptor {
@@ -223,6 +223,12 @@ impl GpuField {
                 mapped_at_creation: false,
             }),
         })
+    }
+
+    /// Overwrites the per-blade forces (Σ EqF in xyz, `num` in w), e.g. to
+    /// run propagation or bending on forces of one's own (stage tests).
+    pub fn write_forces(&self, queue: &wgpu::Queue, forces: &[GpuForce]) {
+        queue.write_buffer(&self.force, 0, bytemuck::cast_slice(forces));
     }
 
     /// Reads back the per-blade forces of the last narrow phase.
