@@ -8,11 +8,12 @@
 use anyhow::{Result, bail};
 use trample_render::headless::{Gpu, create_device};
 
-/// The `--backend` flag.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// The `--backend` flag (defaults: `cpu` for `simulate` and `collide`,
+/// whose figures an adapter probe would skew; `auto` for `run`, which has a
+/// device anyway).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Backend {
     /// The GPU on a hardware adapter, else the CPU.
-    #[default]
     Auto,
     /// The CPU reference path (rayon).
     Cpu,

@@ -38,10 +38,10 @@ pub struct Args {
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
     #[arg(long, allow_negative_numbers = true)]
     pub memory_limit_gib: Option<f32>,
-    /// Collision path: auto = the GPU on a hardware adapter, else the CPU;
-    /// gpu = the GPU path (also on a software adapter; not with --exact);
-    /// cpu = the reference.
-    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    /// Collision path: cpu = the reference (default, see `simulate
+    /// --backend`); auto = the GPU on a hardware adapter, else the CPU;
+    /// gpu = the GPU path (also on a software adapter; not with --exact).
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
     pub backend: Backend,
 }
 

@@ -42,9 +42,12 @@ pub struct Args {
     /// bent, soil flattened; red tint = hit directly, blue = propagation only.
     #[arg(long)]
     pub track_png: Option<PathBuf>,
-    /// Simulation path: auto = the GPU on a hardware adapter, else the CPU;
-    /// gpu = the GPU path (also on a software adapter); cpu = the reference.
-    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    /// Simulation path: cpu = the reference (default); auto = the GPU on a
+    /// hardware adapter, else the CPU; gpu = the GPU path (also on a
+    /// software adapter). Not auto by default: probing for an adapter costs
+    /// start-up time and tens of MiB (Mesa's drivers), which would skew the
+    /// CPU path's figures (summary.json's times and peak memory).
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
     pub backend: Backend,
 }
 
