@@ -120,11 +120,11 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
     let cases: [(&[&str], &str); 8] = [
         (
             &["--backend", "gpu"],
-            "--backend gpu: the GPU path is not built yet",
+            "--backend gpu: the bench does not time the GPU path yet",
         ),
         (
             &["--backend", "both"],
-            "--backend both: the GPU path is not built yet",
+            "--backend both: the bench does not time the GPU path yet",
         ),
         (&["--render"], "--render: rendering is not built yet"),
         (&["--backend", "tpu"], "--backend"),
