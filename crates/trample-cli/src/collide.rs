@@ -1,5 +1,6 @@
 //! `trample collide`: hit flags of every blade segment at rest, objects posed at one time.
 
+use crate::backend::Backend;
 use crate::common::{SimOverrides, load_scene, npy_f32, npy_u8, set_threads};
 use crate::output::Outputs;
 use anyhow::{Result, bail};
@@ -37,6 +38,11 @@ pub struct Args {
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
     #[arg(long, allow_negative_numbers = true)]
     pub memory_limit_gib: Option<f32>,
+    /// Collision path: cpu = the reference (default, see `simulate
+    /// --backend`); auto = the GPU on a hardware adapter, else the CPU;
+    /// gpu = the GPU path (also on a software adapter; not with --exact).
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+    pub backend: Backend,
 }
 
 /// Runs the subcommand.
@@ -69,7 +75,27 @@ pub fn run(a: &Args) -> Result<()> {
     Outputs::preflight(&paths)?;
     let sim = scene.build()?;
     let n = sim.field.blades.segments;
-    let hits = sim.segment_hits_at_rest(a.time, mode);
+    let gpu = match mode {
+        HitMode::Exact if a.backend == Backend::Gpu => {
+            bail!("--backend gpu: --exact runs on the CPU only (f64 triangle tests)")
+        }
+        HitMode::Exact => None,
+        HitMode::Precision(_) => crate::backend::choose(a.backend)?,
+    };
+    let hits = match (gpu, mode) {
+        (Some(gpu), HitMode::Precision(p)) => {
+            match trample_gpu::query::segment_hits_at_rest(&gpu.device, &gpu.queue, &sim, a.time, p)
+            {
+                Ok(h) => h,
+                Err(e) if a.backend == Backend::Auto => {
+                    eprintln!("trample: GPU path: {e}; falling back to the CPU path");
+                    sim.segment_hits_at_rest(a.time, mode)
+                }
+                Err(e) => bail!("--backend gpu: {e}"),
+            }
+        }
+        _ => sim.segment_hits_at_rest(a.time, mode),
+    };
     let mut outputs = Outputs::default();
     outputs.stage(&a.dump_hits, &npy_u8(&[sim.field.blades.count, n], &hits))?;
     if let Some(p) = &a.dump_blades {

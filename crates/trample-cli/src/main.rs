@@ -6,10 +6,12 @@
 //! scene file and say what it describes), `bench` (the paper's pressure
 //! test, collision accuracy, scaling), `view` (an interactive window).
 
+mod backend;
 mod bench;
 mod check;
 mod collide;
 mod common;
+mod gpu_run;
 mod mp4;
 mod output;
 mod run;

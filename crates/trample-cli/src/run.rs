@@ -50,6 +50,12 @@ pub struct Args {
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
     #[arg(long, allow_negative_numbers = true)]
     pub memory_limit_gib: Option<f32>,
+    /// Simulation path: auto = the GPU on a hardware adapter, else the CPU;
+    /// gpu = the GPU path (also on a software adapter); cpu = the reference.
+    /// On the GPU path the state is read back for each rendered frame (the
+    /// renderer does not draw from the GPU buffers yet).
+    #[arg(long, value_enum, default_value_t = crate::backend::Backend::Auto)]
+    pub backend: crate::backend::Backend,
 }
 
 /// Frames per second of the rendered frames, each timed over its simulation
@@ -213,6 +219,22 @@ pub fn run(a: &Args) -> Result<()> {
     } else {
         None
     };
+    let mut on_gpu = if crate::backend::simulate_on(a.backend, &gpu) {
+        match trample_gpu::GpuSimulation::supports(&gpu.device, &sim) {
+            Ok(()) => Some(trample_gpu::GpuSimulation::new(
+                &gpu.device,
+                &gpu.queue,
+                sim.clone(),
+            )?),
+            Err(e) if a.backend == crate::backend::Backend::Auto => {
+                eprintln!("trample: GPU path: {e}; simulating on the CPU path");
+                None
+            }
+            Err(e) => bail!("--backend gpu: {e}"),
+        }
+    } else {
+        None
+    };
     let mut gif = if a.gif {
         Some(GifOut::new(
             &out.join("run.gif"),
@@ -234,7 +256,13 @@ pub fn run(a: &Args) -> Result<()> {
     let clock = Instant::now();
     for i in 0..frames {
         let start = Instant::now();
-        let t = sim.step(dt)?.clone();
+        let t = match on_gpu.as_mut() {
+            Some(g) => {
+                g.step(&gpu.device, &gpu.queue, dt)?;
+                g.sim.timings.clone()
+            }
+            None => sim.step(dt)?.clone(),
+        };
         let msg = format!(
             "step {:.1} ms, DBG {} PBG {}",
             t.total_ms, t.dbg_blades, t.pbg_blades
@@ -243,6 +271,11 @@ pub fn run(a: &Args) -> Result<()> {
         // Only the frames that are written are rendered.
         if i % a.every == 0 {
             let r = Instant::now();
+            if let Some(g) = on_gpu.as_mut() {
+                // Not yet drawn straight from the GPU buffers: read back.
+                g.sync_to_cpu(&gpu.device, &gpu.queue)?;
+                sim = g.sim.clone();
+            }
             let img = renderer.render(&gpu.device, &gpu.queue, &sim)?;
             render_ms.push(r.elapsed().as_secs_f64() * 1e3);
             frame_s.push(start.elapsed().as_secs_f64());
@@ -263,6 +296,13 @@ pub fn run(a: &Args) -> Result<()> {
     }
     bar.finish_and_clear();
     let wall_s = clock.elapsed().as_secs_f64();
+    let backend = if let Some(mut g) = on_gpu {
+        g.sync_to_cpu(&gpu.device, &gpu.queue)?;
+        sim = g.sim;
+        "gpu"
+    } else {
+        "cpu"
+    };
     if let Some(g) = gif {
         g.finish()?;
     }
@@ -272,7 +312,7 @@ pub fn run(a: &Args) -> Result<()> {
 
     let total: f64 = frame_s.iter().sum();
     let fps_of = |s: f64| if s > 0.0 { 1.0 / s } else { 0.0 };
-    let summary = RunSummary {
+    let mut summary = RunSummary {
         sim: SimSummary::new(&scene, &sim, frames, threads, build_ms, wall_s, &rec),
         adapter: adapter.clone(),
         size: [width, height],
@@ -293,6 +333,8 @@ pub fn run(a: &Args) -> Result<()> {
         gif: a.gif.then(|| "run.gif".to_string()),
         mp4: a.mp4.then(|| "run.mp4".to_string()),
     };
+    // The run summary names the adapter itself (`adapter`).
+    summary.sim.backend = backend;
     write_json(&out.join("summary.json"), &summary)?;
     eprintln!(
         "trample: {frames} frames in {wall_s:.2} s on {adapter}; step median {:.2} ms, render median {:.1} ms, {:.1} fps avg; wrote {pngs} PNG(s){} and {}",

@@ -1,5 +1,6 @@
 //! `trample simulate`: run a scene without rendering.
 
+use crate::backend::Backend;
 use crate::common::{SimOverrides, load_scene, npy_f32, npy_u8, out_dir, set_threads};
 use crate::output::Outputs;
 use crate::summary::{Recorder, SimSummary};
@@ -41,6 +42,13 @@ pub struct Args {
     /// bent, soil flattened; red tint = hit directly, blue = propagation only.
     #[arg(long)]
     pub track_png: Option<PathBuf>,
+    /// Simulation path: cpu = the reference (default); auto = the GPU on a
+    /// hardware adapter, else the CPU; gpu = the GPU path (also on a
+    /// software adapter). Not auto by default: probing for an adapter costs
+    /// start-up time and tens of MiB (Mesa's drivers), which would skew the
+    /// CPU path's figures (summary.json's times and peak memory).
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+    pub backend: Backend,
 }
 
 /// Runs the subcommand.
@@ -87,8 +95,24 @@ pub fn run(a: &Args) -> Result<()> {
     );
     let mut rec = Recorder::default();
     let dt = sim.params.dt_s;
-    let clock = Instant::now();
-    for _ in 0..frames {
+    let gpu = crate::backend::choose(a.backend)?;
+    let mut clock = Instant::now();
+    let mut adapter = None;
+    if let Some(gpu) = &gpu {
+        match crate::gpu_run::simulate_on_gpu(gpu, sim.clone(), frames, &bar) {
+            Ok((s, r)) => {
+                (sim, rec) = (s, r);
+                adapter = Some(gpu.adapter_name());
+            }
+            Err(e) if a.backend == Backend::Auto => {
+                bar.suspend(|| eprintln!("trample: {e:#}; falling back to the CPU path"));
+                bar.reset();
+                clock = Instant::now();
+            }
+            Err(e) => return Err(e.context("--backend gpu")),
+        }
+    }
+    for _ in 0..if adapter.is_some() { 0 } else { frames } {
         let clamps_before = sim.substep_clamps;
         let t = sim.step(dt)?;
         bar.set_message(format!("DBG {} PBG {}", t.dbg_blades, t.pbg_blades));
@@ -116,7 +140,11 @@ pub fn run(a: &Args) -> Result<()> {
     if let Some(p) = &a.track_png {
         outputs.stage(p, &crate::track::track_png(&sim)?)?;
     }
-    let summary = SimSummary::new(&scene, &sim, frames, threads, build_ms, wall_s, &rec);
+    let mut summary = SimSummary::new(&scene, &sim, frames, threads, build_ms, wall_s, &rec);
+    if adapter.is_some() {
+        summary.backend = "gpu";
+        summary.adapter = adapter;
+    }
     outputs.stage(
         &summary_path,
         serde_json::to_string_pretty(&summary)?.as_bytes(),

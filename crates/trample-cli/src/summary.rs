@@ -73,6 +73,9 @@ pub struct SimSummary {
     pub precision: u32,
     pub dt_s: f32,
     pub backend: &'static str,
+    /// The GPU adapter of the GPU path (`--backend`), absent on the CPU path.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adapter: Option<String>,
     pub threads: usize,
     pub simulated_s: f64,
     pub build_ms: f64,
@@ -116,6 +119,7 @@ impl SimSummary {
             precision: sim.params.precision,
             dt_s: sim.params.dt_s,
             backend: "cpu",
+            adapter: None,
             threads,
             simulated_s: sim.time,
             build_ms,

@@ -121,11 +121,11 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
         (&["--render", "--scaling"], "--render: not with --scaling"),
         (
             &["--backend", "gpu"],
-            "--backend gpu: the GPU path is not built yet",
+            "--backend gpu: the bench does not time the GPU path yet",
         ),
         (
             &["--backend", "both"],
-            "--backend both: the GPU path is not built yet",
+            "--backend both: the bench does not time the GPU path yet",
         ),
         (&["--backend", "tpu"], "--backend"),
         (&["--precisions", "0..3"], "--precisions \"0..3\""),

@@ -47,7 +47,7 @@ pub struct Args {
     /// (default 1..7, the paper's; with --scaling, 7).
     #[arg(long)]
     pub precisions: Option<String>,
-    /// Which path to time: cpu (the GPU path is not built yet).
+    /// Which path to time: cpu (the bench does not time the GPU path yet).
     #[arg(long, value_enum, default_value_t = Backend::Cpu)]
     pub backend: Backend,
     /// Also render every frame offscreen at --size (on the adapter of
@@ -78,7 +78,7 @@ pub fn run(a: &Args) -> Result<()> {
     match a.backend {
         Backend::Cpu => {}
         Backend::Gpu | Backend::Both => bail!(
-            "--backend {}: the GPU path is not built yet; use --backend cpu",
+            "--backend {}: the bench does not time the GPU path yet (`trample simulate --backend gpu` does, per stage); use --backend cpu",
             if a.backend == Backend::Gpu {
                 "gpu"
             } else {

@@ -28,7 +28,7 @@ use std::time::Instant;
 /// `max_substeps`, and the caller records the clamp (see
 /// [`super::simulation::SubstepClamp`]): objects may then skip blades.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct SubstepPlan {
+pub struct SubstepPlan {
     /// Sub-steps to run, `1..=max_substeps`.
     pub substeps: u32,
     /// Sub-steps the fastest object needs (≥ 1; saturates at `u32::MAX`).
@@ -39,7 +39,7 @@ pub(crate) struct SubstepPlan {
 
 /// Plans the sub-steps of a step of `dt` from each body's travel (and spin,
 /// measured at the root box's half diagonal) between the step's ends.
-pub(crate) fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
+pub fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
     let t0 = sim.time as f32;
     let (mut needed, mut fastest) = (1u32, None);
     for (i, body) in sim.bodies.iter().enumerate() {

@@ -1,0 +1,82 @@
+//! `--backend auto|cpu|gpu` (issue 4): which path runs the simulation.
+//!
+//! `auto` takes the GPU path on a hardware adapter and the CPU path on a
+//! software one (llvmpipe, lavapipe: slower than the CPU path with rayon,
+//! PLATFORM.md) or when no adapter is found; `gpu` forces the GPU path,
+//! also on a software adapter, and fails with a clear message without one.
+
+use anyhow::{Result, bail};
+use trample_render::headless::{Gpu, create_device};
+
+/// The `--backend` flag (defaults: `cpu` for `simulate` and `collide`,
+/// whose figures an adapter probe would skew; `auto` for `run`, which has a
+/// device anyway).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Backend {
+    /// The GPU on a hardware adapter, else the CPU.
+    Auto,
+    /// The CPU reference path (rayon).
+    Cpu,
+    /// The GPU path (wgpu compute), also on a software adapter.
+    Gpu,
+}
+
+/// The device to run on, or `None` for the CPU path. `auto` falls back to
+/// the CPU with a message on stderr.
+///
+/// # Errors
+/// `gpu` without a usable adapter.
+pub fn choose(backend: Backend) -> Result<Option<Gpu>> {
+    match backend {
+        Backend::Cpu => Ok(None),
+        Backend::Gpu => match create_device() {
+            Ok(gpu) => {
+                eprintln!("trample: GPU path on {}", gpu.adapter_name());
+                Ok(Some(gpu))
+            }
+            Err(e) => bail!(
+                "--backend gpu: no usable GPU adapter ({e}); use --backend cpu, or WGPU_BACKEND=gl for Mesa llvmpipe"
+            ),
+        },
+        Backend::Auto => match create_device() {
+            Ok(gpu) if gpu.adapter.get_info().device_type == wgpu_device_type_cpu() => {
+                eprintln!(
+                    "trample: {} is a software adapter: CPU path (--backend gpu forces the GPU path)",
+                    gpu.adapter_name()
+                );
+                Ok(None)
+            }
+            Ok(gpu) => {
+                eprintln!("trample: GPU path on {}", gpu.adapter_name());
+                Ok(Some(gpu))
+            }
+            Err(e) => {
+                eprintln!("trample: no GPU adapter ({e}): CPU path");
+                Ok(None)
+            }
+        },
+    }
+}
+
+fn wgpu_device_type_cpu() -> trample_gpu::wgpu::DeviceType {
+    trample_gpu::wgpu::DeviceType::Cpu
+}
+
+/// For `run`, which has its render device already: whether to simulate on
+/// it too. `auto`: only on a hardware adapter; `gpu`: always; `cpu`: never.
+#[must_use]
+pub fn simulate_on(backend: Backend, gpu: &Gpu) -> bool {
+    let software = gpu.adapter.get_info().device_type == wgpu_device_type_cpu();
+    match backend {
+        Backend::Cpu => false,
+        Backend::Gpu => true,
+        Backend::Auto if software => {
+            eprintln!(
+                "trample: {} is a software adapter: simulating on the CPU path (--backend gpu forces the GPU path)",
+                gpu.adapter_name()
+            );
+            false
+        }
+        Backend::Auto => true,
+    }
+}

@@ -1,0 +1,82 @@
+//! The GPU path of `trample simulate` (`--backend gpu`, or `auto` on a
+//! hardware adapter): `trample_gpu::GpuSimulation` steps the scene, the
+//! state comes back once at the end for the summary and the dumps.
+//!
+//! Errors the device reports (validation, out of memory, device lost) are
+//! caught instead of panicking and end the GPU run with a message; the
+//! caller then falls back to the CPU path under `auto`.
+
+use crate::summary::Recorder;
+use anyhow::{Result, anyhow};
+use indicatif::ProgressBar;
+use std::sync::{Arc, Mutex};
+use trample::{Simulation, StepTimings};
+use trample_gpu::GpuSimulation;
+use trample_render::headless::Gpu;
+
+/// Steps `sim` on `gpu` for `frames` frames in profiling mode
+/// (`GpuSimulation::set_profiling`): each stage is submitted and waited for
+/// on its own, so `summary.json`'s `stages_ms` are per-stage GPU times (each
+/// with one submission; no timestamp queries yet) and `step_ms` their sum
+/// plus the CPU's share (poses, recording). The per-frame counters (DBG,
+/// PBG, generations) are read back, 32 bytes a frame, for the progress bar
+/// and the summary (the blade buffers are not).
+///
+/// # Errors
+/// When the GPU path does not support the scene, or the device reports an
+/// error (out of memory, device lost): the message says which.
+pub fn simulate_on_gpu(
+    gpu: &Gpu,
+    sim: Simulation,
+    frames: u64,
+    bar: &ProgressBar,
+) -> Result<(Simulation, Recorder)> {
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    GpuSimulation::supports(device, &sim).map_err(|e| anyhow!("GPU path: {e}"))?;
+    let failure: Arc<Mutex<Option<String>>> = Arc::default();
+    let sink = failure.clone();
+    device.on_uncaptured_error(Arc::new(move |e| {
+        let mut slot = sink.lock().unwrap_or_else(|p| p.into_inner());
+        slot.get_or_insert_with(|| e.to_string());
+    }));
+    let lost = failure.clone();
+    device.set_device_lost_callback(move |reason, msg| {
+        let mut slot = lost.lock().unwrap_or_else(|p| p.into_inner());
+        slot.get_or_insert_with(|| format!("device lost ({reason:?}): {msg}"));
+    });
+    let check = || -> Result<()> {
+        match failure.lock().unwrap_or_else(|p| p.into_inner()).take() {
+            Some(msg) => Err(anyhow!("GPU error: {msg}")),
+            None => Ok(()),
+        }
+    };
+    let mut g = GpuSimulation::new(device, queue, sim)?;
+    g.set_profiling(true);
+    check()?;
+    let mut rec = Recorder::default();
+    let dt = g.sim.params.dt_s;
+    for _ in 0..frames {
+        g.step(device, queue, dt)?;
+        let counters = g.read_counters(device, queue)?;
+        check()?;
+        let t = StepTimings {
+            dbg_blades: counters.dbg,
+            pbg_blades: counters.pbg,
+            generations: counters.generations,
+            transitions: counters.transitions,
+            displaced_blades: counters.displaced,
+            ..g.sim.timings.clone()
+        };
+        bar.set_message(format!("DBG {} PBG {}", t.dbg_blades, t.pbg_blades));
+        rec.steps.push(t);
+        bar.inc(1);
+    }
+    g.sync_to_cpu(device, queue)?;
+    check()?;
+    if let Some(last) = rec.steps.last() {
+        let lod = g.sim.timings.lod;
+        g.sim.timings = last.clone();
+        g.sim.timings.lod = lod;
+    }
+    Ok((g.sim, rec))
+}

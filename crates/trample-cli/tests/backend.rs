@@ -1,0 +1,175 @@
+//! `--backend` (issue 4): the GPU path of `collide` and `simulate` gives
+//! the CPU path's answers, `auto` picks the CPU on a software adapter, and
+//! the exact reference refuses the GPU. Needs an adapter: CI runs these
+//! with `WGPU_BACKEND=gl` (Mesa llvmpipe); without one, `--backend gpu`
+//! fails and so do these tests (they do not skip).
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+const SCENE: &str = r#"
+name = "backend"
+[field]
+patches = [3, 3]
+cells_per_patch = 16
+[lod]
+geometry_m = 2.0
+billboard_m = 4.0
+[sim]
+precision = 5
+recovery_s = 1.5
+[camera]
+path = { kind = "line", from = [-3.0, 1.5, 1.0], to = [3.0, 1.5, 1.0], duration_s = 2.0 }
+look_at = { kind = "object", name = "ball" }
+[[objects]]
+name = "ball"
+shape = { kind = "sphere", radius_m = 0.4 }
+orientation = "rolling"
+path = { kind = "line", from = [-2.0, 0.4, 0.0], to = [2.0, 0.4, 0.0], duration_s = 2.0 }
+"#;
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("trample-backend-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn trample(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trample"))
+        .args(args)
+        .output()
+        .expect("run trample")
+}
+
+fn ok(o: &Output) {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn collide_on_the_gpu_gives_the_cpu_hit_flags_at_every_precision() {
+    let d = dir("collide");
+    for p in 1..=7 {
+        let mut hits = Vec::new();
+        for backend in ["gpu", "cpu"] {
+            let f = d.join(format!("{backend}{p}.npy"));
+            let o = trample(&[
+                "collide",
+                "--time",
+                "6",
+                "--precision",
+                &p.to_string(),
+                "--backend",
+                backend,
+                "--dump-hits",
+                f.to_str().unwrap(),
+            ]);
+            ok(&o);
+            hits.push(std::fs::read(&f).unwrap());
+        }
+        assert_eq!(
+            hits[0], hits[1],
+            "precision {p}: GPU and CPU hit flags differ"
+        );
+    }
+}
+
+#[test]
+fn exact_collide_refuses_the_gpu() {
+    let d = dir("exact");
+    let f = d.join("hits.npy");
+    let o = trample(&[
+        "collide",
+        "--time",
+        "1",
+        "--exact",
+        "--backend",
+        "gpu",
+        "--dump-hits",
+        f.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("CPU only"));
+}
+
+#[test]
+fn simulate_on_the_gpu_touches_the_blades_the_cpu_touches() {
+    let d = dir("simulate");
+    let scene = d.join("scene.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let mut summaries = Vec::new();
+    for backend in ["gpu", "cpu"] {
+        let out = d.join(backend);
+        let o = trample(&[
+            "simulate",
+            scene.to_str().unwrap(),
+            "--frames",
+            "60",
+            "--backend",
+            backend,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        ok(&o);
+        let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        summaries.push(serde_json::from_str::<serde_json::Value>(&text).unwrap());
+    }
+    let (g, c) = (&summaries[0], &summaries[1]);
+    assert_eq!(g["backend"], "gpu");
+    assert!(g["adapter"].is_string());
+    assert_eq!(c["backend"], "cpu");
+    assert!(c["classes"]["direct"].as_u64().unwrap() > 0);
+    assert_eq!(g["classes"], c["classes"], "blade classes differ");
+    assert_eq!(g["lod_cells"], c["lod_cells"], "levels of detail differ");
+}
+
+#[test]
+fn auto_takes_the_cpu_on_a_software_adapter() {
+    let d = dir("auto");
+    let out = d.join("out");
+    let o = trample(&[
+        "simulate",
+        "--frames",
+        "2",
+        "--backend",
+        "auto",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    if err.contains("software adapter") || err.contains("no GPU adapter") {
+        assert_eq!(s["backend"], "cpu", "{err}");
+    } else {
+        assert_eq!(s["backend"], "gpu", "{err}");
+    }
+}
+
+#[test]
+fn run_on_the_gpu_renders_and_says_so() {
+    let d = dir("run");
+    let scene = d.join("scene.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let out = d.join("out");
+    let o = trample(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--frames",
+        "20",
+        "--every",
+        "10",
+        "--size",
+        "64x64",
+        "--backend",
+        "gpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    ok(&o);
+    let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(s["backend"], "gpu");
+    assert!(out.join("frame_0010.png").exists());
+}

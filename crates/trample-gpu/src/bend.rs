@@ -1,0 +1,58 @@
+//! Blade deformation on the GPU (paper §6.1, Eq. 5–7, Fig. 7): dispatches
+//! `bend.wgsl` over every blade; those with a force this sub-step (DBG or
+//! PBG) bend, as `trample::deform::bend::bend_blade` does. Flat terrain
+//! only (the ground guard compares with one height).
+
+use crate::field::GpuField;
+use crate::kernel::{Kernel, Slot};
+
+/// The WGSL source as compiled (`blade.wgsl` prepended).
+#[must_use]
+pub fn source() -> String {
+    format!("{}\n{}", crate::BLADE_WGSL, include_str!("bend.wgsl"))
+}
+
+/// The compiled bending kernel.
+pub struct Bend {
+    kernel: Kernel,
+}
+
+impl Bend {
+    /// Compiles the kernel on `device`.
+    #[must_use]
+    pub fn new(device: &wgpu::Device) -> Self {
+        use Slot::{Read, ReadWrite, Uniform};
+        Self {
+            kernel: Kernel::new(
+                device,
+                "trample-gpu bend",
+                &source(),
+                &[Uniform, ReadWrite, Read, Read, Read, ReadWrite],
+                &["bend"],
+            ),
+        }
+    }
+
+    /// Records the bending of every forced blade.
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &GpuField,
+        params: &wgpu::Buffer,
+        groups: (u32, u32),
+    ) {
+        let group = self.kernel.bind(
+            device,
+            &[
+                params,
+                &field.pos,
+                &field.force,
+                &field.generation,
+                &field.seg_len,
+                &field.displaced,
+            ],
+        );
+        self.kernel.dispatch(encoder, 0, &group, groups);
+    }
+}

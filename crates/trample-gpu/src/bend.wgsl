@@ -1,0 +1,52 @@
+// Deformation of every blade with a force (paper §6.1, Eq. 5–7, Fig. 7;
+// DESIGN §6): offset-base vector, weights, length preservation, ground
+// guard. `trample::deform::bend::bend_blade` with `v1 = F · h` (ours:
+// frame-rate independence), `num` = hit count for DBG, 1 for PBG.
+
+@group(0) @binding(0) var<uniform> params: StepParams;
+@group(0) @binding(1) var<storage, read_write> pos: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read> force: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> generation: array<u32>;
+@group(0) @binding(4) var<storage, read> seg_len: array<f32>;
+@group(0) @binding(5) var<storage, read_write> displaced: array<u32>;
+
+// `bend::offset_base` (Eq. 5): the part of v1 perpendicular to AB, over num.
+fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: u32) -> vec3<f32> {
+    let ab_len2 = dot(ab, ab);
+    if ab_len2 <= 1.17549435e-38 {
+        return vec3<f32>(0.0);
+    }
+    let perpendicular = v1 - ab * (dot(v1, ab) / ab_len2);
+    if dot(perpendicular, perpendicular) <= 1e-12 * dot(v1, v1) {
+        return vec3<f32>(0.0);
+    }
+    return perpendicular / f32(max(num, 1u));
+}
+
+@compute @workgroup_size(64)
+fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let b = blade_index(gid);
+    let count = params.counts.x;
+    if b >= count || generation[b] == NO_GENERATION {
+        return;
+    }
+    let n = min(params.counts.y, MAX_VERTS - 1u);
+    var v: array<vec3<f32>, MAX_VERTS>;
+    for (var k = 0u; k <= n; k++) {
+        v[k] = pos[k * count + b].xyz;
+    }
+    let f = force[b];
+    let base = offset_base(v[n] - v[0], f.xyz * params.a.x, u32(f.w));
+    if all(base == vec3<f32>(0.0)) {
+        return;
+    }
+    // Eq. 6: V_i += P(i) · base.
+    for (var i = 1u; i <= n; i++) {
+        v[i] += base * weight(i - 1u);
+    }
+    preserve_lengths(&v, n, seg_len[b]);
+    for (var k = 1u; k <= n; k++) {
+        pos[k * count + b] = vec4<f32>(v[k], 0.0);
+    }
+    displaced[b] = 1u;
+}

@@ -1,0 +1,138 @@
+//! A compute kernel: one WGSL module (with `blade.wgsl` prepended where the
+//! stage shares it), one explicit bind-group layout shared by all its entry
+//! points, one pipeline per entry point. Compiled once, kept apart from the
+//! buffers it runs on.
+
+/// How a binding is used.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Slot {
+    Uniform,
+    Read,
+    ReadWrite,
+}
+
+/// Pipelines of one module over one bind-group layout.
+pub(crate) struct Kernel {
+    layout: wgpu::BindGroupLayout,
+    pipelines: Vec<wgpu::ComputePipeline>,
+}
+
+impl Kernel {
+    /// Compiles `entries` of `source`; binding `i` of group 0 is `slots[i]`.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        label: &str,
+        source: &str,
+        slots: &[Slot],
+        entries: &[&str],
+    ) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let layout_entries: Vec<wgpu::BindGroupLayoutEntry> = slots
+            .iter()
+            .enumerate()
+            .map(|(i, s)| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: match s {
+                        Slot::Uniform => wgpu::BufferBindingType::Uniform,
+                        Slot::Read => wgpu::BufferBindingType::Storage { read_only: true },
+                        Slot::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
+                    },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &layout_entries,
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipelines = entries
+            .iter()
+            .map(|e| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(e),
+                    layout: Some(&pipeline_layout),
+                    module: &module,
+                    entry_point: Some(e),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    cache: None,
+                })
+            })
+            .collect();
+        Self { layout, pipelines }
+    }
+
+    /// A bind group of `buffers`, binding `i` = `buffers[i]`.
+    pub(crate) fn bind(&self, device: &wgpu::Device, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &self.layout,
+            entries: &entries,
+        })
+    }
+
+    /// Records entry point `entry` (index into the `entries` given to
+    /// [`Kernel::new`]) over `groups` workgroups, in a pass of its own.
+    pub(crate) fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        entry: usize,
+        group: &wgpu::BindGroup,
+        groups: (u32, u32),
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: None,
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipelines[entry]);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
+    }
+}
+
+impl Kernel {
+    /// As [`Kernel::dispatch`], with the workgroup counts read from
+    /// `args` (three `u32`, written by an earlier pass).
+    pub(crate) fn dispatch_indirect(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        entry: usize,
+        group: &wgpu::BindGroup,
+        args: &wgpu::Buffer,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: None,
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipelines[entry]);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups_indirect(args, 0);
+    }
+}
+
+/// Workgroups (x, y) covering `count` threads of 64: at most
+/// `max_per_dimension` in x (the shaders index x + y · x_groups · 64).
+pub(crate) fn grid(count: u32, max_per_dimension: u32) -> (u32, u32) {
+    let groups = count.div_ceil(64).max(1);
+    let max = max_per_dimension.max(1);
+    (groups.min(max), groups.div_ceil(max))
+}

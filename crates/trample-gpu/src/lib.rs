@@ -1,0 +1,81 @@
+//! # trample-gpu — the stages of `Simulation::step` as wgpu compute
+//!
+//! The GPU path of DESIGN §7: the same stages as the CPU reference in
+//! `trample` (which is the specification), one WGSL file per stage beside
+//! the Rust file that dispatches it, and a parity test per stage. The
+//! library never creates a device: every function takes a `&wgpu::Device`
+//! and `&wgpu::Queue` (STYLE rule 3). Blade buffers live on the GPU in the
+//! CPU's vertex-major layout ([`field::GpuField`]), so a renderer can draw
+//! from them.
+//!
+//! ## Status (issue 4) — what is done and what is not
+//!
+//! | stage | status |
+//! | --- | --- |
+//! | poses | **CPU** (pure function of time), uploaded per object ([`object::GpuObject::set_pose`]) |
+//! | LOD per cell, billboards (Eq. 8), transitions (Eq. 9–13), billboard recovery | **done** ([`cells`]), whole-run parity-tested |
+//! | broad phase | not yet: every geometric blade runs the root-box test (same hits, more work) |
+//! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested |
+//! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
+//! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested; flat terrain only |
+//! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
+//! | chunking of fields over one storage binding | **not yet**: refused with [`GpuError::TooLarge`] ([`GpuSimulation::supports`]) |
+//! | terrain other than flat | **not yet**: refused with [`GpuError::Unsupported`] |
+//! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`); `run` reads the state back per rendered frame: the renderer does not draw from [`GpuField::pos`] yet |
+//! | per-stage GPU times in `summary.json` | **partly**: profiling mode ([`GpuSimulation::set_profiling`]) submits and waits per stage; timestamp queries not yet |
+//! | device loss / out of memory | caught by the CLI (uncaptured-error and device-lost callbacks), `auto` falls back to the CPU; not provoked in a test |
+//!
+//! Parity tests (`tests/`): narrow phase + EqF (hit flags identical at
+//! precisions 1–7 on sphere, box, capsule, knot), propagation (generations
+//! identical), bending + recovery, and whole runs (300 frames: vertices
+//! within 1e-3 m, measured 1.3e-5 m on llvmpipe; classes, DBG/PBG counts
+//! and levels identical). Known problem: on lavapipe (Vulkan) the
+//! narrow-phase kernel is about 100× slower than on llvmpipe through GL (≈ 1 s
+//! a dispatch for 4,096 geometric blades), so the whole-run tests take too
+//! long there; suspected, not verified: the 66-entry private stacks of the
+//! walk. llvmpipe through GL (what CI uses) is fine.
+
+pub mod bend;
+pub mod cells;
+pub mod error;
+pub mod field;
+mod kernel;
+pub mod narrow_phase;
+pub mod object;
+mod profile;
+pub mod propagation;
+pub mod query;
+pub mod readback;
+pub mod recovery;
+pub mod simulation;
+pub mod step_params;
+
+pub use error::GpuError;
+pub use field::{GpuField, GpuForce};
+pub use narrow_phase::NarrowPhase;
+pub use object::{GpuNode, GpuObject, GpuObjectParams};
+pub use simulation::GpuSimulation;
+pub use step_params::{GpuCounters, GpuStepParams};
+/// The wgpu this crate is built against (the workspace pins one major version).
+pub use wgpu;
+
+/// `blade.wgsl`: step parameters, counters and length preservation, shared
+/// by the step stages (prepended to their sources; not a stage itself).
+pub const BLADE_WGSL: &str = include_str!("blade.wgsl");
+
+/// `segment_obb.wgsl`: the segment–OBB test, shared by the narrow phase and
+/// the billboards (prepended; not a stage itself).
+pub const SEGMENT_OBB_WGSL: &str = include_str!("segment_obb.wgsl");
+
+/// Every WGSL stage of the crate as compiled, by file name (for the naga
+/// validation test). `blade.wgsl` is part of each step stage.
+#[must_use]
+pub fn shader_sources() -> Vec<(&'static str, String)> {
+    vec![
+        ("narrow_phase.wgsl", narrow_phase::source()),
+        ("cells.wgsl", cells::source()),
+        ("propagation.wgsl", propagation::source()),
+        ("bend.wgsl", bend::source()),
+        ("recovery.wgsl", recovery::source()),
+    ]
+}

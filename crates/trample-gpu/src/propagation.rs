@@ -1,0 +1,139 @@
+//! Force propagation on the GPU (paper §5.2, Eq. 4; DESIGN §5): dispatches
+//! `propagation.wgsl` as generation passes, a gather with a fixed
+//! neighbour order (no float atomics), all in the caller's encoder. Matches
+//! `trample::force::propagation::propagate_forces` on grids whose neighbour
+//! relation is mutual (every field layout's is).
+//!
+//! Without a read-back the host does not know when propagation ends, so it
+//! records `max_generations` gather passes as indirect dispatches whose
+//! size `advance` writes: zero workgroups once a generation reached no
+//! blade (or at the cap).
+
+use crate::field::GpuField;
+use crate::kernel::{Kernel, Slot};
+
+/// The WGSL source as compiled (`blade.wgsl` prepended).
+#[must_use]
+pub fn source() -> String {
+    format!(
+        "{}\n{}",
+        crate::BLADE_WGSL,
+        include_str!("propagation.wgsl")
+    )
+}
+
+const BEGIN: usize = 0;
+const SEED: usize = 1;
+const GATHER: usize = 2;
+const ADVANCE: usize = 3;
+
+/// The compiled propagation kernels and the indirect arguments of the
+/// gather passes.
+pub struct Propagation {
+    kernel: Kernel,
+    next_gather: wgpu::Buffer,
+    /// Stands in for `next_gather` in the gather passes' bind group: a
+    /// buffer may not be storage and indirect arguments in one dispatch.
+    unused_args: wgpu::Buffer,
+}
+
+impl Propagation {
+    /// Compiles the kernels on `device`.
+    #[must_use]
+    pub fn new(device: &wgpu::Device) -> Self {
+        use Slot::{Read, ReadWrite, Uniform};
+        Self {
+            kernel: Kernel::new(
+                device,
+                "trample-gpu propagation",
+                &source(),
+                &[
+                    Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite,
+                ],
+                &["begin", "seed", "gather", "advance"],
+            ),
+            unused_args: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu gather dispatch (unused)"),
+                size: 12,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+            next_gather: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu gather dispatch"),
+                size: 12,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    /// Records the reset of the counters and of the propagation state: the
+    /// first pass of every sub-step.
+    pub fn record_reset(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &GpuField,
+        params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
+    ) {
+        let group = self.kernel.bind(
+            device,
+            &[
+                params,
+                state,
+                &field.force,
+                &field.generation,
+                &field.class,
+                &field.neighbours,
+                &self.next_gather,
+            ],
+        );
+        self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
+    }
+
+    /// Records generation 0 (DBG) from the narrow phase's hit counts, then
+    /// `passes` gather passes (Eq. 4). [`Propagation::record_reset`] must
+    /// come first in the sub-step.
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &GpuField,
+        params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
+        groups: (u32, u32),
+        passes: u32,
+    ) {
+        let group = self.kernel.bind(
+            device,
+            &[
+                params,
+                state,
+                &field.force,
+                &field.generation,
+                &field.class,
+                &field.neighbours,
+                &self.next_gather,
+            ],
+        );
+        self.kernel.dispatch(encoder, SEED, &group, groups);
+        let gather_group = self.kernel.bind(
+            device,
+            &[
+                params,
+                state,
+                &field.force,
+                &field.generation,
+                &field.class,
+                &field.neighbours,
+                &self.unused_args,
+            ],
+        );
+        for _ in 0..passes {
+            self.kernel
+                .dispatch_indirect(encoder, GATHER, &gather_group, &self.next_gather);
+            self.kernel.dispatch(encoder, ADVANCE, &group, (1, 1));
+        }
+    }
+}

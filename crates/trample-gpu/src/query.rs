@@ -1,0 +1,61 @@
+//! `trample collide` on the GPU: which segments of the blades at rest the
+//! objects hit at one instant, at a precision. The GPU counterpart of
+//! `trample::Simulation::segment_hits_at_rest` with `HitMode::Precision`
+//! (the exact mode stays on the CPU: it needs f64 triangle tests).
+
+use trample::Simulation;
+use trample::field::Lod;
+
+use crate::error::GpuError;
+use crate::field::GpuField;
+use crate::narrow_phase::NarrowPhase;
+use crate::object::GpuObject;
+
+/// One byte per segment, blade-major (`flags[b * n + k]`): 1 where segment
+/// k of blade b at rest hits an object posed at time `t`, at `precision`.
+/// Every cell counts as geometric, as in the CPU query.
+///
+/// # Errors
+/// From the uploads and the read-back.
+pub fn segment_hits_at_rest(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    sim: &Simulation,
+    t: f32,
+    precision: u32,
+) -> Result<Vec<u8>, GpuError> {
+    let f = &sim.field;
+    let mut blades = f.blades.clone();
+    blades.pos.clone_from(&blades.rest);
+    let lod = vec![Lod::Geometry; f.cells.lod.len()];
+    let field = GpuField::new(
+        device,
+        &blades,
+        &lod,
+        f.layout.blades_per_cell,
+        &f.layout.neighbours,
+    )?;
+    let mut objects = sim
+        .bodies
+        .iter()
+        .map(|b| {
+            let mut o = GpuObject::new(device, &b.tree)?;
+            o.set_pose(&b.object.pose_at(t));
+            Ok(o)
+        })
+        .collect::<Result<Vec<_>, GpuError>>()?;
+    let n = blades.segments;
+    if objects.is_empty() {
+        return Ok(vec![0; blades.count * n]);
+    }
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("trample-gpu collide"),
+    });
+    NarrowPhase::new(device).record(device, queue, &mut encoder, &field, &mut objects, precision);
+    queue.submit([encoder.finish()]);
+    let masks = field.read_hit_masks(device, queue)?;
+    Ok(masks
+        .iter()
+        .flat_map(|m| (0..n).map(move |k| u8::from(m & (1 << k) != 0)))
+        .collect())
+}

@@ -1,0 +1,381 @@
+//! `GpuSimulation::step`: the sub-steps of DESIGN §7 on the GPU, each one
+//! submission of named passes in a fixed order (narrow phase + EqF per
+//! object → propagation generations → bending → recovery), with no
+//! read-back. The blade buffers stay on the GPU across steps.
+//!
+//! The wrapped [`Simulation`] supplies what is still computed on the CPU:
+//! the sub-step plan (`plan_substeps`, shared with the core) and the poses
+//! (`Motion::pose_at`, a pure function of time, a few floats per object).
+//! Its own blade arrays are **not** updated by [`GpuSimulation::step`]:
+//! read the field back with [`GpuField::read_positions`].
+//!
+//! Not yet on the GPU (see the crate docs): broad phase by patch (every
+//! blade runs the root-box test instead), terrain other than flat,
+//! per-stage timestamps, fields over one storage binding.
+
+use trample::Simulation;
+use trample::deform::bend::weights;
+use trample::field::generate::GROUND_CLEARANCE_M;
+use trample::field::{Lod, Terrain};
+use trample::force::propagation::GENERATION_CAP;
+use trample::step::stages::plan_substeps;
+use wgpu::util::DeviceExt;
+
+use crate::bend::Bend;
+use crate::cells::{Cells, GpuWorldObb};
+use crate::error::GpuError;
+use crate::field::GpuField;
+use crate::kernel::grid;
+use crate::narrow_phase::NarrowPhase;
+use crate::object::GpuObject;
+use crate::profile::{Laps, new_encoder};
+use crate::propagation::Propagation;
+use crate::readback::read_buffer;
+use crate::recovery::Recovery;
+use crate::step_params::{GpuCounters, GpuStepParams};
+
+/// A simulation whose blades live and move on the GPU.
+pub struct GpuSimulation {
+    /// CPU side: parameters, bodies and their poses, time, frame. Its blade
+    /// arrays keep their state from creation (see the module docs).
+    pub sim: Simulation,
+    /// The field on the GPU: draw from [`GpuField::pos`].
+    pub field: GpuField,
+    objects: Vec<GpuObject>,
+    narrow: NarrowPhase,
+    propagation: Propagation,
+    bend: Bend,
+    recovery: Recovery,
+    cells: Cells,
+    world_roots: wgpu::Buffer,
+    params: wgpu::Buffer,
+    state: wgpu::Buffer,
+    ground: f32,
+    /// Profiling mode (see [`GpuSimulation::set_profiling`]).
+    profiling: bool,
+}
+
+impl GpuSimulation {
+    /// Profiling mode: each stage of a sub-step is submitted and waited
+    /// for on its own, and its wall time goes into `sim.timings`
+    /// (`lod_ms`, `narrow_ms` (with EqF), `propagation_ms`,
+    /// `deformation_ms` (blades and billboards), `transitions_ms`,
+    /// `recovery_ms`). Slower; off by default, when `sim.timings` holds only
+    /// `total_ms` (recording time, the GPU runs on asynchronously), the
+    /// sub-step counts and, after [`GpuSimulation::sync_to_cpu`], the counters.
+    pub fn set_profiling(&mut self, on: bool) {
+        self.profiling = on;
+    }
+
+    /// Whether the GPU path can run `sim` on `device`: flat terrain, and
+    /// blade positions within one storage binding (chunking is not done
+    /// yet). Checks before anything is allocated.
+    ///
+    /// # Errors
+    /// [`GpuError::Unsupported`] or [`GpuError::TooLarge`], saying why.
+    pub fn supports(device: &wgpu::Device, sim: &Simulation) -> Result<(), GpuError> {
+        if !matches!(sim.field.terrain, Terrain::Flat(_)) {
+            return Err(GpuError::Unsupported(
+                "terrain other than flat (the GPU ground guard is flat only)",
+            ));
+        }
+        let bytes = sim.field.blades.pos.len() as u64 * 16;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "blade positions (chunking into patches is not done yet)",
+                bytes,
+                limit,
+            });
+        }
+        Ok(())
+    }
+
+    /// Uploads `sim`'s field and objects to `device`.
+    ///
+    /// # Errors
+    /// [`GpuError::Unsupported`] for terrain other than flat (not yet on the
+    /// GPU); [`GpuError::TooLarge`] / [`GpuError::Layout`] from the uploads.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: Simulation,
+    ) -> Result<Self, GpuError> {
+        let ground = match sim.field.terrain {
+            Terrain::Flat(h) => h,
+            _ => {
+                return Err(GpuError::Unsupported(
+                    "terrain other than flat (the GPU ground guard is flat only)",
+                ));
+            }
+        };
+        let field = GpuField::from_field(device, queue, &sim.field)?;
+        let objects = sim
+            .bodies
+            .iter()
+            .map(|b| GpuObject::new(device, &b.tree))
+            .collect::<Result<Vec<_>, _>>()?;
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("trample-gpu step params"),
+            size: std::mem::size_of::<GpuStepParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let state = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("trample-gpu counters"),
+            contents: bytemuck::bytes_of(&GpuCounters::default()),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        let world_roots = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("trample-gpu world root boxes"),
+            size: (sim.bodies.len().max(1) * std::mem::size_of::<GpuWorldObb>()) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            cells: Cells::new(device),
+            world_roots,
+            sim,
+            field,
+            objects,
+            narrow: NarrowPhase::new(device),
+            propagation: Propagation::new(device),
+            bend: Bend::new(device),
+            recovery: Recovery::new(device),
+            params,
+            state,
+            ground,
+            profiling: false,
+        })
+    }
+
+    /// The step uniform for a sub-step of `h` seconds.
+    fn step_params(&self, h: f32, groups_x: u32, cell_groups_x: u32) -> GpuStepParams {
+        let p = &self.sim.params;
+        let n = self.field.segments as usize;
+        let w = weights(n, p.weight_a, p.weight_b);
+        let mut packed = [[0.0; 4]; 4];
+        for (i, wi) in w.iter().enumerate() {
+            packed[i / 4][i % 4] = *wi;
+        }
+        let att = if p.att.is_nan() {
+            0.0
+        } else {
+            p.att.clamp(0.0, 1.0)
+        };
+        let recovery_on = p.recovery_s.is_finite();
+        GpuStepParams {
+            a: [h, att, p.threshold, self.ground],
+            b: [
+                GROUND_CLEARANCE_M,
+                if recovery_on { p.recovery_s } else { 0.0 },
+                p.trail,
+                if recovery_on { 1.0 } else { 0.0 },
+            ],
+            weights: packed,
+            counts: [
+                self.field.count,
+                self.field.segments,
+                p.max_generations.min(GENERATION_CAP),
+                groups_x,
+            ],
+            eye: [
+                self.sim.view.eye.x,
+                self.sim.view.eye.y,
+                self.sim.view.eye.z,
+                self.sim.lod.geometry_m,
+            ],
+            lod: [self.sim.lod.billboard_m, 0.0, 0.0, 0.0],
+            cells: [
+                self.field.cell_count,
+                self.field.blades_per_cell,
+                self.objects.len() as u32,
+                cell_groups_x,
+            ],
+        }
+    }
+
+    /// Advances the simulation by `dt` seconds: the same sub-steps and
+    /// poses as `Simulation::step`, every stage on the GPU, one submission
+    /// per sub-step, nothing read back. Returns the number of sub-steps.
+    ///
+    /// # Errors
+    /// `dt` must be positive and finite ([`GpuError::Layout`] otherwise).
+    pub fn step(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        dt: f32,
+    ) -> Result<u32, GpuError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(GpuError::Layout(format!(
+                "dt = {dt} must be positive and finite"
+            )));
+        }
+        let start = std::time::Instant::now();
+        self.sim.timings = trample::StepTimings::default();
+        let plan = plan_substeps(&self.sim, dt);
+        let substeps = plan.substeps;
+        let h = dt / substeps as f32;
+        let max = device.limits().max_compute_workgroups_per_dimension;
+        let groups = grid(self.field.count, max);
+        let cell_groups = grid(self.field.cell_count, max);
+        let cell_group = self.cells.bind(
+            device,
+            &self.field,
+            &self.params,
+            &self.state,
+            &self.world_roots,
+        );
+        for i in 1..=substeps {
+            let t = (self.sim.time + f64::from(h) * f64::from(i)) as f32;
+            // Poses and the viewpoint: on the CPU (pure functions of time).
+            let mut roots = Vec::with_capacity(self.objects.len().max(1));
+            for (body, obj) in self.sim.bodies.iter_mut().zip(&mut self.objects) {
+                body.set_time(t);
+                obj.set_pose(&body.pose);
+                roots.push(GpuWorldObb::new(&body.world_root, &self.sim.field.layout));
+            }
+            let positions: Vec<_> = self.sim.bodies.iter().map(|b| b.pose.position).collect();
+            self.sim.view = self.sim.camera.view_at(t, &positions);
+            let params = self.step_params(h, groups.0, cell_groups.0);
+            queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+            if !roots.is_empty() {
+                queue.write_buffer(&self.world_roots, 0, bytemuck::cast_slice(&roots));
+            }
+            let mut encoder = new_encoder(device);
+            let mut laps = Laps::new(self.profiling);
+            let tm = &mut self.sim.timings;
+            self.propagation.record_reset(
+                device,
+                &mut encoder,
+                &self.field,
+                &self.params,
+                &self.state,
+            );
+            self.cells
+                .record_classify(&mut encoder, &cell_group, cell_groups);
+            laps.lap(device, queue, &mut encoder, &mut tm.lod_ms);
+            if !self.objects.is_empty() {
+                self.narrow.record(
+                    device,
+                    queue,
+                    &mut encoder,
+                    &self.field,
+                    &mut self.objects,
+                    self.sim.params.precision,
+                );
+                laps.lap(device, queue, &mut encoder, &mut tm.narrow_ms);
+                self.propagation.record(
+                    device,
+                    &mut encoder,
+                    &self.field,
+                    &self.params,
+                    &self.state,
+                    groups,
+                    params.counts[2],
+                );
+                laps.lap(device, queue, &mut encoder, &mut tm.propagation_ms);
+                self.bend
+                    .record(device, &mut encoder, &self.field, &self.params, groups);
+            }
+            self.cells
+                .record_billboards(&mut encoder, &cell_group, cell_groups);
+            laps.lap(device, queue, &mut encoder, &mut tm.deformation_ms);
+            self.cells
+                .record_transitions(&mut encoder, &cell_group, cell_groups);
+            laps.lap(device, queue, &mut encoder, &mut tm.transitions_ms);
+            self.recovery.record(
+                device,
+                &mut encoder,
+                &self.field,
+                &self.params,
+                &self.state,
+                groups,
+            );
+            self.cells
+                .record_recover_slopes(&mut encoder, &cell_group, cell_groups);
+            laps.lap(device, queue, &mut encoder, &mut tm.recovery_ms);
+            queue.submit([encoder.finish()]);
+        }
+        self.sim.timings.visible_patches = trample::field::cull_patches(
+            &self.sim.field.layout.patch_list,
+            &self.sim.view.frustum(),
+            &mut self.sim.visible,
+        );
+        self.sim.time += f64::from(dt);
+        self.sim.frame += 1;
+        let tm = &mut self.sim.timings;
+        tm.substeps = substeps;
+        tm.substeps_needed = plan.needed;
+        tm.total_ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(substeps)
+    }
+
+    /// Copies the GPU state back into [`GpuSimulation::sim`]: blade
+    /// positions, classes and generations, cell levels and billboard slopes,
+    /// and the last sub-step's counters into `sim.timings` (DBG, PBG,
+    /// generations, displaced blades, cells per level). For dumps and summaries at the end of
+    /// a run, not per frame.
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails (device lost).
+    pub fn sync_to_cpu(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<(), GpuError> {
+        let pos = self.field.read_positions(device, queue)?;
+        for (p, q) in self.sim.field.blades.pos.iter_mut().zip(&pos) {
+            *p = glam::Vec3A::new(q[0], q[1], q[2]);
+        }
+        let class = self.field.read_u32(device, queue, &self.field.class)?;
+        for (c, &k) in self.sim.class.iter_mut().zip(&class) {
+            *c = k.min(2) as u8;
+        }
+        let generation = self.field.read_u32(device, queue, &self.field.generation)?;
+        for (g, &k) in self.sim.generation.iter_mut().zip(&generation) {
+            *g = k.min(255) as u8;
+        }
+        let state = self.field.read_u32(device, queue, &self.field.cell_state)?;
+        let slopes: Vec<[f32; 4]> = read_buffer(device, queue, &self.field.slope, "slopes")?;
+        let cells = &mut self.sim.field.cells;
+        for (c, &s) in state.iter().enumerate().take(cells.lod.len()) {
+            cells.lod[c] = match s & 3 {
+                0 => Lod::Geometry,
+                1 => Lod::Billboard,
+                _ => Lod::Texture,
+            };
+            cells.slope[c] = glam::Vec3::new(slopes[c][0], slopes[c][1], slopes[c][2]);
+        }
+        let mut lod = trample::field::LodCounts::default();
+        for l in &cells.lod {
+            match l {
+                Lod::Geometry => lod.geometry += 1,
+                Lod::Billboard => lod.billboard += 1,
+                Lod::Texture => lod.texture += 1,
+            }
+        }
+        let k = self.read_counters(device, queue)?;
+        let t = &mut self.sim.timings;
+        t.lod = lod;
+        t.dbg_blades = k.dbg;
+        t.pbg_blades = k.pbg;
+        t.generations = k.generations;
+        t.displaced_blades = k.displaced;
+        Ok(())
+    }
+
+    /// Reads back the counters of the last sub-step (DBG, PBG, generations,
+    /// displaced blades). For tests and summaries; not per frame.
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn read_counters(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<GpuCounters, GpuError> {
+        Ok(read_buffer::<GpuCounters>(device, queue, &self.state, "counters")?[0])
+    }
+}

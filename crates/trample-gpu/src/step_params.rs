@@ -1,0 +1,48 @@
+//! The per-step uniform and the GPU-side counters shared by the step
+//! kernels (`blade.wgsl`).
+
+use bytemuck::{Pod, Zeroable};
+
+/// Step parameters. Layout-compatible with `StepParams` in `blade.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct GpuStepParams {
+    /// Sub-step h (s), att (Eq. 4), threshold L (m/s), ground height (m).
+    pub a: [f32; 4],
+    /// Ground clearance (m), recovery_s, trail, recovery on (1) / off (0).
+    pub b: [f32; 4],
+    /// P(1) … P(15) of Eq. 7 (`trample::deform::bend::weights`), zero beyond n.
+    pub weights: [[f32; 4]; 4],
+    /// Blade count, segments, generation passes (cap), workgroups in x.
+    pub counts: [u32; 4],
+    /// LOD viewpoint xyz (the camera eye of the sub-step), `geometry_m`.
+    pub eye: [f32; 4],
+    /// `billboard_m`, unused ×3.
+    pub lod: [f32; 4],
+    /// Cell count, blades per cell, object count, cell workgroups in x.
+    pub cells: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 160);
+
+/// Counters of the last sub-step. Layout-compatible with `State` in `blade.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct GpuCounters {
+    /// Current generation of the propagation.
+    pub g: u32,
+    /// 1 once propagation has ended.
+    pub stop: u32,
+    /// Set by a gather pass that reached a blade.
+    pub any: u32,
+    /// Generations of children created (PBG generations).
+    pub generations: u32,
+    /// DBG blades.
+    pub dbg: u32,
+    /// PBG blades.
+    pub pbg: u32,
+    /// Blades still away from rest after recovery.
+    pub displaced: u32,
+    /// Cells that changed level of detail (transitions).
+    pub transitions: u32,
+}
+const _: () = assert!(std::mem::size_of::<GpuCounters>() == 32);

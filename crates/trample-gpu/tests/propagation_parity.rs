@@ -1,0 +1,131 @@
+//! Parity of the propagation stage alone (paper §5.2, Eq. 4): the GPU's
+//! generation passes against `trample::force::propagation::propagate_forces`
+//! on the same DBG forces, over a generated field's neighbour table (it
+//! crosses patch borders). Generations must be identical and forces equal
+//! (both sum the same terms in the same order).
+
+mod common;
+
+use glam::Vec3;
+use trample::field::{Field, FieldParams, Terrain};
+use trample::force::propagation::{NO_GENERATION, PropagationParams, propagate_forces};
+use trample_gpu::readback::read_buffer;
+use trample_gpu::{GpuCounters, GpuField, GpuForce, GpuStepParams};
+use wgpu::util::DeviceExt;
+
+#[test]
+fn generations_and_forces_match_the_cpu() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let params = FieldParams {
+        patches: [4, 4],
+        cells_per_patch: 8,
+        ..FieldParams::default()
+    };
+    let field = Field::generate(&params, Terrain::Flat(0.0)).unwrap();
+    let count = field.blades.count;
+    let g = GpuField::from_field(device, queue, &field).unwrap();
+    let prop = PropagationParams {
+        att: 0.5,
+        threshold: 0.25,
+        max_generations: 32,
+    };
+    // Deterministic DBG blades with horizontal-ish forces of 0.3–6 m/s.
+    let mut seed = 0x1234_5678_9abc_def0u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut force = vec![Vec3::ZERO; count];
+    let mut dbg = Vec::new();
+    for _ in 0..40 {
+        let b = (next() * count as f32) as usize % count;
+        let f = Vec3::new(next() * 2.0 - 1.0, next() * 0.2, next() * 2.0 - 1.0).normalize()
+            * (0.3 + 5.7 * next());
+        if force[b] == Vec3::ZERO {
+            force[b] = f;
+            dbg.push(b as u32);
+        }
+    }
+    dbg.sort_unstable();
+    let gpu_forces: Vec<GpuForce> = force
+        .iter()
+        .map(|f| GpuForce {
+            force: f.to_array(),
+            num: if *f == Vec3::ZERO { 0.0 } else { 1.0 },
+        })
+        .collect();
+    g.write_forces(queue, &gpu_forces);
+
+    let groups_x = (count as u32).div_ceil(64);
+    let step = GpuStepParams {
+        a: [1.0 / 60.0, prop.att, prop.threshold, 0.0],
+        b: [0.002, 0.0, 0.0, 0.0],
+        weights: [[0.0; 4]; 4],
+        counts: [
+            count as u32,
+            field.blades.segments as u32,
+            prop.max_generations,
+            groups_x,
+        ],
+        eye: [0.0; 4],
+        lod: [0.0; 4],
+        cells: [0; 4],
+    };
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::bytes_of(&step),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let state = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::bytes_of(&GpuCounters::default()),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+    });
+    let kernel = trample_gpu::propagation::Propagation::new(device);
+    let mut enc = device.create_command_encoder(&Default::default());
+    kernel.record_reset(device, &mut enc, &g, &uniform, &state);
+    kernel.record(
+        device,
+        &mut enc,
+        &g,
+        &uniform,
+        &state,
+        (groups_x, 1),
+        prop.max_generations,
+    );
+    queue.submit([enc.finish()]);
+
+    let mut generation = vec![NO_GENERATION; count];
+    let cpu = propagate_forces(
+        &dbg,
+        &field.layout.neighbours,
+        &mut force,
+        &mut generation,
+        &prop,
+    );
+    let gpu_gen = g.read_u32(device, queue, &g.generation).unwrap();
+    let gpu_force = g.read_forces(device, queue).unwrap();
+    let counters: Vec<GpuCounters> = read_buffer(device, queue, &state, "counters").unwrap();
+    assert!(cpu.pbg.len() > 100, "only {} PBG blades", cpu.pbg.len());
+    eprintln!(
+        "{} DBG, {} PBG over {} generations (GPU: {} PBG, {} generations)",
+        dbg.len(),
+        cpu.pbg.len(),
+        cpu.generations,
+        counters[0].pbg,
+        counters[0].generations
+    );
+    assert_eq!(counters[0].pbg as usize, cpu.pbg.len());
+    assert_eq!(counters[0].generations, cpu.generations);
+    for b in 0..count {
+        assert_eq!(gpu_gen[b], u32::from(generation[b]), "blade {b}");
+        let d = Vec3::from_array(gpu_force[b].force) - force[b];
+        assert!(
+            d.length() <= 1e-6 * (1.0 + force[b].length()),
+            "blade {b}: {d}"
+        );
+    }
+}
