@@ -1,7 +1,8 @@
 //! `trample bench`: the pressure test writes a valid bench.json and charts,
 //! the accuracy numbers in it are sane (no false negatives, false positives
 //! never grow with precision), `--render` adds simulation + rendering frame
-//! rates, and the paths that are not built yet say so in one line.
+//! rates, `--backend both` times the GPU path beside the CPU path on the
+//! same frames, and bad flags fail in one line.
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -120,12 +121,12 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
     let cases: [(&[&str], &str); 8] = [
         (&["--render", "--scaling"], "--render: not with --scaling"),
         (
-            &["--backend", "gpu"],
-            "--backend gpu: the bench does not time the GPU path yet",
+            &["--backend", "gpu", "--render"],
+            "--render: with --backend cpu only",
         ),
         (
-            &["--backend", "both"],
-            "--backend both: the bench does not time the GPU path yet",
+            &["--backend", "both", "--scaling"],
+            "--backend both: --scaling times the CPU path only",
         ),
         (&["--backend", "tpu"], "--backend"),
         (&["--precisions", "0..3"], "--precisions \"0..3\""),
@@ -179,6 +180,54 @@ fn bench_render_adds_the_frame_rate_with_rendering() {
         let fps = |k: &str| x["fps"][k].as_f64().unwrap();
         assert!(fps("min") <= fps("avg") && fps("avg") <= fps("max"), "{x}");
         assert!(fps("avg") < p["fps"]["avg"].as_f64().unwrap(), "{p}");
+    }
+    assert_chart(&out.join("bench.png"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn bench_both_backends_time_the_same_frames() {
+    let d = dir("both");
+    let out = d.join("out");
+    let o = trample(&[
+        "bench",
+        "--frames",
+        "3",
+        "--precisions",
+        "2,3",
+        "--backend",
+        "both",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+    assert_eq!(r["backend"], "both");
+    assert!(r["adapter"].as_str().is_some_and(|a| !a.is_empty()), "{r}");
+    let runs = r["precisions"].as_array().unwrap();
+    let order: Vec<(String, u64)> = runs
+        .iter()
+        .map(|p| {
+            (
+                p["backend"].as_str().unwrap().to_string(),
+                p["precision"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        order,
+        [("cpu", 2), ("cpu", 3), ("gpu", 2), ("gpu", 3)].map(|(b, p)| (b.to_string(), p))
+    );
+    for (cpu, gpu) in runs[..2].iter().zip(&runs[2..]) {
+        // The GPU path agrees with the CPU path (trample-gpu's parity
+        // tests): the same blades are hit directly in the same frames.
+        assert_eq!(
+            cpu["dbg_blades_mean"], gpu["dbg_blades_mean"],
+            "{cpu} {gpu}"
+        );
+        let ms = gpu["step_ms"]["median"].as_f64().unwrap();
+        assert!(ms > 0.0, "{gpu}");
     }
     assert_chart(&out.join("bench.png"));
     std::fs::remove_dir_all(&d).unwrap();

@@ -27,10 +27,22 @@ const SCALING_FRAMES: u64 = 300;
 pub enum Backend {
     /// The CPU reference path.
     Cpu,
-    /// The GPU path (not built yet).
+    /// The GPU path (`trample-gpu`) on the adapter of `WGPU_BACKEND`.
     Gpu,
-    /// Both, side by side (needs the GPU path).
+    /// Both, side by side in one run.
     Both,
+}
+
+impl Backend {
+    /// The flag's spelling.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cpu => "cpu",
+            Self::Gpu => "gpu",
+            Self::Both => "both",
+        }
+    }
 }
 
 /// Arguments of `trample bench` (a contract: later tools and checks rely on them).
@@ -75,16 +87,16 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(a: &Args) -> Result<()> {
-    match a.backend {
-        Backend::Cpu => {}
-        Backend::Gpu | Backend::Both => bail!(
-            "--backend {}: the bench does not time the GPU path yet (`trample simulate --backend gpu` does, per stage); use --backend cpu",
-            if a.backend == Backend::Gpu {
-                "gpu"
-            } else {
-                "both"
-            }
-        ),
+    if a.scaling && a.backend != Backend::Cpu {
+        bail!(
+            "--backend {}: --scaling times the CPU path only (the GPU path refuses fields over one storage binding)",
+            a.backend.name()
+        );
+    }
+    if a.render && a.backend != Backend::Cpu {
+        bail!(
+            "--render: with --backend cpu only for now (the renderer does not draw from the GPU path's buffers yet)"
+        );
     }
     if a.render && a.scaling {
         bail!("--render: not with --scaling (scaling times the simulation alone)");
@@ -112,6 +124,7 @@ pub fn run(a: &Args) -> Result<()> {
         threads,
         out,
         render: a.render.then_some(a.size),
+        backend: a.backend,
     };
     if a.scaling {
         scaling::run(&scene, &setup)
@@ -132,6 +145,8 @@ pub struct Setup {
     pub out: PathBuf,
     /// Render each frame at this size too (`--render`).
     pub render: Option<(u32, u32)>,
+    /// Which paths to time (`--backend`).
+    pub backend: Backend,
 }
 
 /// A progress bar over `len` units of work.
@@ -188,6 +203,48 @@ fn time_frames(
         }
         let t = sim.step(dt)?.clone();
         tick(&sim)?;
+        steps.push(t);
+    }
+    Ok(steps)
+}
+
+/// [`time_frames`] on the GPU path: `GpuSimulation::step`, then the step's
+/// counters read back (32 bytes; the read-back waits for the GPU, so
+/// `total_ms` is the step's GPU time plus that wait). Restarts from the
+/// first state after every lap by uploading it again (not timed).
+fn time_frames_gpu(
+    gpu: &trample_render::headless::Gpu,
+    sim: Simulation,
+    frames: u64,
+    mut tick: impl FnMut(&Simulation) -> Result<()>,
+) -> Result<Vec<StepTimings>> {
+    use trample_gpu::GpuSimulation;
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    GpuSimulation::supports(device, &sim)?;
+    let lap = lap_frames(&sim).filter(|&l| l < frames);
+    let start = lap.map(|_| sim.clone());
+    let dt = sim.params.dt_s;
+    let mut g = GpuSimulation::new(device, queue, sim)?;
+    let mut steps = Vec::with_capacity(frames as usize);
+    for i in 0..frames {
+        if let (Some(lap), Some(start)) = (lap, &start)
+            && i > 0
+            && i % lap == 0
+        {
+            g = GpuSimulation::new(device, queue, start.clone())?;
+        }
+        let clock = std::time::Instant::now();
+        g.step(device, queue, dt)?;
+        let c = g.read_counters(device, queue)?;
+        let t = StepTimings {
+            total_ms: clock.elapsed().as_secs_f64() * 1e3,
+            dbg_blades: c.dbg,
+            pbg_blades: c.pbg,
+            generations: c.generations,
+            displaced_blades: c.displaced,
+            ..g.sim.timings.clone()
+        };
+        tick(&g.sim)?;
         steps.push(t);
     }
     Ok(steps)

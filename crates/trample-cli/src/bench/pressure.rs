@@ -6,7 +6,7 @@
 
 use super::chart::{COLORS, Chart, Series, line_chart, thousands};
 use super::machine::Machine;
-use super::{Setup, lap_frames, motion_end_s, progress, time_frames};
+use super::{Backend, Setup, lap_frames, motion_end_s, progress, time_frames};
 use crate::summary::{Recorder, Stats, write_json};
 use anyhow::Result;
 use plotters::prelude::SeriesLabelPosition;
@@ -53,9 +53,11 @@ struct ObjectInfo {
     tree_depth: u32,
 }
 
-/// One precision of the pressure test.
+/// One precision of the pressure test on one backend.
 #[derive(Serialize)]
 struct PrecisionRun {
+    /// `cpu` or `gpu`.
+    backend: &'static str,
     precision: u32,
     /// Frame rate of the simulation alone, 1000 / step ms: `min` from the
     /// slowest step, `max` from the fastest, `avg` = frames / total time.
@@ -117,23 +119,33 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         accuracy_scenes.push(knot);
     }
     eprintln!(
-        "trample bench: {} — {} blades x {} segments, {} object(s); precisions {:?}, {} frames each, {} thread(s), cpu",
+        "trample bench: {} — {} blades x {} segments, {} object(s); precisions {:?}, {} frames each, {} thread(s), backend {}",
         scene.source,
         base.field.blades.count,
         base.field.blades.segments,
         base.bodies.len(),
         setup.precisions,
         setup.frames,
-        setup.threads
+        setup.threads,
+        setup.backend.name()
     );
     let p = setup.precisions.len() as u64;
     let accuracy_queries = accuracy_scenes.len() as u64 * ACCURACY_SAMPLES as u64 * (p + 1);
-    let bar = progress(setup.frames * p + accuracy_queries);
-
-    let gpu = match setup.render {
-        Some(_) => Some(trample_render::headless::create_device()?),
-        None => None,
+    let backends: &[&'static str] = match setup.backend {
+        Backend::Cpu => &["cpu"],
+        Backend::Gpu => &["gpu"],
+        Backend::Both => &["cpu", "gpu"],
     };
+    let bar = progress(setup.frames * p * backends.len() as u64 + accuracy_queries);
+
+    let gpu = if setup.render.is_some() || setup.backend != Backend::Cpu {
+        Some(trample_render::headless::create_device()?)
+    } else {
+        None
+    };
+    if let (Some(g), true) = (&gpu, setup.backend != Backend::Cpu) {
+        eprintln!("trample bench: GPU path on {}", g.adapter_name());
+    }
     if let (Some(g), Some((w, h))) = (&gpu, setup.render) {
         eprintln!(
             "trample bench: rendering every frame at {w}x{h} on {}",
@@ -141,9 +153,12 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         );
     }
     let mut runs = Vec::new();
-    for &precision in &setup.precisions {
+    for (&backend, &precision) in backends
+        .iter()
+        .flat_map(|b| std::iter::repeat(b).zip(&setup.precisions))
+    {
         bar.set_message(format!(
-            "precision {precision}: timing {} frames",
+            "{backend} precision {precision}: timing {} frames",
             setup.frames
         ));
         let mut sim = base.clone();
@@ -164,7 +179,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         };
         let (mut render_ms, mut frame_ms) = (Vec::new(), Vec::new());
         let clock = Instant::now();
-        let steps = time_frames(sim, setup.frames, |sim| {
+        let tick = |sim: &trample::Simulation| -> Result<()> {
             if let (Some(r), Some(g)) = (renderer.as_mut(), &gpu) {
                 let c = Instant::now();
                 r.render(&g.device, &g.queue, sim)?;
@@ -174,7 +189,11 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
             }
             bar.inc(1);
             Ok(())
-        })?;
+        };
+        let steps = match (backend, &gpu) {
+            ("gpu", Some(g)) => super::time_frames_gpu(g, sim, setup.frames, tick)?,
+            _ => time_frames(sim, setup.frames, tick)?,
+        };
         let rec = Recorder { steps };
         let render = setup.render.map(|(w, h)| {
             let frames = Stats::of(&frame_ms);
@@ -190,6 +209,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         });
         let step_ms = rec.step_ms();
         runs.push(PrecisionRun {
+            backend,
             precision,
             fps: Fps {
                 min: 1000.0 / step_ms.max,
@@ -237,7 +257,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         blades: base.field.blades.count,
         segments: base.field.blades.segments,
         objects: objects(&base),
-        backend: "cpu",
+        backend: setup.backend.name(),
         threads: setup.threads,
         machine,
         frames: setup.frames,
@@ -307,20 +327,33 @@ fn object_label(objects: &[ObjectInfo]) -> String {
 /// `bench.png`: lowest, average and highest frame rate against precision,
 /// as in the paper's Fig. 12.
 fn fps_chart(r: &Report, path: &Path) -> Result<()> {
-    let series = |name: &str, color, f: fn(&Fps) -> f64| Series {
-        name: name.into(),
-        points: r
-            .precisions
-            .iter()
-            .map(|p| (f64::from(p.precision), f(&p.fps)))
-            .collect(),
-        color,
-    };
-    let mut series = vec![
-        series("highest", COLORS[2], |f| f.max),
-        series("average", COLORS[0], |f| f.avg),
-        series("lowest", COLORS[1], |f| f.min),
-    ];
+    let backends: Vec<&str> = ["cpu", "gpu"]
+        .into_iter()
+        .filter(|b| r.precisions.iter().any(|p| p.backend == *b))
+        .collect();
+    let mut series = Vec::new();
+    for (k, &backend) in backends.iter().enumerate() {
+        let suffix = if backends.len() > 1 {
+            format!(" ({backend})")
+        } else {
+            String::new()
+        };
+        let line = |name: &str, color, f: fn(&Fps) -> f64| Series {
+            name: format!("{name}{suffix}"),
+            points: r
+                .precisions
+                .iter()
+                .filter(|p| p.backend == backend)
+                .map(|p| (f64::from(p.precision), f(&p.fps)))
+                .collect(),
+            color,
+        };
+        // Second backend: the same colours shifted, so the lines differ.
+        let c = |i: usize| COLORS[(i + 3 * k) % COLORS.len()];
+        series.push(line("highest", c(2), |f| f.max));
+        series.push(line("average", c(0), |f| f.avg));
+        series.push(line("lowest", c(1), |f| f.min));
+    }
     // With --render: the paper's measurement, simulation + rendering.
     let rendered = |name: &str, color, f: fn(&Fps) -> f64| Series {
         name: name.into(),
@@ -344,9 +377,10 @@ fn fps_chart(r: &Report, path: &Path) -> Result<()> {
             (lo.min(y), hi.max(y))
         });
     let title = format!(
-        "Frame rate vs precision: {} blades, {} frames each, CPU, {} threads",
+        "Frame rate vs precision: {} blades, {} frames each, {}, {} threads",
         thousands(r.blades as u64),
         thousands(r.frames),
+        r.backend.to_uppercase(),
         r.threads
     );
     line_chart(
@@ -408,15 +442,20 @@ fn accuracy_chart(r: &Report, path: &Path) -> Result<()> {
 
 fn print_tables(r: &Report) {
     println!(
-        "Pressure test (paper Fig. 12), simulation alone: {}, {} blades, {}, {} frames per precision, {} thread(s)",
+        "Pressure test (paper Fig. 12), simulation alone: {}, {} blades, {}, {} frames per precision, {} thread(s){}",
         r.scene,
         r.blades,
         object_label(&r.objects),
         r.frames,
-        r.threads
+        r.threads,
+        r.adapter
+            .as_deref()
+            .map(|a| format!(", GPU path on {a}"))
+            .unwrap_or_default()
     );
     println!(
-        "{:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9} {:>10}",
+        "{:>7} {:>9} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9} {:>10}",
+        "backend",
         "precision",
         "fps min",
         "fps avg",
@@ -429,7 +468,8 @@ fn print_tables(r: &Report) {
     );
     for p in &r.precisions {
         println!(
-            "{:>9} {:>9.0} {:>9.0} {:>9.0} {:>10.3} {:>9.3} {:>9.3} {:>9.3} {:>10.3}",
+            "{:>7} {:>9} {:>9.0} {:>9.0} {:>9.0} {:>10.3} {:>9.3} {:>9.3} {:>9.3} {:>10.3}",
+            p.backend,
             p.precision,
             p.fps.min,
             p.fps.avg,
