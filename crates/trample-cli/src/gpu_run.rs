@@ -14,6 +14,16 @@ use trample::{Simulation, StepTimings};
 use trample_gpu::GpuSimulation;
 use trample_render::headless::Gpu;
 
+/// Fault injection for tests (`RELIABILITY.md`): with
+/// `TRAMPLE_FAULT_GPU_LOST_AFTER=N` the device is destroyed before frame N,
+/// as a driver reset or an unplugged GPU would lose it.
+fn fault_device_lost_after() -> Option<u64> {
+    std::env::var("TRAMPLE_FAULT_GPU_LOST_AFTER")
+        .ok()?
+        .parse()
+        .ok()
+}
+
 /// Steps `sim` on `gpu` for `frames` frames in profiling mode
 /// (`GpuSimulation::set_profiling`): each stage is submitted and waited for
 /// on its own, so `summary.json`'s `stages_ms` are per-stage GPU times (each
@@ -55,9 +65,22 @@ pub fn simulate_on_gpu(
     check()?;
     let mut rec = Recorder::default();
     let dt = g.sim.params.dt_s;
-    for _ in 0..frames {
-        g.step(device, queue, dt)?;
-        let counters = g.read_counters(device, queue)?;
+    let lose_after = fault_device_lost_after();
+    for i in 0..frames {
+        if lose_after == Some(i) {
+            device.destroy();
+        }
+        let counters = g
+            .step(device, queue, dt)
+            .and_then(|_| g.read_counters(device, queue))
+            .map_err(|e| {
+                // The device's own words (device lost, out of memory) say
+                // more than the failed call that noticed it.
+                match failure.lock().unwrap_or_else(|p| p.into_inner()).take() {
+                    Some(msg) => anyhow!("GPU error: {msg} ({e})"),
+                    None => anyhow!("GPU error: {e}"),
+                }
+            })?;
         check()?;
         let t = StepTimings {
             dbg_blades: counters.dbg,

@@ -99,17 +99,28 @@ pub fn run(a: &Args) -> Result<()> {
     let mut clock = Instant::now();
     let mut adapter = None;
     if let Some(gpu) = &gpu {
-        match crate::gpu_run::simulate_on_gpu(gpu, sim.clone(), frames, &bar) {
-            Ok((s, r)) => {
-                (sim, rec) = (s, r);
-                adapter = Some(gpu.adapter_name());
+        // A scene the GPU path cannot run is the user's choice to make:
+        // `gpu` stops, `auto` takes the CPU path. A failure during the run
+        // (device lost, out of memory) falls back to the CPU path either way.
+        let supported = trample_gpu::GpuSimulation::supports(&gpu.device, &sim);
+        match supported {
+            Err(e) if a.backend != Backend::Auto => {
+                return Err(anyhow::anyhow!("--backend gpu: GPU path: {e}"));
             }
-            Err(e) if a.backend == Backend::Auto => {
-                bar.suspend(|| eprintln!("trample: {e:#}; falling back to the CPU path"));
-                bar.reset();
-                clock = Instant::now();
-            }
-            Err(e) => return Err(e.context("--backend gpu")),
+            Err(e) => bar.suspend(|| eprintln!("trample: GPU path: {e}; CPU path")),
+            Ok(()) => match crate::gpu_run::simulate_on_gpu(gpu, sim.clone(), frames, &bar) {
+                Ok((s, r)) => {
+                    (sim, rec) = (s, r);
+                    adapter = Some(gpu.adapter_name());
+                }
+                Err(e) => {
+                    bar.suspend(|| {
+                        eprintln!("trample: {e:#}; falling back to the CPU path from frame 0");
+                    });
+                    bar.reset();
+                    clock = Instant::now();
+                }
+            },
         }
     }
     for _ in 0..if adapter.is_some() { 0 } else { frames } {

@@ -173,3 +173,46 @@ fn run_on_the_gpu_renders_and_says_so() {
     assert_eq!(s["backend"], "gpu");
     assert!(out.join("frame_0010.png").exists());
 }
+
+#[test]
+fn a_lost_gpu_device_falls_back_to_the_cpu_path_with_a_message() {
+    // Issue 6: a device lost mid-run (injected: the device is destroyed
+    // before frame 5) ends the GPU run with a message, and the CPU path runs
+    // the scene from frame 0: the same blades as a CPU run, no crash.
+    let d = dir("lost");
+    let scene = d.join("scene.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let run = |backend: &str, fault: bool| {
+        let out = d.join(format!("{backend}-{fault}"));
+        let blades = out.join("blades.npy");
+        std::fs::create_dir_all(&out).unwrap();
+        let mut c = Command::new(env!("CARGO_BIN_EXE_trample"));
+        c.args(["simulate", scene.to_str().unwrap(), "--frames", "20"])
+            .args(["--backend", backend, "--out", out.to_str().unwrap()])
+            .args(["--dump-blades", blades.to_str().unwrap()]);
+        if fault {
+            c.env("TRAMPLE_FAULT_GPU_LOST_AFTER", "5");
+        }
+        let o = c.output().expect("run trample");
+        (o, out)
+    };
+    let (o, lost) = run("gpu", true);
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("device lost") && err.contains("falling back to the CPU path"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(lost.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["backend"], "cpu", "{err}");
+    assert_eq!(s["frames"], 20);
+    let (o, cpu) = run("cpu", false);
+    assert!(o.status.success());
+    assert_eq!(
+        std::fs::read(lost.join("blades.npy")).unwrap(),
+        std::fs::read(cpu.join("blades.npy")).unwrap(),
+        "the fallback must give the CPU path's blades"
+    );
+}
