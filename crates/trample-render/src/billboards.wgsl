@@ -35,7 +35,13 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let seed = bb.extra.y;
     let a = hash01(seed) * 1.5707963 + f32(quad) * 1.5707963;
     let axis = vec3<f32>(cos(a), 0.0, sin(a));
-    let world = bb.base.xyz + axis * (x * 2.0 - 1.0) * bb.base.w + bb.top.xyz * y;
+    // Wind (draw time only): the top edge moves like a blade tip.
+    var top = bb.top.xyz;
+    let o = wind_tip_offset(bb.base.xyz);
+    if (dot(o, o) > 0.0) {
+        top = wind_bend(top, o);
+    }
+    let world = bb.base.xyz + axis * (x * 2.0 - 1.0) * bb.base.w + top * y;
 
     var out: VertexOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);
@@ -43,7 +49,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     // A random half of the clump texture per quad.
     let u0 = hash01(seed ^ (quad * 0x9e37u)) * 0.5;
     out.uv = vec2<f32>(u0 + x * 0.5, 1.0 - y);
-    out.normal = normalize(cross(axis, bb.top.xyz));
+    out.normal = normalize(cross(axis, top));
     out.debug = bb.extra.x;
     out.shade = 0.85 + 0.3 * hash01(seed ^ 0x51u);
     return out;

@@ -18,9 +18,18 @@ struct VertexOut {
 }
 
 fn vertex_of(k: u32, b: u32) -> vec3<f32> {
-    return pos[k * globals.params.z + b].xyz;
+    let p = pos[k * globals.params.z + b].xyz;
+    // Wind (draw time only): vertex k moves (k/n)² of the tip's offset
+    // sideways and keeps its distance to the root, so the blade bends
+    // rather than stretches. Calm: the stored vertex, unchanged.
+    let root = pos[b].xyz;
+    let f = f32(k) / f32(globals.params.y);
+    let o = wind_tip_offset(root) * (f * f);
+    if (dot(o, o) == 0.0) {
+        return p;
+    }
+    return root + wind_bend(p - root, o);
 }
-
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
     let inst = instances[ii];

@@ -29,9 +29,14 @@ pub struct Globals {
     pub fog: Vec4,
     /// x debug view (0 none, 1 classes), y segments per blade, z blade count.
     pub params: UVec4,
+    /// Wind ([`trample::wind`]): xz unit direction, y steady tip
+    /// displacement (m), w gust amplitude (m).
+    pub wind: Vec4,
+    /// Wind gusts: x period (s), y wavelength (m).
+    pub gusts: Vec4,
 }
 
-const _: () = assert!(std::mem::size_of::<Globals>() == 240);
+const _: () = assert!(std::mem::size_of::<Globals>() == 272);
 
 /// The full source of a pass: the shared globals followed by `own`.
 #[must_use]

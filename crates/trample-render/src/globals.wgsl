@@ -18,6 +18,10 @@ struct Globals {
     fog: vec4<f32>,
     // x: debug view (0 none, 1 classes), y: segments per blade, z: blade count, w: unused.
     params: vec4<u32>,
+    // xz: wind direction (unit), y: steady tip displacement (m), w: gust amplitude (m).
+    wind: vec4<f32>,
+    // x: gust period (s), y: gust wavelength (m).
+    gusts: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> globals: Globals;
@@ -43,4 +47,20 @@ fn hash01(x: u32) -> f32 {
     h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
     h = (h >> 22u) ^ h;
     return f32(h & 0xffffffu) / 16777216.0;
+}
+
+// Wind tip displacement of a blade rooted at `root` (trample::wind::tip_offset,
+// its specification): a vertex at fraction f of the height moves f² times this.
+fn wind_tip_offset(root: vec3<f32>) -> vec3<f32> {
+    let d = vec3<f32>(globals.wind.x, 0.0, globals.wind.z);
+    let phase = 6.2831853 * (globals.eye.w / globals.gusts.x - dot(root, d) / globals.gusts.y);
+    return d * (globals.wind.y + globals.wind.w * (0.5 + 0.5 * sin(phase)));
+}
+
+// `r` (a point relative to its root) moved sideways by `o` (horizontal),
+// keeping its distance to the root: the height gives way, never below 0.
+fn wind_bend(r: vec3<f32>, o: vec3<f32>) -> vec3<f32> {
+    let side = vec3<f32>(r.x + o.x, 0.0, r.z + o.z);
+    let h = sqrt(max(dot(r, r) - dot(side, side), 0.0));
+    return side + vec3<f32>(0.0, h, 0.0);
 }

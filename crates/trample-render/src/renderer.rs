@@ -226,6 +226,11 @@ impl Renderer {
                 sim.field.blades.count as u32,
                 0,
             ),
+            wind: {
+                let d = sim.wind.direction();
+                Vec4::new(d.x, sim.wind.strength_m, d.z, sim.wind.gust_m)
+            },
+            gusts: Vec4::new(sim.wind.gust_period_s, sim.wind.gust_wavelength_m, 0.0, 0.0),
         }
     }
 

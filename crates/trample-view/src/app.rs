@@ -268,6 +268,7 @@ impl App {
         let mut scene = self.scene.clone();
         scene.file.sim = self.sim.params.clone();
         scene.file.lod = self.sim.lod.clone();
+        scene.file.wind = self.sim.wind.clone();
         scene.file.field.blades_per_cell = self.pending.blades_per_cell;
         if let Some(object) = scene.file.objects.first_mut() {
             object.shape = self.pending_shape(&object.shape);

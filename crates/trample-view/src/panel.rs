@@ -19,9 +19,9 @@ pub struct FrameStats {
     pub adapter: String,
 }
 
-/// Tooltip of the controls that have no simulation behind them yet.
-const NO_WIND: &str = "Wind is not in the simulation core yet (DESIGN lists it; no stage \
-                       computes it): these controls are shown disabled until it is.";
+/// Tooltip of the wind controls.
+const WIND: &str = "Wind is drawn, not simulated (DESIGN §6): it bends blades and \
+                    billboards in the vertex stage; the interaction state is untouched.";
 /// Tooltip of the GPU backend choice.
 const NO_GPU: &str = "The GPU compute path is being built on its own branch; \
                       the viewer simulates on the CPU (rayon) until it lands.";
@@ -148,15 +148,19 @@ fn parameters(ui: &mut egui::Ui, app: &mut App) {
     lod.billboard_m = lod.billboard_m.max(low);
     ui.add(Slider::new(&mut lod.billboard_m, low..=200.0).text("billboards up to, m"));
 
-    ui.add_enabled_ui(false, |ui| {
-        let mut placeholder = (0.0f32, 0.0f32, 0.0f32);
-        ui.add(Slider::new(&mut placeholder.0, 0.0..=360.0).text("wind direction, °"))
-            .on_disabled_hover_text(NO_WIND);
-        ui.add(Slider::new(&mut placeholder.1, 0.0..=10.0).text("wind strength, m/s"))
-            .on_disabled_hover_text(NO_WIND);
-        ui.add(Slider::new(&mut placeholder.2, 0.0..=1.0).text("gusts"))
-            .on_disabled_hover_text(NO_WIND);
-    });
+    let wind = &mut app.sim.wind;
+    ui.add(Slider::new(&mut wind.direction_deg, 0.0..=360.0).text("wind direction, °"))
+        .on_hover_text(WIND);
+    ui.add(Slider::new(&mut wind.strength_m, 0.0..=0.5).text("wind lean, m"))
+        .on_hover_text(WIND);
+    ui.add(Slider::new(&mut wind.gust_m, 0.0..=0.5).text("gusts, m"))
+        .on_hover_text(WIND);
+    ui.add(
+        Slider::new(&mut wind.gust_period_s, 0.5..=10.0)
+            .text("gust period, s")
+            .logarithmic(true),
+    )
+    .on_hover_text(WIND);
     ui.horizontal(|ui| {
         ui.label("backend");
         let _ = ui.radio(true, "CPU");

@@ -28,5 +28,6 @@ pub mod paths;
 pub mod recovery;
 pub mod scene;
 pub mod step;
+pub mod wind;
 
 pub use step::{Simulation, StepTimings};

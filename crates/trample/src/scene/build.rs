@@ -22,6 +22,9 @@ impl Scene {
         f.sim
             .validate()
             .map_err(|e| SceneError::invalid(&self.source, e))?;
+        f.wind
+            .validate()
+            .map_err(|e| SceneError::invalid(&self.source, e))?;
         let lod = &f.lod;
         if !(lod.geometry_m.is_finite() && lod.geometry_m >= 0.0) {
             return bad(format!(
@@ -122,13 +125,9 @@ impl Scene {
         let field =
             Field::generate(&f.field, terrain).map_err(|e| SceneError::invalid(&self.source, e))?;
         let camera = self.camera(&bodies)?;
-        Ok(Simulation::new(
-            field,
-            bodies,
-            camera,
-            f.lod.clone(),
-            f.sim.clone(),
-        ))
+        let mut sim = Simulation::new(field, bodies, camera, f.lod.clone(), f.sim.clone());
+        sim.wind = f.wind.clone();
+        Ok(sim)
     }
 
     fn camera(&self, bodies: &[Body]) -> Result<Camera, SceneError> {

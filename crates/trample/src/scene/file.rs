@@ -31,6 +31,9 @@ pub struct SceneFile {
     /// `[run]`: how long the tools run the scene.
     #[serde(default)]
     pub run: RunParams,
+    /// `[wind]`: wind drawn over the grass (draw time only). Default: none.
+    #[serde(default)]
+    pub wind: crate::wind::WindParams,
     /// `[[objects]]`: the moving objects.
     #[serde(default)]
     pub objects: Vec<ObjectParams>,

@@ -127,6 +127,9 @@ pub struct Simulation {
     pub substep_clamps: u64,
     /// The first of those steps, for a one-time warning.
     pub first_substep_clamp: Option<SubstepClamp>,
+    /// Wind drawn over the grass by renderers (DESIGN §6): not part of the
+    /// simulation state, which shows the interaction alone. Default: calm.
+    pub wind: crate::wind::WindParams,
     pub(crate) scratch: Scratch,
 }
 
@@ -191,6 +194,7 @@ impl Simulation {
             timings: StepTimings::default(),
             substep_clamps: 0,
             first_substep_clamp: None,
+            wind: crate::wind::WindParams::default(),
             scratch: Scratch {
                 force: vec![Vec3::ZERO; blades],
                 num: vec![0; blades],
