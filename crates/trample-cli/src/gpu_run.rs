@@ -14,6 +14,20 @@ use trample::{Simulation, StepTimings};
 use trample_gpu::GpuSimulation;
 use trample_render::headless::Gpu;
 
+/// `base` (a GPU step's timings) with the counts the GPU kept for that step
+/// (read back by `GpuSimulation::read_counters`).
+#[must_use]
+pub fn timings_with_counters(base: &StepTimings, c: &trample_gpu::GpuCounters) -> StepTimings {
+    StepTimings {
+        dbg_blades: c.dbg,
+        pbg_blades: c.pbg,
+        generations: c.generations,
+        transitions: c.transitions,
+        displaced_blades: c.displaced,
+        ..base.clone()
+    }
+}
+
 /// Fault injection for tests (`RELIABILITY.md`): with
 /// `TRAMPLE_FAULT_GPU_LOST_AFTER=N` the device is destroyed before frame N,
 /// as a driver reset or an unplugged GPU would lose it.
@@ -82,14 +96,7 @@ pub fn simulate_on_gpu(
                 }
             })?;
         check()?;
-        let t = StepTimings {
-            dbg_blades: counters.dbg,
-            pbg_blades: counters.pbg,
-            generations: counters.generations,
-            transitions: counters.transitions,
-            displaced_blades: counters.displaced,
-            ..g.sim.timings.clone()
-        };
+        let t = timings_with_counters(&g.sim.timings, &counters);
         bar.set_message(format!("DBG {} PBG {}", t.dbg_blades, t.pbg_blades));
         rec.steps.push(t);
         bar.inc(1);

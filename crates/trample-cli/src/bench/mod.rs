@@ -236,14 +236,10 @@ fn time_frames_gpu(
         let clock = std::time::Instant::now();
         g.step(device, queue, dt)?;
         let c = g.read_counters(device, queue)?;
-        let t = StepTimings {
-            total_ms: clock.elapsed().as_secs_f64() * 1e3,
-            dbg_blades: c.dbg,
-            pbg_blades: c.pbg,
-            generations: c.generations,
-            displaced_blades: c.displaced,
-            ..g.sim.timings.clone()
-        };
+        let mut t = crate::gpu_run::timings_with_counters(&g.sim.timings, &c);
+        t.total_ms = clock.elapsed().as_secs_f64() * 1e3;
+        // `g.sim` is the CPU-side copy, not brought up to date each frame
+        // (`--render` is refused with the GPU path for that reason).
         tick(&g.sim)?;
         steps.push(t);
     }
