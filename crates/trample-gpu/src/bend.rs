@@ -6,10 +6,15 @@
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
-/// The WGSL source as compiled (`blade.wgsl` prepended).
+/// The WGSL source as compiled (`blade.wgsl` and `chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
-    format!("{}\n{}", crate::BLADE_WGSL, include_str!("bend.wgsl"))
+    format!(
+        "{}\n{}\n{}",
+        crate::BLADE_WGSL,
+        crate::CHUNK_WGSL,
+        include_str!("bend.wgsl")
+    )
 }
 
 /// The compiled bending kernel.
@@ -27,32 +32,34 @@ impl Bend {
                 device,
                 "trample-gpu bend",
                 &source(),
-                &[Uniform, ReadWrite, Read, Read, Read, ReadWrite],
+                &[Uniform, ReadWrite, Read, Read, Read, ReadWrite, Uniform],
                 &["bend"],
             ),
         }
     }
 
-    /// Records the bending of every forced blade.
+    /// Records the bending of every forced blade, one dispatch per chunk.
     pub fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         field: &GpuField,
         params: &wgpu::Buffer,
-        groups: (u32, u32),
     ) {
-        let group = self.kernel.bind(
-            device,
-            &[
-                params,
-                &field.pos,
-                &field.force,
-                &field.generation,
-                &field.seg_len,
-                &field.displaced,
-            ],
-        );
-        self.kernel.dispatch(encoder, 0, &group, groups);
+        for chunk in &field.chunks {
+            let group = self.kernel.bind(
+                device,
+                &[
+                    params,
+                    &chunk.pos,
+                    &field.force,
+                    &field.generation,
+                    &field.seg_len,
+                    &field.displaced,
+                    &chunk.uniform,
+                ],
+            );
+            self.kernel.dispatch(encoder, 0, &group, chunk.groups);
+        }
     }
 }

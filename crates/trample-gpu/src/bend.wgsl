@@ -9,6 +9,7 @@
 @group(0) @binding(3) var<storage, read> generation: array<u32>;
 @group(0) @binding(4) var<storage, read> seg_len: array<f32>;
 @group(0) @binding(5) var<storage, read_write> displaced: array<u32>;
+@group(0) @binding(6) var<uniform> chunk: Chunk;
 
 // `bend::offset_base` (Eq. 5): the part of v1 perpendicular to AB, over num.
 fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: u32) -> vec3<f32> {
@@ -25,15 +26,14 @@ fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: u32) -> vec3<f32> {
 
 @compute @workgroup_size(64)
 fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let b = blade_index(gid);
-    let count = params.counts.x;
-    if b >= count || generation[b] == NO_GENERATION {
+    let b = chunk_blade(gid);
+    if b == NOT_IN_CHUNK || generation[b] == NO_GENERATION {
         return;
     }
     let n = min(params.counts.y, MAX_VERTS - 1u);
     var v: array<vec3<f32>, MAX_VERTS>;
     for (var k = 0u; k <= n; k++) {
-        v[k] = pos[k * count + b].xyz;
+        v[k] = pos[vertex_at(k, b)].xyz;
     }
     let f = force[b];
     let base = offset_base(v[n] - v[0], f.xyz * params.a.x, u32(f.w));
@@ -46,7 +46,7 @@ fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     preserve_lengths(&v, n, seg_len[b]);
     for (var k = 1u; k <= n; k++) {
-        pos[k * count + b] = vec4<f32>(v[k], 0.0);
+        pos[vertex_at(k, b)] = vec4<f32>(v[k], 0.0);
     }
     displaced[b] = 1u;
 }

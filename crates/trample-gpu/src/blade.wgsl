@@ -17,7 +17,7 @@ struct StepParams {
     eye: vec4<f32>,
     // billboard_m, unused ×3
     lod: vec4<f32>,
-    // cell count, blades per cell, object count, cell workgroups in x
+    // cell count, blades per cell, object count, unused
     cells: vec4<u32>,
 }
 
@@ -41,10 +41,6 @@ const REST_EPSILON: f32 = 1e-4;
 
 fn blade_index(gid: vec3<u32>) -> u32 {
     return gid.x + gid.y * params.counts.w * 64u;
-}
-
-fn cell_index(gid: vec3<u32>) -> u32 {
-    return gid.x + gid.y * params.cells.w * 64u;
 }
 
 fn weight(i: u32) -> f32 {

@@ -17,13 +17,15 @@ use trample::obb::Obb;
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
-/// The WGSL source as compiled (`segment_obb.wgsl` and `blade.wgsl` prepended).
+/// The WGSL source as compiled (`segment_obb.wgsl`, `blade.wgsl` and
+/// `chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}",
+        "{}\n{}\n{}\n{}",
         crate::SEGMENT_OBB_WGSL,
         crate::BLADE_WGSL,
+        crate::CHUNK_WGSL,
         include_str!("cells.wgsl")
     )
 }
@@ -117,15 +119,15 @@ impl Cells {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Read, ReadWrite, Read,
-                    ReadWrite,
+                    ReadWrite, Uniform,
                 ],
                 &["classify", "billboards", "transitions", "recover_slopes"],
             ),
         }
     }
 
-    /// The bind group over `field`, the step uniform, the counters and the
-    /// objects' world root boxes.
+    /// The bind groups over `field`, one per chunk, with the step
+    /// uniform, the counters and the objects' world root boxes.
     pub fn bind(
         &self,
         device: &wgpu::Device,
@@ -133,60 +135,60 @@ impl Cells {
         params: &wgpu::Buffer,
         state: &wgpu::Buffer,
         world_roots: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        self.kernel.bind(
-            device,
-            &[
-                params,
-                state,
-                &field.cell_state,
-                &field.cell_rest,
-                &field.slope,
-                world_roots,
-                &field.pos,
-                &field.rest,
-                &field.displaced,
-            ],
+    ) -> CellGroups {
+        CellGroups(
+            field
+                .chunks
+                .iter()
+                .map(|chunk| {
+                    let group = self.kernel.bind(
+                        device,
+                        &[
+                            params,
+                            state,
+                            &field.cell_state,
+                            &field.cell_rest,
+                            &field.slope,
+                            world_roots,
+                            &chunk.pos,
+                            &chunk.rest,
+                            &field.displaced,
+                            &chunk.uniform,
+                        ],
+                    );
+                    (group, chunk.cell_groups)
+                })
+                .collect(),
         )
     }
 
+    /// Records `entry` over every chunk's cells.
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, entry: usize, groups: &CellGroups) {
+        for (group, size) in &groups.0 {
+            self.kernel.dispatch(encoder, entry, group, *size);
+        }
+    }
+
     /// Records the level of detail of every cell (before the narrow phase).
-    pub fn record_classify(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        group: &wgpu::BindGroup,
-        groups: (u32, u32),
-    ) {
-        self.kernel.dispatch(encoder, CLASSIFY, group, groups);
+    pub fn record_classify(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
+        self.record(encoder, CLASSIFY, groups);
     }
 
     /// Records billboards (Eq. 8), after the blades bend.
-    pub fn record_billboards(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        group: &wgpu::BindGroup,
-        groups: (u32, u32),
-    ) {
-        self.kernel.dispatch(encoder, BILLBOARDS, group, groups);
+    pub fn record_billboards(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
+        self.record(encoder, BILLBOARDS, groups);
     }
 
     /// Records transitions (Eq. 9–13), after the billboards.
-    pub fn record_transitions(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        group: &wgpu::BindGroup,
-        groups: (u32, u32),
-    ) {
-        self.kernel.dispatch(encoder, TRANSITIONS, group, groups);
+    pub fn record_transitions(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
+        self.record(encoder, TRANSITIONS, groups);
     }
 
     /// Records the recovery of bent billboards (after the blades recover).
-    pub fn record_recover_slopes(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        group: &wgpu::BindGroup,
-        groups: (u32, u32),
-    ) {
-        self.kernel.dispatch(encoder, RECOVER_SLOPES, group, groups);
+    pub fn record_recover_slopes(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
+        self.record(encoder, RECOVER_SLOPES, groups);
     }
 }
+
+/// The per-chunk bind groups of [`Cells`] and their workgroup counts.
+pub struct CellGroups(Vec<(wgpu::BindGroup, (u32, u32))>);

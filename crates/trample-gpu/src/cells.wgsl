@@ -28,9 +28,10 @@ struct WorldObb {
 @group(0) @binding(4) var<storage, read_write> slope: array<vec4<f32>>;
 @group(0) @binding(5) var<storage, read> world_roots: array<WorldObb>;
 @group(0) @binding(6) var<storage, read_write> pos: array<vec4<f32>>;
-// Rest positions; `rest[b].w` (vertex 0) holds blade b's segment length.
+// Rest positions; vertex 0's w holds the blade's segment length.
 @group(0) @binding(7) var<storage, read> rest: array<vec4<f32>>;
 @group(0) @binding(8) var<storage, read_write> displaced: array<u32>;
+@group(0) @binding(9) var<uniform> chunk: Chunk;
 
 const GEOMETRY: u32 = 0u;
 const BILLBOARD: u32 = 1u;
@@ -62,8 +63,8 @@ fn level_squared(d2: f32) -> u32 {
 
 @compute @workgroup_size(64)
 fn classify(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = cell_index(gid);
-    if c >= params.cells.x {
+    let c = chunk_cell(gid);
+    if c == NOT_IN_CHUNK {
         return;
     }
     let s = cell_state[c];
@@ -107,8 +108,8 @@ fn distance2(a: vec3<f32>, b: vec3<f32>) -> f32 {
 
 @compute @workgroup_size(64)
 fn billboards(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = cell_index(gid);
-    if c >= params.cells.x || level(cell_state[c]) != BILLBOARD {
+    let c = chunk_cell(gid);
+    if c == NOT_IN_CHUNK || level(cell_state[c]) != BILLBOARD {
         return;
     }
     let base = cell_rest[2u * c].xyz;
@@ -147,10 +148,9 @@ fn billboards(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // `transition::blade_offset`: (tip − root − rest chord) / rest height.
 fn blade_offset(b: u32) -> vec3<f32> {
-    let count = params.counts.x;
     let n = params.counts.y;
-    let chord = pos[n * count + b].xyz - pos[b].xyz;
-    let rest_chord = rest[n * count + b].xyz - rest[b].xyz;
+    let chord = pos[vertex_at(n, b)].xyz - pos[vertex_at(0u, b)].xyz;
+    let rest_chord = rest[vertex_at(n, b)].xyz - rest[vertex_at(0u, b)].xyz;
     let rest_height = length(rest_chord);
     if !(rest_height > 1e-12) {
         return vec3<f32>(0.0);
@@ -160,8 +160,8 @@ fn blade_offset(b: u32) -> vec3<f32> {
 
 @compute @workgroup_size(64)
 fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = cell_index(gid);
-    if c >= params.cells.x {
+    let c = chunk_cell(gid);
+    if c == NOT_IN_CHUNK {
         return;
     }
     let s = cell_state[c];
@@ -170,7 +170,6 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let bpc = params.cells.y;
-    let count = params.counts.x;
     let n = min(params.counts.y, MAX_VERTS - 1u);
     // Eq. 9–11: off_g, the mean offset of the cell's blades.
     var sum = vec3<f32>(0.0);
@@ -199,10 +198,10 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
         displaced[b] = 1u;
-        let rest_h = length(rest[n * count + b].xyz - rest[b].xyz);
+        let rest_h = length(rest[vertex_at(n, b)].xyz - rest[vertex_at(0u, b)].xyz);
         var v: array<vec3<f32>, MAX_VERTS>;
         for (var k = 0u; k <= n; k++) {
-            v[k] = pos[k * count + b].xyz;
+            v[k] = pos[vertex_at(k, b)].xyz;
         }
         let v1 = missing * rest_h;
         let ab = v[n] - v[0];
@@ -215,16 +214,16 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
             continue;
         }
         v[n] += perpendicular;
-        preserve_from(&v, n, n, rest[b].w);
-        pos[n * count + b] = vec4<f32>(v[n], 0.0);
+        preserve_from(&v, n, n, rest[vertex_at(0u, b)].w);
+        pos[vertex_at(n, b)] = vec4<f32>(v[n], 0.0);
     }
 }
 
 // `recovery::recover_slope` for bent billboards (recovery on only).
 @compute @workgroup_size(64)
 fn recover_slopes(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = cell_index(gid);
-    if c >= params.cells.x || params.b.w == 0.0 {
+    let c = chunk_cell(gid);
+    if c == NOT_IN_CHUNK || params.b.w == 0.0 {
         return;
     }
     let s = cell_state[c];

@@ -3,14 +3,16 @@
 //! the blades of a cell contiguous. The buffers stay on the GPU across
 //! steps; reading back is for tests and dumps only.
 //!
-//! Not yet done: fields over one storage binding (128 MiB on the software
-//! drivers, ≈ 1.6 M blades of 5 vertices) are refused with
-//! [`GpuError::TooLarge`] instead of being split into chunks of patches.
+//! The vertex arrays are split into chunks of whole patches, each within
+//! one storage binding ([`crate::chunk`]): `chunks[i].pos[k * blades + l]`
+//! is vertex k of blade `first_blade + l`. The other per-blade arrays are
+//! whole-field.
 
 use bytemuck::{Pod, Zeroable};
 use trample::field::{Blades, Field, Lod};
 use wgpu::util::DeviceExt;
 
+use crate::chunk::{GpuChunk, plan_chunks};
 use crate::error::GpuError;
 use crate::readback::read_buffer;
 
@@ -35,11 +37,9 @@ pub struct GpuField {
     pub segments: u32,
     /// Blades per cell.
     pub blades_per_cell: u32,
-    /// Vertex positions, vertex-major, `vec4<f32>` (w unused). Usable as a
-    /// vertex or storage buffer by a renderer.
-    pub pos: wgpu::Buffer,
-    /// Rest positions, same layout as `pos`.
-    pub rest: wgpu::Buffer,
+    /// Vertex and rest positions, in chunks of whole patches (one chunk
+    /// when the field fits one storage binding): draw from `chunks[i].pos`.
+    pub chunks: Vec<GpuChunk>,
     pub(crate) seg_len: wgpu::Buffer,
     pub(crate) neighbours: wgpu::Buffer,
     /// Cells.
@@ -63,7 +63,8 @@ pub struct GpuField {
 
 impl GpuField {
     /// Uploads `field` (blades, cells with their levels, billboards and
-    /// slopes, neighbour table).
+    /// slopes, neighbour table), in chunks of whole patches as large as one
+    /// storage binding allows.
     ///
     /// # Errors
     /// As [`GpuField::new`].
@@ -72,12 +73,42 @@ impl GpuField {
         queue: &wgpu::Queue,
         field: &Field,
     ) -> Result<Self, GpuError> {
-        let out = Self::new(
+        Self::from_field_chunked(device, queue, field, None)
+    }
+
+    /// As [`GpuField::from_field`], each chunk's positions within
+    /// `max_chunk_bytes` when given (and within the device's binding limit
+    /// always): tests use it to chunk small fields.
+    ///
+    /// # Errors
+    /// As [`GpuField::new`].
+    pub fn from_field_chunked(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        field: &Field,
+        max_chunk_bytes: Option<u64>,
+    ) -> Result<Self, GpuError> {
+        // Patches are contiguous and of one size: chunks are whole patches.
+        let patch_blades = field.layout.cells_in_patch() as u32 * field.layout.blades_per_cell;
+        let whole_patches = field
+            .layout
+            .patch_list
+            .iter()
+            .enumerate()
+            .all(|(i, p)| p.first_blade == i as u32 * patch_blades && p.blades == patch_blades);
+        let unit = if whole_patches {
+            patch_blades
+        } else {
+            field.layout.blades_per_cell
+        };
+        let out = Self::new_chunked(
             device,
             &field.blades,
             &field.cells.lod,
             field.layout.blades_per_cell,
             &field.layout.neighbours,
+            unit,
+            max_chunk_bytes,
         )?;
         let cells = &field.cells;
         let rest: Vec<[f32; 4]> = (0..cells.lod.len())
@@ -101,15 +132,51 @@ impl GpuField {
     /// `blades_per_cell` blades each) and the blades' neighbour table
     /// (Definition 6, order −x, +x, −z, +z; one entry per blade).
     ///
+    /// Chunks are cut between cells.
+    ///
     /// # Errors
     /// [`GpuError::Layout`] when the cells do not cover the blades;
-    /// [`GpuError::TooLarge`] when the positions exceed one storage binding.
+    /// [`GpuError::TooLarge`] when a whole-field array exceeds one storage
+    /// binding.
     pub fn new(
         device: &wgpu::Device,
         blades: &Blades,
         lod: &[Lod],
         blades_per_cell: u32,
         neighbours: &[[u32; 4]],
+    ) -> Result<Self, GpuError> {
+        Self::new_chunked(
+            device,
+            blades,
+            lod,
+            blades_per_cell,
+            neighbours,
+            blades_per_cell,
+            None,
+        )
+    }
+
+    /// The largest chunk of positions `device` can bind, bytes.
+    #[must_use]
+    pub fn binding_limit(device: &wgpu::Device) -> u64 {
+        let l = device.limits();
+        l.max_storage_buffer_binding_size.min(l.max_buffer_size)
+    }
+
+    /// As [`GpuField::new`], chunks cut at multiples of `unit` blades (a
+    /// patch, or a cell) and each within `max_chunk_bytes` when given.
+    ///
+    /// # Errors
+    /// As [`GpuField::new`]; [`GpuError::TooLarge`] also when one unit's
+    /// positions exceed the chunk size.
+    pub fn new_chunked(
+        device: &wgpu::Device,
+        blades: &Blades,
+        lod: &[Lod],
+        blades_per_cell: u32,
+        neighbours: &[[u32; 4]],
+        unit: u32,
+        max_chunk_bytes: Option<u64>,
     ) -> Result<Self, GpuError> {
         if neighbours.len() != blades.count {
             return Err(GpuError::Layout(format!(
@@ -128,16 +195,22 @@ impl GpuField {
                 blades.count
             )));
         }
-        let limit = device.limits().max_storage_buffer_binding_size;
-        let pos = to_vec4(&blades.pos);
-        let bytes = (pos.len() * 16) as u64;
-        if bytes > limit {
+        let limit = Self::binding_limit(device);
+        let whole_field = blades.count as u64 * 16;
+        if whole_field > limit {
             return Err(GpuError::TooLarge {
-                what: "blade positions",
-                bytes,
+                what: "the per-blade forces and neighbour table (16 bytes a blade, not chunked)",
+                bytes: whole_field,
                 limit,
             });
         }
+        let verts = blades.segments as u32 + 1;
+        let plan = plan_chunks(
+            blades.count as u32,
+            verts,
+            unit,
+            max_chunk_bytes.map_or(limit, |m| m.min(limit)),
+        )?;
         let init = |label: &str, contents: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
@@ -147,26 +220,49 @@ impl GpuField {
         };
         use wgpu::BufferUsages as U;
         let state: Vec<u32> = lod.iter().map(|&l| cell_state(l, false)).collect();
-        // Vertex 0 of `rest` carries the segment length in w (cells.wgsl).
-        let mut rest = to_vec4(&blades.rest);
-        for (r, &l) in rest.iter_mut().zip(&blades.seg_len) {
-            r[3] = l;
-        }
+        let max_groups = device.limits().max_compute_workgroups_per_dimension;
+        let chunks = plan
+            .into_iter()
+            .map(|r| {
+                let (params, groups, cell_groups) =
+                    GpuChunk::params(r.start, r.end - r.start, blades_per_cell, max_groups);
+                // Vertex 0 of `rest` carries the segment length in w (cells.wgsl).
+                let mut rest = chunk_vec4(&blades.rest, blades.count, verts, r.clone());
+                for (x, &l) in rest.iter_mut().zip(&blades.seg_len[r.start as usize..]) {
+                    x[3] = l;
+                }
+                GpuChunk {
+                    first_blade: r.start,
+                    blades: r.end - r.start,
+                    first_cell: params.range[2],
+                    cells: params.range[3],
+                    pos: init(
+                        "trample-gpu blade positions",
+                        bytemuck::cast_slice(&chunk_vec4(
+                            &blades.pos,
+                            blades.count,
+                            verts,
+                            r.clone(),
+                        )),
+                        U::STORAGE | U::VERTEX | U::COPY_DST | U::COPY_SRC,
+                    ),
+                    rest: init(
+                        "trample-gpu blade rest positions",
+                        bytemuck::cast_slice(&rest),
+                        U::STORAGE | U::COPY_SRC,
+                    ),
+                    uniform: init("trample-gpu chunk", bytemuck::bytes_of(&params), U::UNIFORM),
+                    groups,
+                    cell_groups,
+                }
+            })
+            .collect();
         let cells = lod.len() as u64;
         Ok(Self {
             count: blades.count as u32,
             segments: blades.segments as u32,
             blades_per_cell,
-            pos: init(
-                "trample-gpu blade positions",
-                bytemuck::cast_slice(&pos),
-                U::STORAGE | U::VERTEX | U::COPY_DST | U::COPY_SRC,
-            ),
-            rest: init(
-                "trample-gpu blade rest positions",
-                bytemuck::cast_slice(&rest),
-                U::STORAGE | U::COPY_SRC,
-            ),
+            chunks,
             seg_len: init(
                 "trample-gpu segment lengths",
                 bytemuck::cast_slice(&blades.seg_len),
@@ -269,7 +365,8 @@ impl GpuField {
         read_buffer(device, queue, buffer, "per-blade u32")
     }
 
-    /// Reads back the vertex positions (vertex-major, xyz).
+    /// Reads back the vertex positions of every chunk into the CPU's
+    /// whole-field vertex-major layout (`[k * count + b]`, xyz; w as stored).
     ///
     /// # Errors
     /// [`GpuError::ReadBack`] when mapping fails.
@@ -278,7 +375,18 @@ impl GpuField {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<[f32; 4]>, GpuError> {
-        read_buffer(device, queue, &self.pos, "positions")
+        let count = self.count as usize;
+        let verts = self.segments as usize + 1;
+        let mut out = vec![[0.0; 4]; count * verts];
+        for c in &self.chunks {
+            let part: Vec<[f32; 4]> = read_buffer(device, queue, &c.pos, "positions")?;
+            let (first, n) = (c.first_blade as usize, c.blades as usize);
+            for k in 0..verts {
+                out[k * count + first..k * count + first + n]
+                    .copy_from_slice(&part[k * n..(k + 1) * n]);
+            }
+        }
+        Ok(out)
     }
 }
 
@@ -287,7 +395,18 @@ fn cell_state(lod: Lod, bent: bool) -> u32 {
     lod as u32 | (3 << 2) | (u32::from(bent) << 4)
 }
 
-/// `Vec3A`s as `[x, y, z, 0]`.
-fn to_vec4(v: &[glam::Vec3A]) -> Vec<[f32; 4]> {
-    v.iter().map(|p| [p.x, p.y, p.z, 0.0]).collect()
+/// The vertices of blades `range` of a whole-field vertex-major array
+/// (`count` blades of `verts` vertices) as one chunk's vertex-major
+/// `[x, y, z, 0]`s.
+fn chunk_vec4(
+    v: &[glam::Vec3A],
+    count: usize,
+    verts: u32,
+    range: std::ops::Range<u32>,
+) -> Vec<[f32; 4]> {
+    let (a, b) = (range.start as usize, range.end as usize);
+    (0..verts as usize)
+        .flat_map(|k| &v[k * count + a..k * count + b])
+        .map(|p| [p.x, p.y, p.z, 0.0])
+        .collect()
 }

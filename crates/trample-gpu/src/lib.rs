@@ -19,13 +19,13 @@
 //! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
 //! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested; flat terrain only |
 //! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
-//! | chunking of fields over one storage binding | **not yet**: refused with [`GpuError::TooLarge`] ([`GpuSimulation::supports`]) |
+//! | chunking of fields over one storage binding | **done** ([`chunk`]): blade vertices in chunks of whole patches, one dispatch per chunk; the 16-byte-a-blade arrays stay whole-field (≈ 8.4 M blades on the software drivers, [`GpuError::TooLarge`] beyond); chunked = unchunked bit for bit (`tests/chunking.rs`) |
 //! | terrain other than flat | **not yet**: refused with [`GpuError::Unsupported`] |
 //! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`); `run` reads the state back per rendered frame: the renderer does not draw from [`GpuField::pos`] yet |
 //! | per-stage GPU times in `summary.json` | **partly**: profiling mode ([`GpuSimulation::set_profiling`]) submits and waits per stage; timestamp queries not yet |
 //! | device loss / out of memory | caught by the CLI (uncaptured-error and device-lost callbacks), `auto` falls back to the CPU; not provoked in a test |
 //!
-//! Parity tests (`tests/`): narrow phase + EqF (hit flags identical at
+//! Parity tests (`tests/`): chunked against unchunked (bit for bit), narrow phase + EqF (hit flags identical at
 //! precisions 1–7 on sphere, box, capsule, knot), propagation (generations
 //! identical), bending + recovery, and whole runs (300 frames: vertices
 //! within 1e-3 m, measured 1.3e-5 m on llvmpipe; classes, DBG/PBG counts
@@ -37,6 +37,7 @@
 
 pub mod bend;
 pub mod cells;
+pub mod chunk;
 pub mod error;
 pub mod field;
 mod kernel;
@@ -50,6 +51,7 @@ pub mod recovery;
 pub mod simulation;
 pub mod step_params;
 
+pub use chunk::{GpuChunk, GpuChunkParams};
 pub use error::GpuError;
 pub use field::{GpuField, GpuForce};
 pub use narrow_phase::NarrowPhase;
@@ -62,6 +64,10 @@ pub use wgpu;
 /// `blade.wgsl`: step parameters, counters and length preservation, shared
 /// by the step stages (prepended to their sources; not a stage itself).
 pub const BLADE_WGSL: &str = include_str!("blade.wgsl");
+
+/// `chunk.wgsl`: the chunk of patches a dispatch runs over, shared by the
+/// stages that touch blade vertices (prepended; not a stage itself).
+pub const CHUNK_WGSL: &str = include_str!("chunk.wgsl");
 
 /// `segment_obb.wgsl`: the segment–OBB test, shared by the narrow phase and
 /// the billboards (prepended; not a stage itself).

@@ -19,24 +19,35 @@
 use crate::field::GpuField;
 use crate::object::{GpuObject, GpuObjectParams};
 
-/// The WGSL source as compiled (`segment_obb.wgsl` prepended).
+/// The WGSL source as compiled (`segment_obb.wgsl` and `chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}",
+        "{}\n{}\n{}",
         crate::SEGMENT_OBB_WGSL,
+        crate::CHUNK_WGSL,
         include_str!("narrow_phase.wgsl")
     )
 }
-
-/// Threads per workgroup (`@workgroup_size` in the WGSL).
-const WORKGROUP: u32 = 64;
 
 /// The compiled narrow-phase pipeline; kept apart from the buffers it runs on.
 pub struct NarrowPhase {
     pipeline: wgpu::ComputePipeline,
     field_layout: wgpu::BindGroupLayout,
     object_layout: wgpu::BindGroupLayout,
+}
+
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
 }
 
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
@@ -67,21 +78,13 @@ impl NarrowPhase {
                 storage_entry(1, true),
                 storage_entry(2, false),
                 storage_entry(3, false),
+                uniform_entry(4),
             ],
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("trample-gpu narrow phase: object"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                uniform_entry(0),
                 storage_entry(1, true),
                 storage_entry(2, true),
                 storage_entry(3, true),
@@ -122,19 +125,24 @@ impl NarrowPhase {
         objects: &mut [GpuObject],
         precision: u32,
     ) {
-        let field_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("trample-gpu narrow phase: field"),
-            layout: &self.field_layout,
-            entries: &[
-                entry(0, &field.pos),
-                entry(1, &field.cell_state),
-                entry(2, &field.force),
-                entry(3, &field.hit_mask),
-            ],
-        });
-        let groups = field.count.div_ceil(WORKGROUP);
-        let max = device.limits().max_compute_workgroups_per_dimension.max(1);
-        let (gx, gy) = (groups.min(max), groups.div_ceil(max));
+        let field_groups: Vec<_> = field
+            .chunks
+            .iter()
+            .map(|chunk| {
+                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("trample-gpu narrow phase: field chunk"),
+                    layout: &self.field_layout,
+                    entries: &[
+                        entry(0, &chunk.pos),
+                        entry(1, &field.cell_state),
+                        entry(2, &field.force),
+                        entry(3, &field.hit_mask),
+                        entry(4, &chunk.uniform),
+                    ],
+                });
+                (group, chunk.groups)
+            })
+            .collect();
         for (i, obj) in objects.iter_mut().enumerate() {
             let p: &mut GpuObjectParams = &mut obj.params;
             p.tree[2] = precision.clamp(1, trample::obb::MAX_TREE_DEPTH);
@@ -158,10 +166,12 @@ impl NarrowPhase {
                 timestamp_writes: None,
             });
             pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &field_group, &[]);
             pass.set_bind_group(1, &object_group, &[]);
-            // The shader computes the blade as x + y · (groups in x · 64).
-            pass.dispatch_workgroups(gx, gy, 1);
+            // One dispatch per chunk of patches (`chunk.wgsl`).
+            for (group, (gx, gy)) in &field_groups {
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(*gx, *gy, 1);
+            }
         }
     }
 }

@@ -47,6 +47,8 @@ struct ObjectParams {
 @group(0) @binding(1) var<storage, read> cell_state: array<u32>;
 @group(0) @binding(2) var<storage, read_write> force: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read_write> hit_mask: array<u32>;
+// The chunk of patches this dispatch runs over (`chunk.wgsl`): `pos` is its own.
+@group(0) @binding(4) var<uniform> chunk: Chunk;
 
 @group(1) @binding(0) var<uniform> obj: ObjectParams;
 @group(1) @binding(1) var<storage, read> nodes: array<Node>;
@@ -319,10 +321,9 @@ fn point_velocity(p: vec3<f32>) -> vec3<f32> {
 }
 
 @compute @workgroup_size(64)
-fn collide(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let b = gid.x + gid.y * groups.x * 64u;
-    let count = obj.field.x;
-    if b >= count {
+fn collide(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let b = chunk_blade(gid);
+    if b == NOT_IN_CHUNK {
         return;
     }
     let first_object = obj.tree.w == 1u;
@@ -334,10 +335,10 @@ fn collide(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
     let segments = min(obj.field.y, MAX_SEGMENTS);
     let cell = b / max(obj.field.z, 1u);
     if (cell_state[cell] & 3u) == LOD_GEOMETRY {
-        var prev = to_local(pos[b].xyz);
+        var prev = to_local(pos[vertex_at(0u, b)].xyz);
         var sum = vec3<f32>(0.0);
         for (var k = 0u; k < segments; k++) {
-            let next = to_local(pos[(k + 1u) * count + b].xyz);
+            let next = to_local(pos[vertex_at(k + 1u, b)].xyz);
             let s = collide_segment(prev, next);
             if s.hit {
                 mask |= 1u << k;

@@ -6,10 +6,15 @@
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
-/// The WGSL source as compiled (`blade.wgsl` prepended).
+/// The WGSL source as compiled (`blade.wgsl` and `chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
-    format!("{}\n{}", crate::BLADE_WGSL, include_str!("recovery.wgsl"))
+    format!(
+        "{}\n{}\n{}",
+        crate::BLADE_WGSL,
+        crate::CHUNK_WGSL,
+        include_str!("recovery.wgsl")
+    )
 }
 
 /// The compiled recovery kernel.
@@ -27,13 +32,15 @@ impl Recovery {
                 device,
                 "trample-gpu recovery",
                 &source(),
-                &[Uniform, ReadWrite, ReadWrite, Read, Read, ReadWrite],
+                &[
+                    Uniform, ReadWrite, ReadWrite, Read, Read, ReadWrite, Uniform,
+                ],
                 &["recover"],
             ),
         }
     }
 
-    /// Records the recovery of every displaced blade.
+    /// Records the recovery of every displaced blade, one dispatch per chunk.
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -41,19 +48,21 @@ impl Recovery {
         field: &GpuField,
         params: &wgpu::Buffer,
         state: &wgpu::Buffer,
-        groups: (u32, u32),
     ) {
-        let group = self.kernel.bind(
-            device,
-            &[
-                params,
-                state,
-                &field.pos,
-                &field.rest,
-                &field.seg_len,
-                &field.displaced,
-            ],
-        );
-        self.kernel.dispatch(encoder, 0, &group, groups);
+        for chunk in &field.chunks {
+            let group = self.kernel.bind(
+                device,
+                &[
+                    params,
+                    state,
+                    &chunk.pos,
+                    &chunk.rest,
+                    &field.seg_len,
+                    &field.displaced,
+                    &chunk.uniform,
+                ],
+            );
+            self.kernel.dispatch(encoder, 0, &group, chunk.groups);
+        }
     }
 }

@@ -11,13 +11,13 @@
 @group(0) @binding(3) var<storage, read> rest: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> seg_len: array<f32>;
 @group(0) @binding(5) var<storage, read_write> displaced: array<u32>;
+@group(0) @binding(6) var<uniform> chunk: Chunk;
 
 
 @compute @workgroup_size(64)
 fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let b = blade_index(gid);
-    let count = params.counts.x;
-    if b >= count || displaced[b] == 0u {
+    let b = chunk_blade(gid);
+    if b == NOT_IN_CHUNK || displaced[b] == 0u {
         return;
     }
     if params.b.w == 0.0 {
@@ -29,8 +29,8 @@ fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
     var r: array<vec3<f32>, MAX_VERTS>;
     var same = true;
     for (var k = 0u; k <= n; k++) {
-        v[k] = pos[k * count + b].xyz;
-        r[k] = rest[k * count + b].xyz;
+        v[k] = pos[vertex_at(k, b)].xyz;
+        r[k] = rest[vertex_at(k, b)].xyz;
         same = same && all(v[k] == r[k]);
     }
     if same {
@@ -53,7 +53,7 @@ fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
         at_rest = at_rest && dot(d, d) < REST_EPSILON * REST_EPSILON;
     }
     for (var k = 1u; k <= n; k++) {
-        pos[k * count + b] = vec4<f32>(select(v[k], r[k], at_rest), 0.0);
+        pos[vertex_at(k, b)] = vec4<f32>(select(v[k], r[k], at_rest), 0.0);
     }
     if at_rest {
         displaced[b] = 0u;

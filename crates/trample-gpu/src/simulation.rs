@@ -9,9 +9,10 @@
 //! Its own blade arrays are **not** updated by [`GpuSimulation::step`]:
 //! read the field back with [`GpuField::read_positions`].
 //!
-//! Not yet on the GPU (see the crate docs): broad phase by patch (every
-//! blade runs the root-box test instead), terrain other than flat,
-//! per-stage timestamps, fields over one storage binding.
+//! Fields over one storage binding run in chunks of patches
+//! ([`crate::chunk`]). Not yet on the GPU (see the crate docs): broad phase
+//! by patch (every blade runs the root-box test instead), terrain other
+//! than flat, per-stage timestamps.
 
 use trample::Simulation;
 use trample::deform::bend::weights;
@@ -67,9 +68,10 @@ impl GpuSimulation {
         self.profiling = on;
     }
 
-    /// Whether the GPU path can run `sim` on `device`: flat terrain, and
-    /// blade positions within one storage binding (chunking is not done
-    /// yet). Checks before anything is allocated.
+    /// Whether the GPU path can run `sim` on `device`: flat terrain, one
+    /// patch's vertices within one storage binding (fields are split into
+    /// chunks of patches), and the whole-field per-blade arrays (16 bytes a
+    /// blade) within one binding. Checks before anything is allocated.
     ///
     /// # Errors
     /// [`GpuError::Unsupported`] or [`GpuError::TooLarge`], saying why.
@@ -79,15 +81,20 @@ impl GpuSimulation {
                 "terrain other than flat (the GPU ground guard is flat only)",
             ));
         }
-        let bytes = sim.field.blades.pos.len() as u64 * 16;
-        let limit = device.limits().max_storage_buffer_binding_size;
-        if bytes > limit {
+        let limit = GpuField::binding_limit(device);
+        let blades = &sim.field.blades;
+        let whole_field = blades.count as u64 * 16;
+        if whole_field > limit {
             return Err(GpuError::TooLarge {
-                what: "blade positions (chunking into patches is not done yet)",
-                bytes,
+                what: "the per-blade forces and neighbour table (16 bytes a blade, not chunked)",
+                bytes: whole_field,
                 limit,
             });
         }
+        let layout = &sim.field.layout;
+        let patch = layout.cells_in_patch() as u32 * layout.blades_per_cell;
+        let verts = blades.segments as u32 + 1;
+        crate::chunk::plan_chunks(blades.count as u32, verts, patch, limit)?;
         Ok(())
     }
 
@@ -101,6 +108,21 @@ impl GpuSimulation {
         queue: &wgpu::Queue,
         sim: Simulation,
     ) -> Result<Self, GpuError> {
+        Self::new_chunked(device, queue, sim, None)
+    }
+
+    /// As [`GpuSimulation::new`], each chunk of patches within
+    /// `max_chunk_bytes` of positions when given (tests chunk small fields
+    /// with it; by default a chunk is as large as one storage binding).
+    ///
+    /// # Errors
+    /// As [`GpuSimulation::new`].
+    pub fn new_chunked(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: Simulation,
+        max_chunk_bytes: Option<u64>,
+    ) -> Result<Self, GpuError> {
         let ground = match sim.field.terrain {
             Terrain::Flat(h) => h,
             _ => {
@@ -109,7 +131,7 @@ impl GpuSimulation {
                 ));
             }
         };
-        let field = GpuField::from_field(device, queue, &sim.field)?;
+        let field = GpuField::from_field_chunked(device, queue, &sim.field, max_chunk_bytes)?;
         let objects = sim
             .bodies
             .iter()
@@ -150,7 +172,7 @@ impl GpuSimulation {
     }
 
     /// The step uniform for a sub-step of `h` seconds.
-    fn step_params(&self, h: f32, groups_x: u32, cell_groups_x: u32) -> GpuStepParams {
+    fn step_params(&self, h: f32, groups_x: u32) -> GpuStepParams {
         let p = &self.sim.params;
         let n = self.field.segments as usize;
         let w = weights(n, p.weight_a, p.weight_b);
@@ -190,7 +212,7 @@ impl GpuSimulation {
                 self.field.cell_count,
                 self.field.blades_per_cell,
                 self.objects.len() as u32,
-                cell_groups_x,
+                0,
             ],
         }
     }
@@ -219,8 +241,7 @@ impl GpuSimulation {
         let h = dt / substeps as f32;
         let max = device.limits().max_compute_workgroups_per_dimension;
         let groups = grid(self.field.count, max);
-        let cell_groups = grid(self.field.cell_count, max);
-        let cell_group = self.cells.bind(
+        let cell_groups = self.cells.bind(
             device,
             &self.field,
             &self.params,
@@ -238,7 +259,7 @@ impl GpuSimulation {
             }
             let positions: Vec<_> = self.sim.bodies.iter().map(|b| b.pose.position).collect();
             self.sim.view = self.sim.camera.view_at(t, &positions);
-            let params = self.step_params(h, groups.0, cell_groups.0);
+            let params = self.step_params(h, groups.0);
             queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
             if !roots.is_empty() {
                 queue.write_buffer(&self.world_roots, 0, bytemuck::cast_slice(&roots));
@@ -253,8 +274,7 @@ impl GpuSimulation {
                 &self.params,
                 &self.state,
             );
-            self.cells
-                .record_classify(&mut encoder, &cell_group, cell_groups);
+            self.cells.record_classify(&mut encoder, &cell_groups);
             laps.lap(device, queue, &mut encoder, &mut tm.lod_ms);
             if !self.objects.is_empty() {
                 self.narrow.record(
@@ -277,24 +297,15 @@ impl GpuSimulation {
                 );
                 laps.lap(device, queue, &mut encoder, &mut tm.propagation_ms);
                 self.bend
-                    .record(device, &mut encoder, &self.field, &self.params, groups);
+                    .record(device, &mut encoder, &self.field, &self.params);
             }
-            self.cells
-                .record_billboards(&mut encoder, &cell_group, cell_groups);
+            self.cells.record_billboards(&mut encoder, &cell_groups);
             laps.lap(device, queue, &mut encoder, &mut tm.deformation_ms);
-            self.cells
-                .record_transitions(&mut encoder, &cell_group, cell_groups);
+            self.cells.record_transitions(&mut encoder, &cell_groups);
             laps.lap(device, queue, &mut encoder, &mut tm.transitions_ms);
-            self.recovery.record(
-                device,
-                &mut encoder,
-                &self.field,
-                &self.params,
-                &self.state,
-                groups,
-            );
-            self.cells
-                .record_recover_slopes(&mut encoder, &cell_group, cell_groups);
+            self.recovery
+                .record(device, &mut encoder, &self.field, &self.params, &self.state);
+            self.cells.record_recover_slopes(&mut encoder, &cell_groups);
             laps.lap(device, queue, &mut encoder, &mut tm.recovery_ms);
             queue.submit([encoder.finish()]);
         }

@@ -19,7 +19,8 @@ pub struct GpuStepParams {
     pub eye: [f32; 4],
     /// `billboard_m`, unused ×3.
     pub lod: [f32; 4],
-    /// Cell count, blades per cell, object count, cell workgroups in x.
+    /// Cell count, blades per cell, object count, unused (per-chunk cell
+    /// dispatches take their workgroups from the chunk's uniform).
     pub cells: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 160);

@@ -91,11 +91,11 @@ fn bent_then_recovered_blades_match_the_cpu() {
     let mut enc = device.create_command_encoder(&Default::default());
     propagation.record_reset(device, &mut enc, &g, &uniform, &state);
     propagation.record(device, &mut enc, &g, &uniform, &state, groups, 0);
-    bend.record(device, &mut enc, &g, &uniform, groups);
+    bend.record(device, &mut enc, &g, &uniform);
     queue.submit([enc.finish()]);
     let bent = g.read_positions(device, queue).unwrap();
     let mut enc = device.create_command_encoder(&Default::default());
-    recover.record(device, &mut enc, &g, &uniform, &state, groups);
+    recover.record(device, &mut enc, &g, &uniform, &state);
     queue.submit([enc.finish()]);
     let recovered = g.read_positions(device, queue).unwrap();
 

@@ -1,0 +1,159 @@
+//! Chunks of patches (issue 4, item 2): a field's blade vertices are split
+//! into chunks of whole patches, each chunk's `pos` and `rest` within one
+//! storage binding (128 MiB on the software drivers: ≈ 1.6 M blades of five
+//! vertices). The stages that touch vertices (narrow phase, bending,
+//! recovery, the per-cell stages) run one dispatch per chunk over its own
+//! buffers (`chunk.wgsl`); the small per-blade and per-cell arrays (forces,
+//! generations, classes, neighbours, cell states: ≤ 16 bytes a blade) stay
+//! whole-field, so propagation crosses chunk borders as it crosses patch
+//! borders. Those whole-field arrays bound the field at one binding of 16
+//! bytes a blade (≈ 8.4 M blades on the software drivers;
+//! [`GpuError::TooLarge`] beyond).
+//!
+//! An unchunked field is one chunk; a chunked field gives the same result
+//! (`tests/chunking.rs`).
+
+use bytemuck::{Pod, Zeroable};
+use std::ops::Range;
+
+use crate::error::GpuError;
+use crate::kernel::grid;
+
+/// The uniform of one chunk. Layout-compatible with `Chunk` in `chunk.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct GpuChunkParams {
+    /// First blade, blades, first cell, cells.
+    pub range: [u32; 4],
+    /// Workgroups in x of the blade dispatch and of the cell dispatch; unused ×2.
+    pub groups: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuChunkParams>() == 32);
+
+/// One chunk of patches on the GPU.
+pub struct GpuChunk {
+    /// Global blades `first_blade .. first_blade + blades`.
+    pub first_blade: u32,
+    /// Blades in the chunk.
+    pub blades: u32,
+    /// Global cells `first_cell .. first_cell + cells`.
+    pub first_cell: u32,
+    /// Cells in the chunk.
+    pub cells: u32,
+    /// Vertex positions of the chunk's blades, vertex-major over the chunk
+    /// (`pos[k * blades + (b - first_blade)]`), `vec4<f32>` (w unused).
+    /// Usable as a vertex or storage buffer by a renderer.
+    pub pos: wgpu::Buffer,
+    /// Rest positions, same layout; vertex 0 carries the segment length in w.
+    pub rest: wgpu::Buffer,
+    pub(crate) uniform: wgpu::Buffer,
+    /// Workgroups (x, y) of a dispatch over the chunk's blades.
+    pub(crate) groups: (u32, u32),
+    /// Workgroups (x, y) of a dispatch over the chunk's cells.
+    pub(crate) cell_groups: (u32, u32),
+}
+
+impl GpuChunk {
+    /// The uniform's contents for a device allowing `max_groups`
+    /// workgroups per dimension.
+    pub(crate) fn params(
+        first_blade: u32,
+        blades: u32,
+        blades_per_cell: u32,
+        max_groups: u32,
+    ) -> (GpuChunkParams, (u32, u32), (u32, u32)) {
+        let cells = blades / blades_per_cell.max(1);
+        let groups = grid(blades, max_groups);
+        let cell_groups = grid(cells, max_groups);
+        (
+            GpuChunkParams {
+                range: [
+                    first_blade,
+                    blades,
+                    first_blade / blades_per_cell.max(1),
+                    cells,
+                ],
+                groups: [groups.0, cell_groups.0, 0, 0],
+            },
+            groups,
+            cell_groups,
+        )
+    }
+
+    /// The chunk's global blades.
+    #[must_use]
+    pub fn blade_range(&self) -> Range<usize> {
+        self.first_blade as usize..(self.first_blade + self.blades) as usize
+    }
+}
+
+/// The blade ranges of the chunks of a field of `count` blades of `verts`
+/// vertices, cut at multiples of `unit` blades (a patch; `count` is a
+/// multiple of it), each chunk's positions (16 bytes a vertex) within
+/// `max_bytes`. As few chunks as fit, all but the last of equal size.
+///
+/// # Errors
+/// [`GpuError::TooLarge`] when one unit alone is over `max_bytes`;
+/// [`GpuError::Layout`] when `unit` is 0 or does not divide `count`.
+pub fn plan_chunks(
+    count: u32,
+    verts: u32,
+    unit: u32,
+    max_bytes: u64,
+) -> Result<Vec<Range<u32>>, GpuError> {
+    if unit == 0 || !count.is_multiple_of(unit) {
+        return Err(GpuError::Layout(format!(
+            "{count} blades are not whole chunk units of {unit} blades"
+        )));
+    }
+    let unit_bytes = u64::from(unit) * u64::from(verts) * 16;
+    if unit_bytes > max_bytes {
+        return Err(GpuError::TooLarge {
+            what: "the blade positions of one patch (the smallest chunk)",
+            bytes: unit_bytes,
+            limit: max_bytes,
+        });
+    }
+    let units_per_chunk = (max_bytes / unit_bytes).min(u64::from(u32::MAX)) as u32;
+    let per_chunk = units_per_chunk.saturating_mul(unit);
+    let mut out = Vec::new();
+    let mut start = 0u32;
+    while start < count {
+        let end = start.saturating_add(per_chunk).min(count);
+        out.push(start..end);
+        start = end;
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chunks_cover_the_field_in_whole_units_within_the_limit() {
+        // 10 patches of 64 blades, 5 vertices: 5,120 bytes a patch.
+        let plan = plan_chunks(640, 5, 64, 3 * 5_120 + 100).unwrap();
+        assert_eq!(plan, vec![0..192, 192..384, 384..576, 576..640]);
+        let one = plan_chunks(640, 5, 64, u64::MAX).unwrap();
+        assert_eq!(one, vec![0..640]);
+    }
+
+    #[test]
+    fn a_patch_over_the_limit_is_refused_by_name() {
+        let e = plan_chunks(640, 5, 64, 5_000).unwrap_err();
+        assert!(e.to_string().contains("one patch"), "{e}");
+        assert!(plan_chunks(640, 5, 0, 1 << 20).is_err());
+        assert!(plan_chunks(650, 5, 64, 1 << 20).is_err());
+    }
+
+    #[test]
+    fn chunk_params_index_cells_and_workgroups() {
+        let (p, g, cg) = GpuChunk::params(128, 200, 8, 2);
+        assert_eq!(p.range, [128, 200, 16, 25]);
+        // 200 blades = 4 groups of 64, at most 2 in x.
+        assert_eq!(g, (2, 2));
+        assert_eq!(cg, (1, 1));
+        assert_eq!(p.groups, [2, 1, 0, 0]);
+    }
+}

@@ -1,0 +1,43 @@
+// Shared by the stages that read or write blade vertices (narrow phase,
+// bend, recovery, cells; prepended to each, not a stage of its own): the
+// chunk of patches a dispatch runs over (`chunk.rs`). Blade and cell
+// indices stay global (forces, generations, classes, cell states are
+// whole-field arrays); only `pos` and `rest` are the chunk's own, in the
+// CPU's vertex-major layout over the chunk's blades:
+// `pos[k * blades + (b - first_blade)]` is vertex k of global blade b.
+// Each stage declares `var<uniform> chunk: Chunk` at a binding of its own.
+
+// Layout-compatible with `GpuChunkParams` in chunk.rs.
+struct Chunk {
+    // first blade, blades, first cell, cells
+    range: vec4<u32>,
+    // workgroups in x of the blade dispatch, of the cell dispatch, unused ×2
+    groups: vec4<u32>,
+}
+
+const NOT_IN_CHUNK: u32 = 0xffffffffu;
+
+// The global blade of this thread in a dispatch over the chunk's blades,
+// or NOT_IN_CHUNK past its end.
+fn chunk_blade(gid: vec3<u32>) -> u32 {
+    let l = gid.x + gid.y * chunk.groups.x * 64u;
+    if l >= chunk.range.y {
+        return NOT_IN_CHUNK;
+    }
+    return chunk.range.x + l;
+}
+
+// The global cell of this thread in a dispatch over the chunk's cells, or
+// NOT_IN_CHUNK past its end.
+fn chunk_cell(gid: vec3<u32>) -> u32 {
+    let l = gid.x + gid.y * chunk.groups.y * 64u;
+    if l >= chunk.range.w {
+        return NOT_IN_CHUNK;
+    }
+    return chunk.range.z + l;
+}
+
+// Index of vertex k of global blade b (of this chunk) in `pos` / `rest`.
+fn vertex_at(k: u32, b: u32) -> u32 {
+    return k * chunk.range.y + (b - chunk.range.x);
+}
