@@ -2,7 +2,8 @@
 //! the accuracy numbers in it are sane (no false negatives, false positives
 //! never grow with precision), `--render` adds simulation + rendering frame
 //! rates, `--backend both` times the GPU path beside the CPU path on the
-//! same frames, and bad flags fail in one line.
+//! same frames, `--scaling --backend both` puts GPU points beside the CPU
+//! ones, and bad flags fail in one line.
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -125,8 +126,8 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
             "--render: with --backend cpu only",
         ),
         (
-            &["--backend", "both", "--scaling"],
-            "--backend both: --scaling times the CPU path only",
+            &["--max-blades", "1000"],
+            "--max-blades / --max-triangles: only with --scaling",
         ),
         (&["--backend", "tpu"], "--backend"),
         (&["--precisions", "0..3"], "--precisions \"0..3\""),
@@ -230,5 +231,83 @@ fn bench_both_backends_time_the_same_frames() {
         assert!(ms > 0.0, "{gpu}");
     }
     assert_chart(&out.join("bench.png"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn scaling_with_both_backends_has_gpu_points_beside_the_cpu_ones() {
+    let d = dir("scaling");
+    let out = d.join("out");
+    // The two ¼-size fields (65,536 blades) and icospheres of 20, 80 and
+    // 320 triangles on the default field: small enough for CI.
+    let o = trample(&[
+        "bench",
+        "--scaling",
+        "--frames",
+        "3",
+        "--precisions",
+        "3",
+        "--backend",
+        "both",
+        "--max-blades",
+        "70000",
+        "--max-triangles",
+        "400",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("scaling.json")).unwrap()).unwrap();
+    assert_eq!(r["backend"], "both");
+    assert!(r["adapter"].as_str().is_some_and(|a| !a.is_empty()), "{r}");
+    let points = |key: &str| -> Vec<(String, u64, f64, f64)> {
+        r[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| {
+                let n = if key == "blades" {
+                    "blades"
+                } else {
+                    "triangles"
+                };
+                (
+                    p["backend"].as_str().unwrap().to_string(),
+                    p[n].as_u64().unwrap(),
+                    p["step_ms"]["median"].as_f64().unwrap(),
+                    p.get("dbg_blades_mean")
+                        .and_then(serde_json::Value::as_f64)
+                        .unwrap_or(0.0),
+                )
+            })
+            .collect()
+    };
+    let blades = points("blades");
+    assert_eq!(blades.len(), 4, "{blades:?}");
+    for pair in blades.chunks(2) {
+        assert_eq!((pair[0].0.as_str(), pair[1].0.as_str()), ("cpu", "gpu"));
+        assert_eq!(pair[0].1, 65_536);
+        assert_eq!(pair[0].1, pair[1].1);
+        // The same frames on both paths: the same blades hit directly.
+        assert_eq!(pair[0].3, pair[1].3, "{pair:?}");
+        assert!(pair[1].2 > 0.0, "{pair:?}");
+    }
+    let tris = points("triangles");
+    let want: Vec<(&str, u64)> = [20, 80, 320]
+        .into_iter()
+        .flat_map(|t| [("cpu", t), ("gpu", t)])
+        .collect();
+    let got: Vec<(&str, u64)> = tris.iter().map(|t| (t.0.as_str(), t.1)).collect();
+    assert_eq!(got, want);
+    let skipped = r["skipped"].as_array().unwrap();
+    assert!(
+        skipped
+            .iter()
+            .any(|s| s.as_str().unwrap().contains("over --max-blades")),
+        "{skipped:?}"
+    );
+    assert_chart(&out.join("scaling_blades.png"));
+    assert_chart(&out.join("scaling_triangles.png"));
     std::fs::remove_dir_all(&d).unwrap();
 }

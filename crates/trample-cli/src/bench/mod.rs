@@ -59,7 +59,8 @@ pub struct Args {
     /// (default 1..7, the paper's; with --scaling, 7).
     #[arg(long)]
     pub precisions: Option<String>,
-    /// Which path to time: cpu (the bench does not time the GPU path yet).
+    /// Which path to time: cpu, gpu (on the adapter of `WGPU_BACKEND`), or
+    /// both side by side (also with --scaling).
     #[arg(long, value_enum, default_value_t = Backend::Cpu)]
     pub backend: Backend,
     /// Also render every frame offscreen at --size (on the adapter of
@@ -80,6 +81,14 @@ pub struct Args {
     /// and a denser field) and against the object's triangle count.
     #[arg(long)]
     pub scaling: bool,
+    /// With --scaling: leave out blade-count points over this many blades
+    /// (default: all that fit half of this machine's memory).
+    #[arg(long)]
+    pub max_blades: Option<u64>,
+    /// With --scaling: leave out triangle-count points over this many
+    /// triangles (default: all, up to 1,310,720).
+    #[arg(long)]
+    pub max_triangles: Option<usize>,
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -87,11 +96,8 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(a: &Args) -> Result<()> {
-    if a.scaling && a.backend != Backend::Cpu {
-        bail!(
-            "--backend {}: --scaling times the CPU path only (the GPU path refuses fields over one storage binding)",
-            a.backend.name()
-        );
+    if !a.scaling && (a.max_blades.is_some() || a.max_triangles.is_some()) {
+        bail!("--max-blades / --max-triangles: only with --scaling");
     }
     if a.render && a.backend != Backend::Cpu {
         bail!(
@@ -125,6 +131,8 @@ pub fn run(a: &Args) -> Result<()> {
         out,
         render: a.render.then_some(a.size),
         backend: a.backend,
+        max_blades: a.max_blades,
+        max_triangles: a.max_triangles,
     };
     if a.scaling {
         scaling::run(&scene, &setup)
@@ -147,6 +155,21 @@ pub struct Setup {
     pub render: Option<(u32, u32)>,
     /// Which paths to time (`--backend`).
     pub backend: Backend,
+    /// `--max-blades` (scaling).
+    pub max_blades: Option<u64>,
+    /// `--max-triangles` (scaling).
+    pub max_triangles: Option<usize>,
+}
+
+impl Setup {
+    /// The backends to time, in order (`cpu` before `gpu`).
+    fn backends(&self) -> &'static [&'static str] {
+        match self.backend {
+            Backend::Cpu => &["cpu"],
+            Backend::Gpu => &["gpu"],
+            Backend::Both => &["cpu", "gpu"],
+        }
+    }
 }
 
 /// A progress bar over `len` units of work.

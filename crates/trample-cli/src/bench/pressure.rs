@@ -131,11 +131,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
     );
     let p = setup.precisions.len() as u64;
     let accuracy_queries = accuracy_scenes.len() as u64 * ACCURACY_SAMPLES as u64 * (p + 1);
-    let backends: &[&'static str] = match setup.backend {
-        Backend::Cpu => &["cpu"],
-        Backend::Gpu => &["gpu"],
-        Backend::Both => &["cpu", "gpu"],
-    };
+    let backends = setup.backends();
     let bar = progress(setup.frames * p * backends.len() as u64 + accuracy_queries);
 
     let gpu = if setup.render.is_some() || setup.backend != Backend::Cpu {

@@ -1,5 +1,6 @@
 //! `trample bench --scaling`: step time against the number of blades and
-//! against the object's number of triangles, CPU path.
+//! against the object's number of triangles, on the CPU path, the GPU path
+//! (`--backend gpu`) or both side by side (`--backend both`).
 //!
 //! Blades, two series from the scene's field (×¼, ×1, ×4, ×16, ×64 blades;
 //! 65 k … 16.8 M for the default field):
@@ -15,11 +16,13 @@
 //! Also records the OBB-tree build time of each mesh.
 //!
 //! Points whose memory estimate passes the scene's `sim.memory_limit_gib`
-//! or half of this machine's memory are skipped, and said so.
+//! or half of this machine's memory, points over `--max-blades` /
+//! `--max-triangles`, and GPU points the adapter refuses (a field whose
+//! whole-field arrays pass one storage binding) are skipped, and said so.
 
 use super::chart::{COLORS, Chart, Series, line_chart};
 use super::machine::Machine;
-use super::{Setup, progress, time_frames};
+use super::{Setup, progress, time_frames, time_frames_gpu};
 use crate::summary::{Recorder, Stats, write_json};
 use anyhow::{Result, bail};
 use glam::Vec3;
@@ -45,6 +48,10 @@ struct Report {
     frames: u64,
     threads: usize,
     machine: Machine,
+    /// `cpu`, `gpu` or `both`.
+    backend: &'static str,
+    /// The GPU adapter, when the GPU path was timed.
+    adapter: Option<String>,
     blades: Vec<BladePoint>,
     triangles: Vec<TrianglePoint>,
     /// Points left out, and why.
@@ -55,6 +62,8 @@ struct Report {
 struct BladePoint {
     /// `larger field` or `denser field`.
     series: &'static str,
+    /// `cpu` or `gpu`.
+    backend: &'static str,
     blades: u64,
     patches: [u32; 2],
     cells_per_patch: u32,
@@ -72,6 +81,8 @@ struct BladePoint {
 
 #[derive(Serialize, Clone)]
 struct TrianglePoint {
+    /// `cpu` or `gpu`.
+    backend: &'static str,
     subdivisions: u32,
     triangles: usize,
     tree_build_ms: f64,
@@ -89,10 +100,20 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
     let mut skipped = Vec::new();
     let machine = Machine::read();
     let memory_gib = machine.memory_gib;
+    let backends = setup.backends();
+    let gpu = if backends.contains(&"gpu") {
+        let g = trample_render::headless::create_device()?;
+        eprintln!("trample bench --scaling: GPU path on {}", g.adapter_name());
+        Some(g)
+    } else {
+        None
+    };
     let mut blade_scenes = Vec::new();
     for series in ["larger field", "denser field"] {
         for (name, factor) in BLADE_FACTORS {
-            match blade_scene(scene, series, factor, memory_gib, setup.precisions.len()) {
+            match blade_scene(scene, series, factor, memory_gib, setup.precisions.len())
+                .and_then(|s| within(s.file.field.blade_count(), setup.max_blades, "blades", s))
+            {
                 Ok(s) => blade_scenes.push((series, s)),
                 Err(why) => skipped.push(format!("{series} {name}: {why}")),
             }
@@ -108,13 +129,46 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
             None
         }
     };
-    let tri_points = if radius.is_some() {
-        SUBDIVISIONS.count()
+    let levels: Vec<u32> = if radius.is_some() {
+        SUBDIVISIONS
+            .filter(|&s| {
+                let t = 20usize << (2 * s);
+                let keep = setup.max_triangles.is_none_or(|m| t <= m);
+                if !keep {
+                    skipped.push(format!("triangles {t}: over --max-triangles"));
+                }
+                keep
+            })
+            .collect()
     } else {
-        0
+        Vec::new()
     };
-    let p = setup.precisions.len();
-    let bar = progress(setup.frames * ((blade_scenes.len() + tri_points) * p) as u64);
+    let runs = setup.precisions.len() * backends.len();
+    let bar = progress(setup.frames * ((blade_scenes.len() + levels.len()) * runs) as u64);
+    // Times `sim` on `backend`; `None` (and a line in `skipped`) when the
+    // GPU path refuses the scene.
+    let time = |sim: trample::Simulation,
+                backend: &str,
+                what: &str,
+                skipped: &mut Vec<String>|
+     -> Result<Option<Recorder>> {
+        let tick = |_: &trample::Simulation| {
+            bar.inc(1);
+            Ok(())
+        };
+        let steps = match (backend, &gpu) {
+            ("gpu", Some(g)) => {
+                if let Err(e) = trample_gpu::GpuSimulation::supports(&g.device, &sim) {
+                    skipped.push(format!("gpu {what}: {e}"));
+                    bar.inc(setup.frames);
+                    return Ok(None);
+                }
+                time_frames_gpu(g, sim, setup.frames, tick)?
+            }
+            _ => time_frames(sim, setup.frames, tick)?,
+        };
+        Ok(Some(Recorder { steps }))
+    };
 
     let mut blades = Vec::new();
     for (series, s) in &blade_scenes {
@@ -123,21 +177,25 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         let t = Instant::now();
         let mut base = Some(s.build()?);
         let build_ms = t.elapsed().as_secs_f64() * 1e3;
-        for (i, &precision) in setup.precisions.iter().enumerate() {
+        for (i, (&precision, &backend)) in setup
+            .precisions
+            .iter()
+            .flat_map(|p| backends.iter().map(move |b| (p, b)))
+            .enumerate()
+        {
             bar.set_message(format!(
-                "{series}: {} blades, precision {precision}",
+                "{series}: {} blades, precision {precision}, {backend}",
                 f.blade_count()
             ));
-            let mut sim = last_or_clone(&mut base, i + 1 == setup.precisions.len());
+            let mut sim = last_or_clone(&mut base, i + 1 == runs);
             sim.params.precision = precision;
-            let rec = Recorder {
-                steps: time_frames(sim, setup.frames, |_| {
-                    bar.inc(1);
-                    Ok(())
-                })?,
+            let what = format!("{series}, {} blades", f.blade_count());
+            let Some(rec) = time(sim, backend, &what, &mut skipped)? else {
+                continue;
             };
             blades.push(BladePoint {
                 series,
+                backend,
                 blades: f.blade_count(),
                 patches: f.patches,
                 cells_per_patch: f.cells_per_patch,
@@ -156,7 +214,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
 
     let mut triangles = Vec::new();
     if let Some(radius) = radius {
-        for subdivisions in SUBDIVISIONS {
+        for subdivisions in levels {
             let mut s = scene.clone();
             s.file.objects[0].shape = ShapeParams::Sphere {
                 radius_m: radius,
@@ -181,25 +239,28 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
             );
             base.bodies[0] = body;
             for &precision in &setup.precisions {
-                bar.set_message(format!("triangles: {tri_count}, precision {precision}"));
-                let mut sim = base.clone();
-                sim.params.precision = precision;
-                let rec = Recorder {
-                    steps: time_frames(sim, setup.frames, |_| {
-                        bar.inc(1);
-                        Ok(())
-                    })?,
-                };
-                triangles.push(TrianglePoint {
-                    subdivisions,
-                    triangles: tri_count,
-                    tree_build_ms,
-                    tree_depth: depth,
-                    tree_nodes: nodes,
-                    precision,
-                    step_ms: rec.step_ms(),
-                    narrow_ms_median: rec.stages_ms().get("narrow").copied().unwrap_or(0.0),
-                });
+                for &backend in backends {
+                    bar.set_message(format!(
+                        "triangles: {tri_count}, precision {precision}, {backend}"
+                    ));
+                    let mut sim = base.clone();
+                    sim.params.precision = precision;
+                    let what = format!("{tri_count} triangles");
+                    let Some(rec) = time(sim, backend, &what, &mut skipped)? else {
+                        continue;
+                    };
+                    triangles.push(TrianglePoint {
+                        backend,
+                        subdivisions,
+                        triangles: tri_count,
+                        tree_build_ms,
+                        tree_depth: depth,
+                        tree_nodes: nodes,
+                        precision,
+                        step_ms: rec.step_ms(),
+                        narrow_ms_median: rec.stages_ms().get("narrow").copied().unwrap_or(0.0),
+                    });
+                }
             }
         }
     }
@@ -210,6 +271,10 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         frames: setup.frames,
         threads: setup.threads,
         machine,
+        backend: setup.backend.name(),
+        adapter: gpu
+            .as_ref()
+            .map(trample_render::headless::Gpu::adapter_name),
         blades,
         triangles,
         skipped,
@@ -244,6 +309,14 @@ fn mean_dbg(rec: &Recorder) -> f64 {
         .map(|t| f64::from(t.dbg_blades))
         .sum::<f64>()
         / rec.steps.len().max(1) as f64
+}
+
+/// `s` when `n` is within `max` (or no maximum), else why not.
+fn within(n: u64, max: Option<u64>, what: &str, s: Scene) -> Result<Scene> {
+    match max {
+        Some(m) if n > m => bail!("{n} {what}, over --max-{what} {m}"),
+        _ => Ok(s),
+    }
 }
 
 /// The scene with its field scaled to `factor` × the blades (0 = ¼), or why
@@ -318,26 +391,32 @@ fn refine_sphere(mesh: &TriMesh, radius: f32) -> TriMesh {
 
 fn blades_chart(r: &Report, setup: &Setup) -> Result<()> {
     let mut series = Vec::new();
-    for (i, name) in ["larger field", "denser field"].into_iter().enumerate() {
-        for (j, &precision) in setup.precisions.iter().enumerate() {
-            let points: Vec<(f64, f64)> = r
-                .blades
-                .iter()
-                .filter(|b| b.series == name && b.precision == precision)
-                .map(|b| (b.blades as f64, b.step_ms.median))
-                .collect();
-            if !points.is_empty() {
-                series.push(Series {
-                    name: format!("{name}, precision {precision}: step median"),
-                    points,
-                    color: COLORS[(i + 2 * j) % COLORS.len()],
-                });
+    let backends = setup.backends();
+    for (k, &backend) in backends.iter().enumerate() {
+        for (i, name) in ["larger field", "denser field"].into_iter().enumerate() {
+            for (j, &precision) in setup.precisions.iter().enumerate() {
+                let points: Vec<(f64, f64)> = r
+                    .blades
+                    .iter()
+                    .filter(|b| {
+                        b.backend == backend && b.series == name && b.precision == precision
+                    })
+                    .map(|b| (b.blades as f64, b.step_ms.median))
+                    .collect();
+                if !points.is_empty() {
+                    series.push(Series {
+                        name: format!("{backend}, {name}, precision {precision}: step median"),
+                        points,
+                        color: COLORS[(i + 2 * j + 5 * k) % COLORS.len()],
+                    });
+                }
             }
         }
     }
     let title = format!(
-        "Step time vs blade count (CPU, {} threads, {} frames a point)",
-        r.threads, r.frames
+        "Step time vs blade count ({}, {} frames a point)",
+        backends_title(r),
+        r.frames
     );
     line_chart(
         &setup.out.join("scaling_blades.png"),
@@ -355,20 +434,22 @@ fn blades_chart(r: &Report, setup: &Setup) -> Result<()> {
 }
 
 fn triangles_chart(r: &Report, setup: &Setup) -> Result<()> {
-    let mut series: Vec<Series> = setup
-        .precisions
+    let backends = setup.backends();
+    let mut series: Vec<Series> = backends
         .iter()
+        .flat_map(|&backend| setup.precisions.iter().map(move |&p| (backend, p)))
         .enumerate()
-        .map(|(j, &precision)| Series {
-            name: format!("step median, precision {precision}"),
+        .map(|(j, (backend, precision))| Series {
+            name: format!("{backend}, step median, precision {precision}"),
             points: r
                 .triangles
                 .iter()
-                .filter(|t| t.precision == precision)
+                .filter(|t| t.backend == backend && t.precision == precision)
                 .map(|t| (t.triangles as f64, t.step_ms.median))
                 .collect(),
             color: COLORS[j % COLORS.len()],
         })
+        .filter(|s| !s.points.is_empty())
         .collect();
     let mut build: Vec<(f64, f64)> = r
         .triangles
@@ -379,11 +460,11 @@ fn triangles_chart(r: &Report, setup: &Setup) -> Result<()> {
     series.push(Series {
         name: "OBB-tree build (once per mesh)".into(),
         points: build,
-        color: COLORS[setup.precisions.len() % COLORS.len()],
+        color: COLORS[(setup.precisions.len() * backends.len()) % COLORS.len()],
     });
     let title = format!(
-        "Step time vs the object's triangles (icosphere, CPU, {} threads)",
-        r.threads
+        "Step time vs the object's triangles (icosphere, {})",
+        backends_title(r)
     );
     line_chart(
         &setup.out.join("scaling_triangles.png"),
@@ -400,13 +481,31 @@ fn triangles_chart(r: &Report, setup: &Setup) -> Result<()> {
     )
 }
 
+/// "CPU, 2 threads", "GPU, llvmpipe …" or both, for chart titles.
+fn backends_title(r: &Report) -> String {
+    let cpu = format!("CPU, {} threads", r.threads);
+    let gpu = format!(
+        "GPU, {}",
+        r.adapter
+            .as_deref()
+            .and_then(|a| a.split(" (").next())
+            .unwrap_or("no adapter")
+    );
+    match r.backend {
+        "gpu" => gpu,
+        "both" => format!("{cpu} / {gpu}"),
+        _ => cpu,
+    }
+}
+
 fn print_tables(r: &Report) {
     println!(
         "Step time against blade count ({}, {} frames a point, {} thread(s))",
         r.scene, r.frames, r.threads
     );
     println!(
-        "{:>13} {:>10} {:>9} {:>6} {:>8} {:>5} {:>9} {:>10} {:>10} {:>10} {:>10} {:>8} {:>9}",
+        "{:>4} {:>13} {:>10} {:>9} {:>6} {:>8} {:>5} {:>9} {:>10} {:>10} {:>10} {:>10} {:>8} {:>9}",
+        "path",
         "series",
         "blades",
         "patches",
@@ -423,7 +522,8 @@ fn print_tables(r: &Report) {
     );
     for b in &r.blades {
         println!(
-            "{:>13} {:>10} {:>9} {:>6} {:>8.2} {:>5} {:>9.2} {:>10.0} {:>10.3} {:>10.3} {:>10.3} {:>8.3} {:>9.0}  (precision {})",
+            "{:>4} {:>13} {:>10} {:>9} {:>6} {:>8.2} {:>5} {:>9.2} {:>10.0} {:>10.3} {:>10.3} {:>10.3} {:>8.3} {:>9.0}  (precision {})",
+            b.backend,
             b.series,
             b.blades,
             format!("{}x{}", b.patches[0], b.patches[1]),
@@ -443,12 +543,21 @@ fn print_tables(r: &Report) {
     println!();
     println!("Step time against the object's triangles (icosphere)");
     println!(
-        "{:>5} {:>10} {:>12} {:>6} {:>10} {:>10} {:>10} {:>10}",
-        "level", "triangles", "tree ms", "depth", "precision", "median ms", "max ms", "narrow ms"
+        "{:>4} {:>5} {:>10} {:>12} {:>6} {:>10} {:>10} {:>10} {:>10}",
+        "path",
+        "level",
+        "triangles",
+        "tree ms",
+        "depth",
+        "precision",
+        "median ms",
+        "max ms",
+        "narrow ms"
     );
     for t in &r.triangles {
         println!(
-            "{:>5} {:>10} {:>12.1} {:>6} {:>10} {:>10.3} {:>10.3} {:>10.3}",
+            "{:>4} {:>5} {:>10} {:>12.1} {:>6} {:>10} {:>10.3} {:>10.3} {:>10.3}",
+            t.backend,
             t.subdivisions,
             t.triangles,
             t.tree_build_ms,
