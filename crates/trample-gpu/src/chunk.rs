@@ -25,7 +25,9 @@ use crate::kernel::grid;
 pub struct GpuChunkParams {
     /// First blade, blades, first cell, cells.
     pub range: [u32; 4],
-    /// Workgroups in x of the blade dispatch and of the cell dispatch; unused ×2.
+    /// Workgroups in x of the blade dispatch and of the cell dispatch; the
+    /// entry of the chunk's count in the broad phase's lists (patches +
+    /// chunk index); blades per chunking unit (a patch).
     pub groups: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuChunkParams>() == 32);
@@ -61,6 +63,8 @@ impl GpuChunk {
         blades: u32,
         blades_per_cell: u32,
         max_groups: u32,
+        count_entry: u32,
+        unit: u32,
     ) -> (GpuChunkParams, (u32, u32), (u32, u32)) {
         let cells = blades / blades_per_cell.max(1);
         let groups = grid(blades, max_groups);
@@ -73,7 +77,7 @@ impl GpuChunk {
                     first_blade / blades_per_cell.max(1),
                     cells,
                 ],
-                groups: [groups.0, cell_groups.0, 0, 0],
+                groups: [groups.0, cell_groups.0, count_entry, unit],
             },
             groups,
             cell_groups,
@@ -149,11 +153,11 @@ mod tests {
 
     #[test]
     fn chunk_params_index_cells_and_workgroups() {
-        let (p, g, cg) = GpuChunk::params(128, 200, 8, 2);
+        let (p, g, cg) = GpuChunk::params(128, 200, 8, 2, 7, 40);
         assert_eq!(p.range, [128, 200, 16, 25]);
         // 200 blades = 4 groups of 64, at most 2 in x.
         assert_eq!(g, (2, 2));
         assert_eq!(cg, (1, 1));
-        assert_eq!(p.groups, [2, 1, 0, 0]);
+        assert_eq!(p.groups, [2, 1, 7, 40]);
     }
 }

@@ -11,7 +11,8 @@
 struct Chunk {
     // first blade, blades, first cell, cells
     range: vec4<u32>,
-    // workgroups in x of the blade dispatch, of the cell dispatch, unused ×2
+    // workgroups in x of the blade dispatch, of the cell dispatch; entry of
+    // the chunk's count in the broad phase's lists; blades per patch
     groups: vec4<u32>,
 }
 

@@ -37,6 +37,9 @@ pub struct GpuField {
     pub segments: u32,
     /// Blades per cell.
     pub blades_per_cell: u32,
+    /// Blades per patch when the chunks are whole patches
+    /// ([`GpuField::from_field`]); 0 for a field made by [`GpuField::new`].
+    pub patch_blades: u32,
     /// Vertex and rest positions, in chunks of whole patches (one chunk
     /// when the field fits one storage binding): draw from `chunks[i].pos`.
     pub chunks: Vec<GpuChunk>,
@@ -96,20 +99,21 @@ impl GpuField {
             .iter()
             .enumerate()
             .all(|(i, p)| p.first_blade == i as u32 * patch_blades && p.blades == patch_blades);
-        let unit = if whole_patches {
-            patch_blades
-        } else {
-            field.layout.blades_per_cell
-        };
-        let out = Self::new_chunked(
+        if !whole_patches {
+            return Err(GpuError::Layout(
+                "patches of different sizes or out of order: chunks need whole patches".into(),
+            ));
+        }
+        let mut out = Self::new_chunked(
             device,
             &field.blades,
             &field.cells.lod,
             field.layout.blades_per_cell,
             &field.layout.neighbours,
-            unit,
+            patch_blades,
             max_chunk_bytes,
         )?;
+        out.patch_blades = patch_blades;
         let cells = &field.cells;
         let rest: Vec<[f32; 4]> = (0..cells.lod.len())
             .flat_map(|c| {
@@ -221,11 +225,19 @@ impl GpuField {
         use wgpu::BufferUsages as U;
         let state: Vec<u32> = lod.iter().map(|&l| cell_state(l, false)).collect();
         let max_groups = device.limits().max_compute_workgroups_per_dimension;
+        let units = blades.count as u32 / unit.max(1);
         let chunks = plan
             .into_iter()
-            .map(|r| {
-                let (params, groups, cell_groups) =
-                    GpuChunk::params(r.start, r.end - r.start, blades_per_cell, max_groups);
+            .enumerate()
+            .map(|(i, r)| {
+                let (params, groups, cell_groups) = GpuChunk::params(
+                    r.start,
+                    r.end - r.start,
+                    blades_per_cell,
+                    max_groups,
+                    units + i as u32,
+                    unit,
+                );
                 // Vertex 0 of `rest` carries the segment length in w (cells.wgsl).
                 let mut rest = chunk_vec4(&blades.rest, blades.count, verts, r.clone());
                 for (x, &l) in rest.iter_mut().zip(&blades.seg_len[r.start as usize..]) {
@@ -262,6 +274,7 @@ impl GpuField {
             count: blades.count as u32,
             segments: blades.segments as u32,
             blades_per_cell,
+            patch_blades: 0,
             chunks,
             seg_len: init(
                 "trample-gpu segment lengths",
@@ -315,7 +328,7 @@ impl GpuField {
             hit_mask: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu hit masks"),
                 size: blades.count as u64 * 4,
-                usage: U::STORAGE | U::COPY_SRC,
+                usage: U::STORAGE | U::COPY_SRC | U::COPY_DST,
                 mapped_at_creation: false,
             }),
         })

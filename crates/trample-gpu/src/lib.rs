@@ -14,7 +14,7 @@
 //! | --- | --- |
 //! | poses | **CPU** (pure function of time), uploaded per object ([`object::GpuObject::set_pose`]) |
 //! | LOD per cell, billboards (Eq. 8), transitions (Eq. 9–13), billboard recovery | **done** ([`cells`]), whole-run parity-tested |
-//! | broad phase | not yet: every geometric blade runs the root-box test (same hits, more work) |
+//! | broad phase | **done** ([`broad_phase`]): one thread per patch against every object's root box (the CPU's SAT, twice its slack), per-chunk lists, indirect dispatch of the narrow phase over the listed patches' blades; lists equal to the CPU's (`tests/broad_phase_parity.rs`) |
 //! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested |
 //! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
 //! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested; flat terrain only |
@@ -36,6 +36,7 @@
 //! walk. llvmpipe through GL (what CI uses) is fine.
 
 pub mod bend;
+pub mod broad_phase;
 pub mod cells;
 pub mod chunk;
 pub mod error;
@@ -78,6 +79,7 @@ pub const SEGMENT_OBB_WGSL: &str = include_str!("segment_obb.wgsl");
 #[must_use]
 pub fn shader_sources() -> Vec<(&'static str, String)> {
     vec![
+        ("broad_phase.wgsl", broad_phase::source()),
         ("narrow_phase.wgsl", narrow_phase::source()),
         ("cells.wgsl", cells::source()),
         ("propagation.wgsl", propagation::source()),

@@ -5,10 +5,11 @@
 //!
 //! Matches `trample::collision::narrow_phase::collide_blade` plus the EqF sum
 //! of `trample::step::stages::narrow_phase`. Differences, by design:
-//! - no broad phase by patch yet: every blade of a geometric cell is tested,
-//!   and the root-box test (the first test of the walk) rejects the far ones.
-//!   The CPU's patch and reach-rectangle filters are conservative, so the
-//!   hits are the same; only the cost differs (≈ one box test per blade).
+//! - with the broad phase ([`BroadPhase`]) every blade of a listed patch is
+//!   tested (the CPU also drops the cells outside the box's reach
+//!   rectangle): the root-box test (the first test of the walk) rejects the
+//!   far ones, and both filters are conservative, so the hits are the same.
+//!   Without it (`trample collide`, stage tests) every blade of the field.
 //! - the inside test's ray cast (boundary voxels only) uses f32 triangle
 //!   tests where the CPU uses f64: the two differ only for a ray passing
 //!   within rounding of a triangle edge.
@@ -16,6 +17,7 @@
 //!   CPU's "NaN is a miss" is not guaranteed here (blades are finite by
 //!   construction).
 
+use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
 use crate::object::{GpuObject, GpuObjectParams};
 
@@ -33,6 +35,9 @@ pub fn source() -> String {
 /// The compiled narrow-phase pipeline; kept apart from the buffers it runs on.
 pub struct NarrowPhase {
     pipeline: wgpu::ComputePipeline,
+    listed: wgpu::ComputePipeline,
+    /// Bound as the lists when there is no broad phase.
+    no_lists: wgpu::Buffer,
     field_layout: wgpu::BindGroupLayout,
     object_layout: wgpu::BindGroupLayout,
 }
@@ -79,6 +84,7 @@ impl NarrowPhase {
                 storage_entry(2, false),
                 storage_entry(3, false),
                 uniform_entry(4),
+                storage_entry(5, true),
             ],
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -95,16 +101,25 @@ impl NarrowPhase {
             bind_group_layouts: &[Some(&field_layout), Some(&object_layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("trample-gpu narrow phase"),
-            layout: Some(&layout),
-            module: &module,
-            entry_point: Some("collide"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
+            })
+        };
         Self {
-            pipeline,
+            pipeline: pipeline("collide"),
+            listed: pipeline("collide_listed"),
+            no_lists: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu no broad phase"),
+                size: 16,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
             field_layout,
             object_layout,
         }
@@ -116,6 +131,11 @@ impl NarrowPhase {
     /// the submission `field`'s forces hold Σ EqF and `num` over all objects
     /// (zero for blades nothing hit); its hit masks the segments any object hit.
     /// With no object nothing is recorded (forces keep their old contents).
+    ///
+    /// With `broad` (recorded earlier in `encoder`), forces and hit masks
+    /// are cleared and only the blades of the listed patches are tested;
+    /// without it, every blade of the field.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -124,7 +144,16 @@ impl NarrowPhase {
         field: &GpuField,
         objects: &mut [GpuObject],
         precision: u32,
+        broad: Option<&BroadPhase>,
     ) {
+        if objects.is_empty() {
+            return;
+        }
+        if broad.is_some() {
+            encoder.clear_buffer(&field.force, 0, None);
+            encoder.clear_buffer(&field.hit_mask, 0, None);
+        }
+        let lists = broad.map_or(&self.no_lists, |b| &b.lists);
         let field_groups: Vec<_> = field
             .chunks
             .iter()
@@ -138,6 +167,7 @@ impl NarrowPhase {
                         entry(2, &field.force),
                         entry(3, &field.hit_mask),
                         entry(4, &chunk.uniform),
+                        entry(5, lists),
                     ],
                 });
                 (group, chunk.groups)
@@ -165,12 +195,19 @@ impl NarrowPhase {
                 label: Some("trample-gpu narrow phase"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(if broad.is_some() {
+                &self.listed
+            } else {
+                &self.pipeline
+            });
             pass.set_bind_group(1, &object_group, &[]);
             // One dispatch per chunk of patches (`chunk.wgsl`).
-            for (group, (gx, gy)) in &field_groups {
+            for (c, (group, (gx, gy))) in field_groups.iter().enumerate() {
                 pass.set_bind_group(0, group, &[]);
-                pass.dispatch_workgroups(*gx, *gy, 1);
+                match broad {
+                    Some(b) => pass.dispatch_workgroups_indirect(&b.args, c as u64 * 12),
+                    None => pass.dispatch_workgroups(*gx, *gy, 1),
+                }
             }
         }
     }

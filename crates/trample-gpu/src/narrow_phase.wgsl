@@ -49,6 +49,10 @@ struct ObjectParams {
 @group(0) @binding(3) var<storage, read_write> hit_mask: array<u32>;
 // The chunk of patches this dispatch runs over (`chunk.wgsl`): `pos` is its own.
 @group(0) @binding(4) var<uniform> chunk: Chunk;
+// The broad phase's patch lists (`broad_phase.wgsl`), read by
+// `collide_listed`: the chunk's list starts at its first patch, its count
+// is entry `chunk.groups.z`.
+@group(0) @binding(5) var<storage, read> lists: array<u32>;
 
 @group(1) @binding(0) var<uniform> obj: ObjectParams;
 @group(1) @binding(1) var<storage, read> nodes: array<Node>;
@@ -320,12 +324,30 @@ fn point_velocity(p: vec3<f32>) -> vec3<f32> {
     return obj.velocity.xyz + cross3(obj.angular_velocity.xyz, p - obj.position.xyz);
 }
 
+// Every blade of the chunk (no broad phase: `trample collide`, stage tests).
 @compute @workgroup_size(64)
 fn collide(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = chunk_blade(gid);
-    if b == NOT_IN_CHUNK {
+    if b != NOT_IN_CHUNK {
+        collide_blade(b);
+    }
+}
+
+// The blades of the chunk's patches the broad phase listed (indirect
+// dispatch of `dispatch_args`); forces and hit masks were cleared first.
+@compute @workgroup_size(64)
+fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let per_patch = max(chunk.groups.w, 1u);
+    let t = gid.x + gid.y * groups.x * 64u;
+    let slot = t / per_patch;
+    if slot >= lists[chunk.groups.z] {
         return;
     }
+    let p = lists[chunk.range.x / per_patch + slot];
+    collide_blade(p * per_patch + t % per_patch);
+}
+
+fn collide_blade(b: u32) {
     let first_object = obj.tree.w == 1u;
     var f = vec4<f32>(0.0);
     if !first_object {

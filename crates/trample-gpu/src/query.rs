@@ -51,7 +51,15 @@ pub fn segment_hits_at_rest(
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("trample-gpu collide"),
     });
-    NarrowPhase::new(device).record(device, queue, &mut encoder, &field, &mut objects, precision);
+    NarrowPhase::new(device).record(
+        device,
+        queue,
+        &mut encoder,
+        &field,
+        &mut objects,
+        precision,
+        None,
+    );
     queue.submit([encoder.finish()]);
     let masks = field.read_hit_masks(device, queue)?;
     Ok(masks

@@ -10,9 +10,9 @@
 //! read the field back with [`GpuField::read_positions`].
 //!
 //! Fields over one storage binding run in chunks of patches
-//! ([`crate::chunk`]). Not yet on the GPU (see the crate docs): broad phase
-//! by patch (every blade runs the root-box test instead), terrain other
-//! than flat, per-stage timestamps.
+//! ([`crate::chunk`]); the narrow phase runs over the patches the broad
+//! phase lists ([`crate::broad_phase`]). Not yet on the GPU (see the crate
+//! docs): terrain other than flat, per-stage timestamps.
 
 use trample::Simulation;
 use trample::deform::bend::weights;
@@ -23,6 +23,7 @@ use trample::step::stages::plan_substeps;
 use wgpu::util::DeviceExt;
 
 use crate::bend::Bend;
+use crate::broad_phase::BroadPhase;
 use crate::cells::{Cells, GpuWorldObb};
 use crate::error::GpuError;
 use crate::field::GpuField;
@@ -43,6 +44,7 @@ pub struct GpuSimulation {
     /// The field on the GPU: draw from [`GpuField::pos`].
     pub field: GpuField,
     objects: Vec<GpuObject>,
+    broad: BroadPhase,
     narrow: NarrowPhase,
     propagation: Propagation,
     bend: Bend,
@@ -154,7 +156,9 @@ impl GpuSimulation {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let broad = BroadPhase::new(device, &field, &sim.field.layout, objects.len() as u32)?;
         Ok(Self {
+            broad,
             cells: Cells::new(device),
             world_roots,
             sim,
@@ -277,6 +281,8 @@ impl GpuSimulation {
             self.cells.record_classify(&mut encoder, &cell_groups);
             laps.lap(device, queue, &mut encoder, &mut tm.lod_ms);
             if !self.objects.is_empty() {
+                self.broad.record(device, &mut encoder, &self.world_roots);
+                laps.lap(device, queue, &mut encoder, &mut tm.broad_ms);
                 self.narrow.record(
                     device,
                     queue,
@@ -284,6 +290,7 @@ impl GpuSimulation {
                     &self.field,
                     &mut self.objects,
                     self.sim.params.precision,
+                    Some(&self.broad),
                 );
                 laps.lap(device, queue, &mut encoder, &mut tm.narrow_ms);
                 self.propagation.record(

@@ -136,7 +136,15 @@ fn hit_flags_identical_and_forces_close_at_every_precision_on_builtin_shapes() {
         for precision in 1..=7 {
             let cpu = cpu_reference(&blades, &tree, &pose, precision);
             let mut enc = device.create_command_encoder(&Default::default());
-            kernel.record(device, queue, &mut enc, &field, &mut objects, precision);
+            kernel.record(
+                device,
+                queue,
+                &mut enc,
+                &field,
+                &mut objects,
+                precision,
+                None,
+            );
             queue.submit([enc.finish()]);
             let masks = field.read_hit_masks(device, queue).unwrap();
             let forces = field.read_forces(device, queue).unwrap();
@@ -212,7 +220,15 @@ fn several_objects_sum_their_forces_and_skip_non_geometric_cells() {
     objects[1].set_pose(&b);
     let precision = 5;
     let mut enc = device.create_command_encoder(&Default::default());
-    kernel.record(device, queue, &mut enc, &field, &mut objects, precision);
+    kernel.record(
+        device,
+        queue,
+        &mut enc,
+        &field,
+        &mut objects,
+        precision,
+        None,
+    );
     queue.submit([enc.finish()]);
     let forces = field.read_forces(device, queue).unwrap();
     let ra = cpu_reference(&blades, &trees[0], &a, precision);
