@@ -21,7 +21,7 @@
 //! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
 //! | chunking of fields over one storage binding | **done** ([`chunk`]): blade vertices in chunks of whole patches, one dispatch per chunk; the 16-byte-a-blade arrays stay whole-field (≈ 8.4 M blades on the software drivers, [`GpuError::TooLarge`] beyond); chunked = unchunked bit for bit (`tests/chunking.rs`) |
 //! | terrain other than flat | **not yet**: refused with [`GpuError::Unsupported`] |
-//! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`); `run` reads the state back per rendered frame: the renderer does not draw from [`GpuField::pos`] yet |
+//! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`); `run` reads the state back per rendered frame: the renderer does not draw from the chunks' `pos` ([`GpuField::chunks`]) yet |
 //! | per-stage GPU times in `summary.json` | **partly**: profiling mode ([`GpuSimulation::set_profiling`]) submits and waits per stage; timestamp queries not yet |
 //! | device loss / out of memory | caught by the CLI (uncaptured-error and device-lost callbacks), `auto` falls back to the CPU; not provoked in a test |
 //!

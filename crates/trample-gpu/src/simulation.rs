@@ -41,7 +41,7 @@ pub struct GpuSimulation {
     /// CPU side: parameters, bodies and their poses, time, frame. Its blade
     /// arrays keep their state from creation (see the module docs).
     pub sim: Simulation,
-    /// The field on the GPU: draw from [`GpuField::pos`].
+    /// The field on the GPU: draw from the chunks' `pos` ([`GpuField::chunks`]).
     pub field: GpuField,
     objects: Vec<GpuObject>,
     broad: BroadPhase,
