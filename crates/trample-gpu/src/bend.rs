@@ -6,12 +6,14 @@
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
-/// The WGSL source as compiled (`blade.wgsl` and `chunk.wgsl` prepended).
+/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl` and `chunk.wgsl`
+/// prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}",
+        "{}\n{}\n{}\n{}",
         crate::BLADE_WGSL,
+        crate::GUARD_WGSL,
         crate::CHUNK_WGSL,
         include_str!("bend.wgsl")
     )
@@ -32,7 +34,9 @@ impl Bend {
                 device,
                 "trample-gpu bend",
                 &source(),
-                &[Uniform, ReadWrite, Read, Read, Read, ReadWrite, Uniform],
+                &[
+                    Uniform, ReadWrite, Read, Read, Read, ReadWrite, Uniform, Read,
+                ],
                 &["bend"],
             ),
         }
@@ -57,6 +61,7 @@ impl Bend {
                     &field.seg_len,
                     &field.displaced,
                     &chunk.uniform,
+                    &field.ground,
                 ],
             );
             self.kernel.dispatch(encoder, 0, &group, chunk.groups);

@@ -10,6 +10,7 @@
 @group(0) @binding(4) var<storage, read> seg_len: array<f32>;
 @group(0) @binding(5) var<storage, read_write> displaced: array<u32>;
 @group(0) @binding(6) var<uniform> chunk: Chunk;
+@group(0) @binding(7) var<storage, read> ground: array<f32>;
 
 // `bend::offset_base` (Eq. 5): the part of v1 perpendicular to AB, over num.
 fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: u32) -> vec3<f32> {

@@ -1,7 +1,6 @@
-// Shared by bend.wgsl and recovery.wgsl (prepended to each; not a stage of
-// its own): the step parameters, the blade buffers, and length preservation
-// with the ground guard (paper Fig. 7; `trample::deform::bend::preserve_from`
-// and `guarded_end`), on flat terrain only.
+// Shared by the step stages (prepended to each; not a stage of its own):
+// the step parameters, the counters, indexing and recovery's formulas. The
+// ground guard and length preservation are in guard.wgsl.
 
 // Layout-compatible with `GpuStepParams` in step_params.rs.
 struct StepParams {
@@ -54,71 +53,6 @@ fn unit_or(d: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
         return d / sqrt(len2);
     }
     return fallback;
-}
-
-fn clears(p: vec3<f32>) -> bool {
-    return p.y >= params.a.w + params.b.x;
-}
-
-// `bend::guarded_end` on flat ground.
-fn guarded_end(start: vec3<f32>, dir: vec3<f32>, len: f32, fallback: vec3<f32>) -> vec3<f32> {
-    let end = start + dir * len;
-    if clears(end) {
-        return end;
-    }
-    var h = unit_or(vec3<f32>(dir.x, 0.0, dir.z), vec3<f32>(0.0));
-    if all(h == vec3<f32>(0.0)) {
-        h = unit_or(vec3<f32>(fallback.x, 0.0, fallback.z), vec3<f32>(0.0));
-    }
-    if all(h == vec3<f32>(0.0)) {
-        h = vec3<f32>(1.0, 0.0, 0.0);
-    }
-    let guard_y = params.a.w + params.b.x;
-    var lo = clamp(dir.y, -1.0, 1.0);
-    let guess = clamp((guard_y - start.y) / len, lo, 1.0);
-    var hi = 1.0;
-    let at_guess = start + (h * sqrt(max(1.0 - guess * guess, 0.0)) + vec3<f32>(0.0, guess, 0.0)) * len;
-    if clears(at_guess) {
-        return at_guess;
-    }
-    let top = start + vec3<f32>(0.0, len, 0.0);
-    if !clears(top) {
-        return top;
-    }
-    for (var k = 0; k < 24; k++) {
-        let mid = 0.5 * (lo + hi);
-        let p = start + (h * sqrt(max(1.0 - mid * mid, 0.0)) + vec3<f32>(0.0, mid, 0.0)) * len;
-        if clears(p) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    return start + (h * sqrt(max(1.0 - hi * hi, 0.0)) + vec3<f32>(0.0, hi, 0.0)) * len;
-}
-
-// `bend::preserve_lengths`: from the root up, every segment back to
-// `seg_len` along its new direction, above the ground guard.
-fn preserve_lengths(v: ptr<function, array<vec3<f32>, MAX_VERTS>>, n: u32, seg_len: f32) {
-    preserve_from(v, 1u, n, seg_len);
-}
-
-// `bend::preserve_from`: as `preserve_lengths` for vertices first ..= n.
-fn preserve_from(v: ptr<function, array<vec3<f32>, MAX_VERTS>>, first: u32, n: u32, seg_len: f32) {
-    if !(seg_len > 0.0) || first == 0u || first > n {
-        return;
-    }
-    var last_dir = vec3<f32>(0.0, 1.0, 0.0);
-    if first >= 2u {
-        last_dir = unit_or((*v)[first - 1u] - (*v)[first - 2u], last_dir);
-    }
-    for (var i = first; i <= n; i++) {
-        let start = (*v)[i - 1u];
-        let dir = unit_or((*v)[i] - start, last_dir);
-        let end = guarded_end(start, dir, seg_len, last_dir);
-        last_dir = unit_or(end - start, dir);
-        (*v)[i] = end;
-    }
 }
 
 // exp(y) − 1 without the cancellation near 0 (WGSL has no expm1).

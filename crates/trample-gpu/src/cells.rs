@@ -17,14 +17,15 @@ use trample::obb::Obb;
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
-/// The WGSL source as compiled (`segment_obb.wgsl`, `blade.wgsl` and
-/// `chunk.wgsl` prepended).
+/// The WGSL source as compiled (`segment_obb.wgsl`, `blade.wgsl`,
+/// `guard.wgsl` and `chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}\n{}",
+        "{}\n{}\n{}\n{}\n{}",
         crate::SEGMENT_OBB_WGSL,
         crate::BLADE_WGSL,
+        crate::GUARD_WGSL,
         crate::CHUNK_WGSL,
         include_str!("cells.wgsl")
     )
@@ -119,7 +120,7 @@ impl Cells {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Read, ReadWrite, Read,
-                    ReadWrite, Uniform,
+                    ReadWrite, Uniform, Read,
                 ],
                 &["classify", "billboards", "transitions", "recover_slopes"],
             ),
@@ -154,6 +155,7 @@ impl Cells {
                             &chunk.rest,
                             &field.displaced,
                             &chunk.uniform,
+                            &field.ground,
                         ],
                     );
                     (group, chunk.cell_groups)

@@ -32,6 +32,7 @@ struct WorldObb {
 @group(0) @binding(7) var<storage, read> rest: array<vec4<f32>>;
 @group(0) @binding(8) var<storage, read_write> displaced: array<u32>;
 @group(0) @binding(9) var<uniform> chunk: Chunk;
+@group(0) @binding(10) var<storage, read> ground: array<f32>;
 
 const GEOMETRY: u32 = 0u;
 const BILLBOARD: u32 = 1u;

@@ -62,6 +62,9 @@ pub struct GpuField {
     pub class: wgpu::Buffer,
     /// 1 where a blade is away from rest (recovery works on those).
     pub(crate) displaced: wgpu::Buffer,
+    /// The terrain's table for the ground guard ([`crate::terrain`]); flat
+    /// at 0 for a field made by [`GpuField::new`].
+    pub(crate) ground: wgpu::Buffer,
 }
 
 impl GpuField {
@@ -114,6 +117,17 @@ impl GpuField {
             max_chunk_bytes,
         )?;
         out.patch_blades = patch_blades;
+        let ground = crate::terrain::table(
+            &field.terrain,
+            &field.layout,
+            field.max_blade_length,
+            Self::binding_limit(device),
+        )?;
+        out.ground = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("trample-gpu terrain"),
+            contents: bytemuck::cast_slice(&ground),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let cells = &field.cells;
         let rest: Vec<[f32; 4]> = (0..cells.lod.len())
             .flat_map(|c| {
@@ -325,6 +339,11 @@ impl GpuField {
                 usage: U::STORAGE | U::COPY_SRC | U::COPY_DST,
                 mapped_at_creation: false,
             }),
+            ground: init(
+                "trample-gpu terrain",
+                bytemuck::cast_slice(&[0.0f32; 16]),
+                U::STORAGE,
+            ),
             hit_mask: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu hit masks"),
                 size: blades.count as u64 * 4,

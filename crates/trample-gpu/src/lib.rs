@@ -20,7 +20,7 @@
 //! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested; flat terrain only |
 //! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
 //! | chunking of fields over one storage binding | **done** ([`chunk`]): blade vertices in chunks of whole patches, one dispatch per chunk; the 16-byte-a-blade arrays stay whole-field (≈ 8.4 M blades on the software drivers, [`GpuError::TooLarge`] beyond); chunked = unchunked bit for bit (`tests/chunking.rs`) |
-//! | terrain other than flat | **not yet**: refused with [`GpuError::Unsupported`] |
+//! | terrain (flat, noise, height map) in the ground guard | **done** ([`terrain`], `guard.wgsl`): the core's `Terrain::height_at` over a table of the height map or of the noise lattice the core computes; whole-run parity on noise and height-map terrain (`tests/step_parity.rs`) |
 //! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`); `run` reads the state back per rendered frame: the renderer does not draw from the chunks' `pos` ([`GpuField::chunks`]) yet |
 //! | per-stage GPU times in `summary.json` | **partly**: profiling mode ([`GpuSimulation::set_profiling`]) submits and waits per stage; timestamp queries not yet |
 //! | device loss / out of memory | caught by the CLI (uncaptured-error and device-lost callbacks), `auto` falls back to the CPU; not provoked in a test |
@@ -51,6 +51,7 @@ pub mod readback;
 pub mod recovery;
 pub mod simulation;
 pub mod step_params;
+pub mod terrain;
 
 pub use chunk::{GpuChunk, GpuChunkParams};
 pub use error::GpuError;
@@ -69,6 +70,11 @@ pub const BLADE_WGSL: &str = include_str!("blade.wgsl");
 /// `chunk.wgsl`: the chunk of patches a dispatch runs over, shared by the
 /// stages that touch blade vertices (prepended; not a stage itself).
 pub const CHUNK_WGSL: &str = include_str!("chunk.wgsl");
+
+/// `guard.wgsl`: the terrain's height, the ground guard and length
+/// preservation, shared by bending, recovery and the per-cell stages
+/// (prepended; not a stage itself).
+pub const GUARD_WGSL: &str = include_str!("guard.wgsl");
 
 /// `segment_obb.wgsl`: the segment–OBB test, shared by the narrow phase and
 /// the billboards (prepended; not a stage itself).

@@ -6,12 +6,14 @@
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
-/// The WGSL source as compiled (`blade.wgsl` and `chunk.wgsl` prepended).
+/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl` and `chunk.wgsl`
+/// prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}",
+        "{}\n{}\n{}\n{}",
         crate::BLADE_WGSL,
+        crate::GUARD_WGSL,
         crate::CHUNK_WGSL,
         include_str!("recovery.wgsl")
     )
@@ -33,7 +35,7 @@ impl Recovery {
                 "trample-gpu recovery",
                 &source(),
                 &[
-                    Uniform, ReadWrite, ReadWrite, Read, Read, ReadWrite, Uniform,
+                    Uniform, ReadWrite, ReadWrite, Read, Read, ReadWrite, Uniform, Read,
                 ],
                 &["recover"],
             ),
@@ -60,6 +62,7 @@ impl Recovery {
                     &field.seg_len,
                     &field.displaced,
                     &chunk.uniform,
+                    &field.ground,
                 ],
             );
             self.kernel.dispatch(encoder, 0, &group, chunk.groups);

@@ -12,6 +12,7 @@
 @group(0) @binding(4) var<storage, read> seg_len: array<f32>;
 @group(0) @binding(5) var<storage, read_write> displaced: array<u32>;
 @group(0) @binding(6) var<uniform> chunk: Chunk;
+@group(0) @binding(7) var<storage, read> ground: array<f32>;
 
 
 @compute @workgroup_size(64)

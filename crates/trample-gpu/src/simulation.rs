@@ -12,7 +12,7 @@
 //! Fields over one storage binding run in chunks of patches
 //! ([`crate::chunk`]); the narrow phase runs over the patches the broad
 //! phase lists ([`crate::broad_phase`]). Not yet on the GPU (see the crate
-//! docs): terrain other than flat, per-stage timestamps.
+//! docs): per-stage timestamps.
 
 use trample::Simulation;
 use trample::deform::bend::weights;
@@ -35,6 +35,9 @@ use crate::propagation::Propagation;
 use crate::readback::read_buffer;
 use crate::recovery::Recovery;
 use crate::step_params::{GpuCounters, GpuStepParams};
+
+/// Storage buffers the stages bind at most in one shader stage (cells.wgsl).
+const STORAGE_BUFFERS_NEEDED: u32 = 9;
 
 /// A simulation whose blades live and move on the GPU.
 pub struct GpuSimulation {
@@ -70,17 +73,17 @@ impl GpuSimulation {
         self.profiling = on;
     }
 
-    /// Whether the GPU path can run `sim` on `device`: flat terrain, one
-    /// patch's vertices within one storage binding (fields are split into
+    /// Whether the GPU path can run `sim` on `device`: 9 storage buffers a
+    /// shader stage, the terrain's table within one binding, one patch's vertices within one storage binding (fields are split into
     /// chunks of patches), and the whole-field per-blade arrays (16 bytes a
     /// blade) within one binding. Checks before anything is allocated.
     ///
     /// # Errors
     /// [`GpuError::Unsupported`] or [`GpuError::TooLarge`], saying why.
     pub fn supports(device: &wgpu::Device, sim: &Simulation) -> Result<(), GpuError> {
-        if !matches!(sim.field.terrain, Terrain::Flat(_)) {
+        if device.limits().max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
             return Err(GpuError::Unsupported(
-                "terrain other than flat (the GPU ground guard is flat only)",
+                "an adapter with fewer than 9 storage buffers per shader stage (cells.wgsl binds 9)",
             ));
         }
         let limit = GpuField::binding_limit(device);
@@ -97,14 +100,20 @@ impl GpuSimulation {
         let patch = layout.cells_in_patch() as u32 * layout.blades_per_cell;
         let verts = blades.segments as u32 + 1;
         crate::chunk::plan_chunks(blades.count as u32, verts, patch, limit)?;
+        crate::terrain::table(
+            &sim.field.terrain,
+            layout,
+            sim.field.max_blade_length,
+            limit,
+        )?;
         Ok(())
     }
 
     /// Uploads `sim`'s field and objects to `device`.
     ///
     /// # Errors
-    /// [`GpuError::Unsupported`] for terrain other than flat (not yet on the
-    /// GPU); [`GpuError::TooLarge`] / [`GpuError::Layout`] from the uploads.
+    /// As [`GpuSimulation::supports`]; [`GpuError::TooLarge`] /
+    /// [`GpuError::Layout`] from the uploads.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -125,13 +134,11 @@ impl GpuSimulation {
         sim: Simulation,
         max_chunk_bytes: Option<u64>,
     ) -> Result<Self, GpuError> {
+        Self::supports(device, &sim)?;
+        // The step uniform's ground height (the shaders read the terrain table).
         let ground = match sim.field.terrain {
             Terrain::Flat(h) => h,
-            _ => {
-                return Err(GpuError::Unsupported(
-                    "terrain other than flat (the GPU ground guard is flat only)",
-                ));
-            }
+            _ => 0.0,
         };
         let field = GpuField::from_field_chunked(device, queue, &sim.field, max_chunk_bytes)?;
         let objects = sim

@@ -1,7 +1,8 @@
 //! Whole-run parity: `GpuSimulation::step` against `Simulation::step` on
 //! the same scene for 300 frames (a four-object scene for 200; a scene with
 //! a moving camera, so that cells change level, billboards bend and
-//! transitions run, for 300). Flat terrain (the only kind on the GPU yet).
+//! transitions run, for 300); the rolling ball over value-noise hills and
+//! over a height map (200 each: the ground guard on terrain).
 //! Reports the worst vertex and billboard-slope differences and the DBG/PBG
 //! and LOD differences; asserts them within the stated tolerances.
 
@@ -17,7 +18,10 @@ use trample_gpu::GpuSimulation;
 /// flag then flips at a tie bends one step more or less (a few mm); the
 /// bends stack over the run. Measured on llvmpipe (GL), 2026-11-21:
 /// 1.3e-5 m (rolling ball, 300 frames), 4.0e-6 m (four objects, 200),
-/// 4.8e-6 m (moving camera with billboards and transitions, 300).
+/// 4.8e-6 m (moving camera with billboards and transitions, 300); 4.7e-6 m
+/// over noise hills and 6.0e-6 m over a height map (200 each; with the
+/// GPU's guard on flat ground instead, 0.25 m and 0.48 m: the tests see
+/// the terrain).
 const VERTEX_TOLERANCE_M: f32 = 1e-3;
 
 /// Blades whose class (untouched / DBG / PBG) may differ at the end, as a
@@ -114,7 +118,12 @@ path = { kind = "line", from = [4.0, 0.2, -3.0], to = [-4.0, 0.2, 3.5], duration
 const SLOPE_TOLERANCE: f32 = 1e-3;
 
 fn build(text: &str) -> Simulation {
-    Scene::parse(text, "parity.toml", std::path::Path::new("."))
+    build_in(text, std::path::Path::new("."))
+}
+
+/// The scene of `text` with relative paths (a height map) in `dir`.
+fn build_in(text: &str, dir: &std::path::Path) -> Simulation {
+    Scene::parse(text, "parity.toml", dir)
         .and_then(|s| s.build())
         .expect("scene builds")
 }
@@ -122,9 +131,14 @@ fn build(text: &str) -> Simulation {
 /// Runs both paths for `frames`; returns (worst vertex distance, class
 /// differences, frames whose DBG count differs, frames whose PBG count differs).
 fn run_both(text: &str, frames: u32) -> (f32, usize, u32, u32) {
+    run_both_in(text, std::path::Path::new("."), frames)
+}
+
+/// [`run_both`] with the scene's relative paths in `dir`.
+fn run_both_in(text: &str, dir: &std::path::Path, frames: u32) -> (f32, usize, u32, u32) {
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
-    let mut cpu = build(text);
+    let mut cpu = build_in(text, dir);
     let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
     let dt = cpu.params.dt_s;
     let (mut dbg_frames, mut pbg_frames, mut touched) = (0, 0, 0u64);
@@ -227,6 +241,60 @@ fn moving_camera_with_billboards_and_transitions_300_frames_matches_the_cpu() {
     );
     assert!(
         class_diff as f64 <= CLASS_TOLERANCE * 9216.0,
+        "{class_diff} class differences"
+    );
+}
+
+/// The rolling ball's scene with `terrain` (a TOML inline table) under the
+/// field, the ball's path lifted by `lift` metres over the hills.
+fn on_terrain(terrain: &str) -> String {
+    ROLLING_BALL
+        .replace(
+            "cells_per_patch = 16             # 4 * 16 * 0.1 = 6.4 m square, 4,096 blades",
+            &format!("cells_per_patch = 16\nterrain = {terrain}"),
+        )
+        .replace(
+            "from = [-3.5, 0.5, 0.2], to = [3.5, 0.5, -0.3]",
+            "from = [-3.5, 0.55, 0.2], to = [3.5, 0.55, -0.3]",
+        )
+}
+
+#[test]
+fn rolling_ball_over_noise_hills_matches_the_cpu() {
+    let text =
+        on_terrain(r#"{ kind = "noise", amplitude_m = 0.25, wavelength_m = 1.3, seed = 7 }"#);
+    assert!(text.contains("noise"));
+    let (worst, class_diff, _, _) = run_both(&text, 200);
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+    assert!(
+        class_diff as f64 <= CLASS_TOLERANCE * 4096.0,
+        "{class_diff} class differences"
+    );
+}
+
+#[test]
+fn rolling_ball_over_a_height_map_matches_the_cpu() {
+    let dir = std::env::temp_dir().join(format!("trample-gpu-heightmap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // 33 × 33 samples: a ridge across the ball's path and a slope.
+    let img = image::ImageBuffer::from_fn(33, 33, |x, z| {
+        let ridge = (-((x as f32 - 16.0) / 4.0).powi(2)).exp();
+        let v = 0.6 * ridge + 0.4 * z as f32 / 32.0;
+        image::Luma([(v * 65535.0) as u16])
+    });
+    img.save(dir.join("hills.png")).unwrap();
+    let text = on_terrain(r#"{ kind = "heightmap", path = "hills.png", height_scale_m = 0.3 }"#);
+    let (worst, class_diff, _, _) = run_both_in(&text, &dir, 200);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+    assert!(
+        class_diff as f64 <= CLASS_TOLERANCE * 4096.0,
         "{class_diff} class differences"
     );
 }

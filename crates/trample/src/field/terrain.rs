@@ -145,7 +145,11 @@ impl Terrain {
             } => {
                 // Two octaves of value noise, smoothstep-interpolated.
                 let n1 = value_noise(x / wavelength, z / wavelength, *seed);
-                let n2 = value_noise(x * 2.0 / wavelength, z * 2.0 / wavelength, seed ^ 0x9E37);
+                let n2 = value_noise(
+                    x * 2.0 / wavelength,
+                    z * 2.0 / wavelength,
+                    seed ^ SECOND_OCTAVE_SEED,
+                );
                 amplitude * (0.75 * n1 + 0.25 * n2)
             }
             Terrain::Heightmap(g) => g.sample(x, z),
@@ -184,8 +188,14 @@ fn smooth(t: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 
-/// Deterministic lattice value in [-1, 1] (splitmix64 of the coordinates).
-fn lattice(i: i64, j: i64, seed: u64) -> f32 {
+/// XORed into the seed of [`Terrain::Noise`]'s second octave.
+pub const SECOND_OCTAVE_SEED: u64 = 0x9E37;
+
+/// Deterministic lattice value in [-1, 1] (splitmix64 of the coordinates):
+/// the value of [`Terrain::Noise`]'s octave with `seed` at lattice point
+/// (i, j). Public for the GPU path, which tabulates it.
+#[must_use]
+pub fn lattice(i: i64, j: i64, seed: u64) -> f32 {
     let mut h = seed
         ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
         ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
