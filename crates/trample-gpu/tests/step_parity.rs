@@ -117,10 +117,6 @@ path = { kind = "line", from = [4.0, 0.2, -3.0], to = [-4.0, 0.2, 3.5], duration
 /// 3.5e-6 (LOD scene, 300 frames, 1,389 bent billboards).
 const SLOPE_TOLERANCE: f32 = 1e-3;
 
-fn build(text: &str) -> Simulation {
-    build_in(text, std::path::Path::new("."))
-}
-
 /// The scene of `text` with relative paths (a height map) in `dir`.
 fn build_in(text: &str, dir: &std::path::Path) -> Simulation {
     Scene::parse(text, "parity.toml", dir)
