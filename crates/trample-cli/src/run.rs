@@ -193,7 +193,6 @@ pub fn run(a: &Args) -> Result<()> {
         debug: a.debug_view,
         ..RenderParams::default()
     };
-    let mut renderer = Renderer::new(&gpu.device, &gpu.queue, &sim, params)?;
     eprintln!(
         "trample: {} — {} blades x {} segments, {} object(s), precision {}, {} thread(s); rendering {width}x{height} on {adapter}, MSAA {samples}x",
         scene.source,
@@ -235,6 +234,11 @@ pub fn run(a: &Args) -> Result<()> {
     } else {
         None
     };
+    // The GPU path is drawn straight from its buffers: no field read-back.
+    let mut renderer = match &on_gpu {
+        Some(g) => Renderer::new_gpu(&gpu.device, &gpu.queue, g, params)?,
+        None => Renderer::new(&gpu.device, &gpu.queue, &sim, params)?,
+    };
     let mut gif = if a.gif {
         Some(GifOut::new(
             &out.join("run.gif"),
@@ -271,12 +275,10 @@ pub fn run(a: &Args) -> Result<()> {
         // Only the frames that are written are rendered.
         if i % a.every == 0 {
             let r = Instant::now();
-            if let Some(g) = on_gpu.as_mut() {
-                // Not yet drawn straight from the GPU buffers: read back.
-                g.sync_to_cpu(&gpu.device, &gpu.queue)?;
-                sim = g.sim.clone();
-            }
-            let img = renderer.render(&gpu.device, &gpu.queue, &sim)?;
+            let img = match on_gpu.as_mut() {
+                Some(g) => renderer.render_gpu(&gpu.device, &gpu.queue, g)?,
+                None => renderer.render(&gpu.device, &gpu.queue, &sim)?,
+            };
             render_ms.push(r.elapsed().as_secs_f64() * 1e3);
             frame_s.push(start.elapsed().as_secs_f64());
             bar.set_message(format!(

@@ -119,12 +119,8 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
     let d = dir("errors");
     let out = d.join("out");
     let out = out.to_str().unwrap();
-    let cases: [(&[&str], &str); 8] = [
+    let cases: [(&[&str], &str); 7] = [
         (&["--render", "--scaling"], "--render: not with --scaling"),
-        (
-            &["--backend", "gpu", "--render"],
-            "--render: with --backend cpu only",
-        ),
         (
             &["--max-blades", "1000"],
             "--max-blades / --max-triangles: only with --scaling",
@@ -154,12 +150,15 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
 fn bench_render_adds_the_frame_rate_with_rendering() {
     let d = dir("render");
     let out = d.join("out");
+    // Both paths: the GPU path's frames are drawn from its own buffers.
     let o = trample(&[
         "bench",
         "--frames",
         "3",
         "--precisions",
         "2,3",
+        "--backend",
+        "both",
         "--render",
         "--size",
         "160x90",
@@ -172,7 +171,9 @@ fn bench_render_adds_the_frame_rate_with_rendering() {
     let r: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
     assert!(r["adapter"].as_str().is_some_and(|a| !a.is_empty()), "{r}");
-    for p in r["precisions"].as_array().unwrap() {
+    let runs = r["precisions"].as_array().unwrap();
+    assert_eq!(runs.len(), 4, "{r}");
+    for p in runs {
         let x = &p["render"];
         assert_eq!(x["size"], serde_json::json!([160, 90]));
         let render_ms = x["render_ms"]["median"].as_f64().unwrap();

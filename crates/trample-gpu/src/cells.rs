@@ -18,14 +18,15 @@ use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
 /// The WGSL source as compiled (`segment_obb.wgsl`, `blade.wgsl`,
-/// `guard.wgsl` and `chunk.wgsl` prepended).
+/// `guard.wgsl`, `billboard.wgsl` and `chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}\n{}\n{}",
+        "{}\n{}\n{}\n{}\n{}\n{}",
         crate::SEGMENT_OBB_WGSL,
         crate::BLADE_WGSL,
         crate::GUARD_WGSL,
+        crate::BILLBOARD_WGSL,
         crate::CHUNK_WGSL,
         include_str!("cells.wgsl")
     )

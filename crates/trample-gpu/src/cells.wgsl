@@ -79,20 +79,6 @@ fn classify(@builtin(global_invocation_id) gid: vec3<u32>) {
     cell_state[c] = (s & BENT) | (from_level << 2u) | new_level;
 }
 
-// `billboard::billboard_top`: the top edge at base + normalize(slope) ·
-// height, above the ground guard.
-fn billboard_top(base: vec3<f32>, sl: vec3<f32>, height: f32) -> vec3<f32> {
-    if !(height > 0.0) {
-        return base;
-    }
-    var dir = vec3<f32>(0.0, 1.0, 0.0);
-    let l2 = dot3(sl, sl);
-    if l2 > 0.0 && l2 < 3.0e38 {
-        dir = sl * (1.0 / sqrt(l2));
-    }
-    return guarded_end(base, dir, height, vec3<f32>(1.0, 0.0, 0.0));
-}
-
 // Eq. 8 (`billboard::billboard_slope`): slope_origin + t · R / |t|².
 fn billboard_slope(origin: vec3<f32>, t: vec3<f32>, r: f32) -> vec3<f32> {
     let t2 = dot3(t, t);

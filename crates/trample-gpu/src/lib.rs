@@ -21,7 +21,8 @@
 //! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
 //! | chunking of fields over one storage binding | **done** ([`chunk`]): blade vertices in chunks of whole patches, one dispatch per chunk; the 16-byte-a-blade arrays stay whole-field (≈ 8.4 M blades on the software drivers, [`GpuError::TooLarge`] beyond); chunked = unchunked bit for bit (`tests/chunking.rs`) |
 //! | terrain (flat, noise, height map) in the ground guard | **done** ([`terrain`], `guard.wgsl`): the core's `Terrain::height_at` over a table of the height map or of the noise lattice the core computes; whole-run parity on noise and height-map terrain (`tests/step_parity.rs`) |
-//! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`); `run` reads the state back per rendered frame: the renderer does not draw from the chunks' `pos` ([`GpuField::chunks`]) yet |
+//! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`) |
+//! | the renderer draws straight from the GPU buffers | **done**: [`draw_lists`] builds the blade and billboard instance lists and indirect draws on the GPU; `trample-render`'s `Renderer::encode_gpu` draws each chunk's `pos`; frames identical to the CPU path's (`trample-render/tests/gpu_draw.rs`) |
 //! | per-stage GPU times in `summary.json` | **partly**: profiling mode ([`GpuSimulation::set_profiling`]) submits and waits per stage; timestamp queries not yet |
 //! | device loss / out of memory | caught by the CLI (uncaptured-error and device-lost callbacks), `auto` falls back to the CPU; not provoked in a test |
 //!
@@ -39,6 +40,7 @@ pub mod bend;
 pub mod broad_phase;
 pub mod cells;
 pub mod chunk;
+pub mod draw_lists;
 pub mod error;
 pub mod field;
 mod kernel;
@@ -76,6 +78,10 @@ pub const CHUNK_WGSL: &str = include_str!("chunk.wgsl");
 /// (prepended; not a stage itself).
 pub const GUARD_WGSL: &str = include_str!("guard.wgsl");
 
+/// `billboard.wgsl`: a billboard's top edge above the ground guard, shared
+/// by the per-cell stages and the draw lists (prepended; not a stage itself).
+pub const BILLBOARD_WGSL: &str = include_str!("billboard.wgsl");
+
 /// `segment_obb.wgsl`: the segment–OBB test, shared by the narrow phase and
 /// the billboards (prepended; not a stage itself).
 pub const SEGMENT_OBB_WGSL: &str = include_str!("segment_obb.wgsl");
@@ -86,6 +92,7 @@ pub const SEGMENT_OBB_WGSL: &str = include_str!("segment_obb.wgsl");
 pub fn shader_sources() -> Vec<(&'static str, String)> {
     vec![
         ("broad_phase.wgsl", broad_phase::source()),
+        ("draw_lists.wgsl", draw_lists::source()),
         ("narrow_phase.wgsl", narrow_phase::source()),
         ("cells.wgsl", cells::source()),
         ("propagation.wgsl", propagation::source()),

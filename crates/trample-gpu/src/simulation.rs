@@ -25,6 +25,7 @@ use wgpu::util::DeviceExt;
 use crate::bend::Bend;
 use crate::broad_phase::BroadPhase;
 use crate::cells::{Cells, GpuWorldObb};
+use crate::draw_lists::{DrawLists, GpuDrawParams};
 use crate::error::GpuError;
 use crate::field::GpuField;
 use crate::kernel::grid;
@@ -59,6 +60,8 @@ pub struct GpuSimulation {
     ground: f32,
     /// Profiling mode (see [`GpuSimulation::set_profiling`]).
     profiling: bool,
+    /// Made by the first [`GpuSimulation::record_draw_lists`].
+    draw_lists: Option<DrawLists>,
 }
 
 impl GpuSimulation {
@@ -179,6 +182,7 @@ impl GpuSimulation {
             state,
             ground,
             profiling: false,
+            draw_lists: None,
         })
     }
 
@@ -335,6 +339,41 @@ impl GpuSimulation {
         tm.substeps_needed = plan.needed;
         tm.total_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(substeps)
+    }
+
+    /// Records into `encoder` the instance lists and indirect draws of the
+    /// current state for a renderer drawing straight from the GPU buffers
+    /// ([`crate::draw_lists`]): blades of the geometric cells and billboards
+    /// of the billboard cells of the patches visible from `sim.view` (culled
+    /// on the CPU by the last step). `draw` carries the renderer's own
+    /// numbers; its `counts` are filled here.
+    pub fn record_draw_lists(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        draw: GpuDrawParams,
+    ) {
+        let layout = &self.sim.field.layout;
+        let lists = self
+            .draw_lists
+            .get_or_insert_with(|| DrawLists::new(device, &self.field, layout.patch_list.len()));
+        lists.record(
+            device,
+            queue,
+            encoder,
+            &self.field,
+            &self.params,
+            layout.cells_in_patch() as u32,
+            &self.sim.visible,
+            draw,
+        );
+    }
+
+    /// The draw lists of the last [`GpuSimulation::record_draw_lists`].
+    #[must_use]
+    pub fn draw_lists(&self) -> Option<&DrawLists> {
+        self.draw_lists.as_ref()
     }
 
     /// Copies the GPU state back into [`GpuSimulation::sim`]: blade

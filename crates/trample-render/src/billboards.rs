@@ -147,7 +147,7 @@ impl BillboardPass {
     ) {
         let layout = &sim.field.layout;
         let cells = &sim.field.cells;
-        let half = 0.5 * WIDTH_OVER_CELL * layout.cell_size;
+        let half = half_width(layout.cell_size);
         self.list.clear();
         for (p, patch) in layout.patch_list.iter().enumerate() {
             if !sim.visible.get(p).copied().unwrap_or(true) {
@@ -201,6 +201,40 @@ impl BillboardPass {
         }
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(1, &self.bind_group, &[]);
-        pass.draw(0..12, 0..self.list.len() as u32);
+        pass.draw(0..VERTICES, 0..self.list.len() as u32);
     }
+
+    /// Records the GPU path's billboards into `pass`: one indirect draw
+    /// from `lists` (made by `GpuSimulation::record_draw_lists` earlier in
+    /// the same encoder; its billboard arguments follow `chunks` blade ones).
+    pub fn draw_gpu(
+        &self,
+        device: &wgpu::Device,
+        pass: &mut wgpu::RenderPass<'_>,
+        lists: &trample_gpu::draw_lists::DrawLists,
+        chunks: usize,
+    ) {
+        let group = Self::bind(
+            device,
+            &self.layout,
+            &lists.billboards,
+            &self.clump,
+            &self.sampler,
+        );
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(1, &group, &[]);
+        pass.draw_indirect(
+            &lists.args,
+            chunks as u64 * trample_gpu::draw_lists::DRAW_ARGS_BYTES,
+        );
+    }
+}
+
+/// Vertices of one billboard: two crossed quads (billboards.wgsl).
+pub const VERTICES: u32 = 12;
+
+/// Half the width of a billboard over cells of `cell_size` metres.
+#[must_use]
+pub fn half_width(cell_size: f32) -> f32 {
+    0.5 * WIDTH_OVER_CELL * cell_size
 }

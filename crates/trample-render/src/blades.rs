@@ -1,6 +1,8 @@
 //! Geometric blades: the vertex buffer (the core's layout, uploaded each
 //! frame), per-blade width and tint, and a compact instance list of the
-//! blades of visible Geometry-LOD cells (built on the CPU each frame).
+//! blades of visible Geometry-LOD cells (built on the CPU each frame). With
+//! the GPU path ([`BladePass::draw_gpu`]) nothing is uploaded: one indirect
+//! draw per chunk of the field, straight from trample-gpu's buffers.
 
 use crate::globals::shader_module;
 use trample::Simulation;
@@ -22,10 +24,16 @@ const _: () = assert!(std::mem::size_of::<BladeInstance>() == 8);
 pub struct BladePass {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
-    pos: wgpu::Buffer,
+    /// The CPU path's vertex buffer; `None` for a pass drawing the GPU
+    /// path's buffers ([`BladePass::new_gpu`]) until a CPU frame needs it.
+    pos: Option<wgpu::Buffer>,
     shape: wgpu::Buffer,
     instances: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
+    /// `(0, blade count)`: the CPU path's one chunk.
+    whole: wgpu::Buffer,
+    /// Per chunk of the GPU path: `(first blade, blades)`.
+    gpu_chunks: Vec<wgpu::Buffer>,
+    bind_group: Option<wgpu::BindGroup>,
     staging: Vec<[f32; 4]>,
     list: Vec<BladeInstance>,
     segments: u32,
@@ -44,18 +52,47 @@ impl BladePass {
         sim: &Simulation,
         samples: u32,
     ) -> Result<Self, crate::RenderError> {
+        let mut pass = Self::new_gpu(device, queue, globals, sim, samples)?;
+        pass.pos = Some(Self::cpu_positions(device, sim)?);
+        pass.bind_group = Some(pass.bind_cpu(device));
+        Ok(pass)
+    }
+
+    /// The CPU path's vertex buffer for `sim`'s field.
+    fn cpu_positions(
+        device: &wgpu::Device,
+        sim: &Simulation,
+    ) -> Result<wgpu::Buffer, crate::RenderError> {
+        let allowed = device.limits().max_storage_buffer_binding_size;
+        let needed = (sim.field.blades.pos.len().max(1) * 16) as u64;
+        if needed > allowed {
+            return Err(crate::RenderError::BladesTooLarge { needed, allowed });
+        }
+        Ok(device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("blade vertices"),
+            size: needed,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }))
+    }
+
+    /// Creates the pass for drawing `sim`'s field from the GPU path's
+    /// buffers ([`BladePass::draw_gpu`]): no vertex buffer of its own.
+    ///
+    /// # Errors
+    /// The adapter cannot read storage buffers in vertex shaders.
+    pub fn new_gpu(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        globals: &wgpu::BindGroupLayout,
+        sim: &Simulation,
+        samples: u32,
+    ) -> Result<Self, crate::RenderError> {
         let limits = device.limits();
         if limits.max_storage_buffers_per_shader_stage < 3 {
             return Err(crate::RenderError::NoVertexStorage);
         }
         let blades = &sim.field.blades;
-        let pos_bytes = (blades.pos.len().max(1) * 16) as u64;
-        if pos_bytes > limits.max_storage_buffer_binding_size {
-            return Err(crate::RenderError::BladesTooLarge {
-                needed: pos_bytes,
-                allowed: limits.max_storage_buffer_binding_size,
-            });
-        }
         let buffer = |label, size: u64| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -64,7 +101,6 @@ impl BladePass {
                 mapped_at_creation: false,
             })
         };
-        let pos = buffer("blade vertices", pos_bytes);
         let shape = buffer("blade shape", (blades.count.max(1) * 8) as u64);
         let shape_data: Vec<[f32; 2]> = blades
             .width
@@ -80,8 +116,10 @@ impl BladePass {
                 crate::pipeline::vertex_storage(0),
                 crate::pipeline::vertex_storage(1),
                 crate::pipeline::vertex_storage(2),
+                crate::pipeline::vertex_uniform(3),
             ],
         });
+        let whole = chunk_uniform(device, 0, blades.count as u32);
         let module = shader_module(device, "blades.wgsl", include_str!("blades.wgsl"));
         let pipeline = crate::pipeline::build(
             device,
@@ -97,30 +135,38 @@ impl BladePass {
                 alpha_to_coverage: false,
             },
         );
-        let bind_group = Self::bind(device, &layout, &pos, &shape, &instances);
         Ok(Self {
             pipeline,
             layout,
-            pos,
+            pos: None,
             shape,
             instances,
-            bind_group,
+            whole,
+            gpu_chunks: Vec::new(),
+            bind_group: None,
             staging: Vec::new(),
             list: Vec::new(),
             segments: blades.segments as u32,
         })
     }
 
+    /// The CPU path's bind group (its vertex buffer must exist).
+    fn bind_cpu(&self, device: &wgpu::Device) -> wgpu::BindGroup {
+        let pos = self.pos.as_ref().expect("made before binding");
+        self.bind(device, pos, &self.instances, &self.whole)
+    }
+
     fn bind(
+        &self,
         device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
         pos: &wgpu::Buffer,
-        shape: &wgpu::Buffer,
         instances: &wgpu::Buffer,
+        chunk: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
+        let shape = &self.shape;
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("blades"),
-            layout,
+            layout: &self.layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -133,6 +179,10 @@ impl BladePass {
                 wgpu::BindGroupEntry {
                     binding: 2,
                     resource: instances.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: chunk.as_entire_binding(),
                 },
             ],
         })
@@ -149,10 +199,22 @@ impl BladePass {
         debug: impl Fn(usize) -> u32,
     ) {
         let blades = &sim.field.blades;
+        if self.pos.is_none() {
+            // A pass made for the GPU path drawing a CPU frame: a field
+            // over one binding draws no blades rather than failing.
+            let Ok(pos) = Self::cpu_positions(device, sim) else {
+                self.list.clear();
+                return;
+            };
+            self.pos = Some(pos);
+            self.bind_group = Some(self.bind_cpu(device));
+        }
         self.staging.clear();
         self.staging
             .extend(blades.pos.iter().map(|v| [v.x, v.y, v.z, 1.0]));
-        queue.write_buffer(&self.pos, 0, bytemuck::cast_slice(&self.staging));
+        if let Some(pos) = &self.pos {
+            queue.write_buffer(pos, 0, bytemuck::cast_slice(&self.staging));
+        }
 
         let layout = &sim.field.layout;
         let per_cell = layout.blades_per_cell as usize;
@@ -182,13 +244,7 @@ impl BladePass {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            self.bind_group = Self::bind(
-                device,
-                &self.layout,
-                &self.pos,
-                &self.shape,
-                &self.instances,
-            );
+            self.bind_group = Some(self.bind_cpu(device));
         }
         queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.list));
     }
@@ -201,11 +257,55 @@ impl BladePass {
 
     /// Records the draw into `pass`.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        if self.list.is_empty() {
+        let Some(group) = self.bind_group.as_ref().filter(|_| !self.list.is_empty()) else {
             return;
-        }
+        };
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(1, &self.bind_group, &[]);
+        pass.set_bind_group(1, group, &[]);
         pass.draw(0..2 * (self.segments + 1), 0..self.list.len() as u32);
     }
+
+    /// The vertices of one blade's strip.
+    #[must_use]
+    pub fn vertices_per_blade(&self) -> u32 {
+        2 * (self.segments + 1)
+    }
+
+    /// Records the GPU path's blades into `pass`: one indirect draw per
+    /// chunk of `field`, from its positions and `lists` (made by
+    /// `GpuSimulation::record_draw_lists` earlier in the same encoder).
+    pub fn draw_gpu(
+        &mut self,
+        device: &wgpu::Device,
+        pass: &mut wgpu::RenderPass<'_>,
+        field: &trample_gpu::GpuField,
+        lists: &trample_gpu::draw_lists::DrawLists,
+    ) {
+        if self.gpu_chunks.len() != field.chunks.len() {
+            self.gpu_chunks = field
+                .chunks
+                .iter()
+                .map(|c| chunk_uniform(device, c.first_blade, c.blades))
+                .collect();
+        }
+        pass.set_pipeline(&self.pipeline);
+        for (k, (chunk, uniform)) in field.chunks.iter().zip(&self.gpu_chunks).enumerate() {
+            let group = self.bind(device, &chunk.pos, &lists.blade_instances, uniform);
+            pass.set_bind_group(1, &group, &[]);
+            pass.draw_indirect(
+                &lists.args,
+                k as u64 * trample_gpu::draw_lists::DRAW_ARGS_BYTES,
+            );
+        }
+    }
+}
+
+/// A chunk's `(first blade, blades)` uniform (`chunk` in blades.wgsl).
+fn chunk_uniform(device: &wgpu::Device, first: u32, blades: u32) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("blade chunk"),
+        contents: bytemuck::cast_slice(&[first, blades, 0, 0]),
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
 }

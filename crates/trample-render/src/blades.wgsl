@@ -1,12 +1,17 @@
 // Geometric blades (DESIGN §8): one instance per blade, a two-sided tapered
 // strip of 2·(n+1) vertices pulled from the blade vertex buffer, laid out as
-// the core stores it: vertex k of blade b at pos[k * count + b] (Eq. 1).
+// the core stores it over a chunk of blades: vertex k of blade b at
+// pos[k * blades + (b - first)] (Eq. 1). The CPU path draws the whole field
+// as one chunk; the GPU path (trample-gpu) one draw per chunk, straight from
+// its buffers.
 
 // x: width (m), y: tint in [0, 1).
 @group(1) @binding(0) var<storage, read> pos: array<vec4<f32>>;
 @group(1) @binding(1) var<storage, read> shape: array<vec2<f32>>;
 // x: blade index, y: debug colour (RGBA8, 0 = shade normally).
 @group(1) @binding(2) var<storage, read> instances: array<vec2<u32>>;
+// x: the chunk's first blade (and its first instance), y: its blades.
+@group(1) @binding(3) var<uniform> chunk: vec4<u32>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -18,11 +23,12 @@ struct VertexOut {
 }
 
 fn vertex_of(k: u32, b: u32) -> vec3<f32> {
-    let p = pos[k * globals.params.z + b].xyz;
+    let l = b - chunk.x;
+    let p = pos[k * chunk.y + l].xyz;
     // Wind (draw time only): vertex k moves (k/n)² of the tip's offset
     // sideways and keeps its distance to the root, so the blade bends
     // rather than stretches. Calm: the stored vertex, unchanged.
-    let root = pos[b].xyz;
+    let root = pos[l].xyz;
     let f = f32(k) / f32(globals.params.y);
     let o = wind_tip_offset(root) * (f * f);
     if (dot(o, o) == 0.0) {
@@ -32,7 +38,7 @@ fn vertex_of(k: u32, b: u32) -> vec3<f32> {
 }
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
-    let inst = instances[ii];
+    let inst = instances[chunk.x + ii];
     let b = inst.x;
     let n = globals.params.y;
     let k = vi / 2u;

@@ -93,6 +93,21 @@ pub fn vertex_storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A bind-group-layout entry for a uniform buffer seen by the vertex stage.
+#[must_use]
+pub fn vertex_uniform(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
 /// Bind-group-layout entries for a filterable 2D texture and its sampler (fragment stage).
 #[must_use]
 pub fn texture_and_sampler(binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {

@@ -126,18 +126,30 @@ fn pack(c: Vec3) -> u32 {
 }
 
 /// Debug colour of blade `b` for [`DebugView::Classes`].
+/// Classes view: DBG this step.
+const DBG_NOW: Vec3 = Vec3::new(1.0, 0.03, 0.02);
+/// Classes view: PBG this step at generation 1, fading by [`PBG_FADE`] a
+/// generation (down to 30 %).
+const PBG_NOW: Vec3 = Vec3::new(0.05, 0.35, 1.0);
+const PBG_FADE: f32 = 0.1;
+/// Classes view: DBG, PBG at an earlier step; untouched; billboards.
+const DBG_EARLIER: Vec3 = Vec3::new(0.35, 0.02, 0.02);
+const PBG_EARLIER: Vec3 = Vec3::new(0.02, 0.06, 0.35);
+const UNTOUCHED: Vec3 = Vec3::new(0.08, 0.45, 0.06);
+const BILLBOARD_DEBUG: Vec3 = Vec3::new(0.9, 0.75, 0.05);
+
 fn class_colour(sim: &Simulation, b: usize) -> u32 {
     let g = sim.generation[b];
     let c = if g == 0 {
-        Vec3::new(1.0, 0.03, 0.02)
+        DBG_NOW
     } else if g != NO_GENERATION {
-        Vec3::new(0.05, 0.35, 1.0) * (1.0 - 0.1 * f32::from(g - 1)).max(0.3)
+        PBG_NOW * (1.0 - PBG_FADE * f32::from(g - 1)).max(0.3)
     } else if sim.class[b] == BladeClass::Direct as u8 {
-        Vec3::new(0.35, 0.02, 0.02)
+        DBG_EARLIER
     } else if sim.class[b] == BladeClass::Propagated as u8 {
-        Vec3::new(0.02, 0.06, 0.35)
+        PBG_EARLIER
     } else {
-        Vec3::new(0.08, 0.45, 0.06)
+        UNTOUCHED
     };
     pack(c)
 }
@@ -152,6 +164,32 @@ impl Renderer {
         queue: &wgpu::Queue,
         sim: &Simulation,
         params: RenderParams,
+    ) -> Result<Self, RenderError> {
+        Self::with_blades(device, queue, sim, params, false)
+    }
+
+    /// A renderer that draws the field of a GPU-path simulation straight
+    /// from its buffers ([`Renderer::encode_gpu`]; `gpu.sim` gives the
+    /// camera, objects and terrain): no blade vertex buffer of its own, so
+    /// fields over one storage binding draw too.
+    ///
+    /// # Errors
+    /// As [`Renderer::new`], less the field's size.
+    pub fn new_gpu(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        gpu: &trample_gpu::GpuSimulation,
+        params: RenderParams,
+    ) -> Result<Self, RenderError> {
+        Self::with_blades(device, queue, &gpu.sim, params, true)
+    }
+
+    fn with_blades(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: &Simulation,
+        params: RenderParams,
+        gpu: bool,
     ) -> Result<Self, RenderError> {
         let target = Target::new(device, params.width, params.height, params.samples)?;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -189,7 +227,11 @@ impl Renderer {
             sky: SkyPass::new(device, &layout, s),
             terrain: TerrainPass::new(device, queue, &layout, sim, s),
             billboards: BillboardPass::new(device, queue, &layout, s),
-            blades: BladePass::new(device, queue, &layout, sim, s)?,
+            blades: if gpu {
+                BladePass::new_gpu(device, queue, &layout, sim, s)?
+            } else {
+                BladePass::new(device, queue, &layout, sim, s)?
+            },
             objects: ObjectPass::new(device, &layout, sim, s),
             lines: LinePass::new(device, &layout, s),
             target,
@@ -262,7 +304,6 @@ impl Renderer {
         sim: &Simulation,
         encoder: &mut wgpu::CommandEncoder,
     ) -> FrameCounts {
-        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&self.globals_of(sim)));
         let debug = self.params.debug == DebugView::Classes;
         if debug {
             self.blades
@@ -270,35 +311,12 @@ impl Renderer {
         } else {
             self.blades.prepare(device, queue, sim, |_| 0);
         }
-        let bb_colour = if debug {
-            pack(Vec3::new(0.9, 0.75, 0.05))
-        } else {
-            0
-        };
+        let bb_colour = self.billboard_colour();
         self.billboards.prepare(device, queue, sim, bb_colour);
-        self.objects.prepare(queue, sim);
-        let view = self.params.debug;
-        self.lines.prepare(
-            device,
-            queue,
-            sim,
-            view == DebugView::Obb,
-            view == DebugView::Patches,
-        );
+        self.prepare_scene(device, queue, sim);
 
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("scene"),
-                color_attachments: &[Some(self.target.color_attachment(wgpu::Color::BLACK))],
-                depth_stencil_attachment: Some(self.target.depth_attachment()),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &self.globals_group, &[]);
-            self.sky.draw(&mut pass);
-            self.terrain.draw(&mut pass);
-            self.objects.draw(&mut pass);
+            let mut pass = self.begin_scene(encoder);
             self.blades.draw(&mut pass);
             self.billboards.draw(&mut pass);
             self.lines.draw(&mut pass);
@@ -311,6 +329,96 @@ impl Renderer {
 
     /// The frame the passes resolve into: single-sample [`crate::COLOR_FORMAT`],
     /// `params().width × params().height`, sampleable (see [`Renderer::encode`]).
+    /// Records the frame of a GPU-path simulation into `encoder`, drawing
+    /// its blades and billboards straight from its buffers: the draw lists
+    /// are built on the GPU (`GpuSimulation::record_draw_lists`) and drawn
+    /// with indirect draws; nothing of the field is read back or uploaded.
+    /// The camera, objects, terrain and debug lines come from `gpu.sim`
+    /// (kept up to date by `GpuSimulation::step`). The renderer must come
+    /// from [`Renderer::new_gpu`] or [`Renderer::new`] for the same field.
+    pub fn encode_gpu(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        gpu: &mut trample_gpu::GpuSimulation,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        let classes = self.params.debug == DebugView::Classes;
+        let draw = trample_gpu::draw_lists::GpuDrawParams {
+            counts: [0; 4],
+            draw: [
+                self.blades.vertices_per_blade(),
+                crate::billboards::VERTICES,
+                u32::from(classes),
+                self.billboard_colour(),
+            ],
+            size: [
+                crate::billboards::half_width(gpu.sim.field.layout.cell_size),
+                0.0,
+                0.0,
+                0.0,
+            ],
+            palette: [
+                pack(DBG_NOW),
+                pack(DBG_EARLIER),
+                pack(PBG_EARLIER),
+                pack(UNTOUCHED),
+            ],
+            pbg: [PBG_NOW.x, PBG_NOW.y, PBG_NOW.z, PBG_FADE],
+        };
+        gpu.record_draw_lists(device, queue, encoder, draw);
+        self.prepare_scene(device, queue, &gpu.sim);
+        let Some(lists) = gpu.draw_lists() else {
+            return;
+        };
+        let mut pass = self.begin_scene(encoder);
+        self.blades.draw_gpu(device, &mut pass, &gpu.field, lists);
+        self.billboards
+            .draw_gpu(device, &mut pass, lists, gpu.field.chunks.len());
+        self.lines.draw(&mut pass);
+    }
+
+    /// The billboards' colour in the classes view (0: textured).
+    fn billboard_colour(&self) -> u32 {
+        if self.params.debug == DebugView::Classes {
+            pack(BILLBOARD_DEBUG)
+        } else {
+            0
+        }
+    }
+
+    /// Globals, objects and debug lines of `sim`'s frame.
+    fn prepare_scene(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, sim: &Simulation) {
+        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&self.globals_of(sim)));
+        self.objects.prepare(queue, sim);
+        let view = self.params.debug;
+        self.lines.prepare(
+            device,
+            queue,
+            sim,
+            view == DebugView::Obb,
+            view == DebugView::Patches,
+        );
+    }
+
+    /// The scene pass with sky, terrain and objects recorded; the field's
+    /// passes follow.
+    fn begin_scene<'e>(&self, encoder: &'e mut wgpu::CommandEncoder) -> wgpu::RenderPass<'e> {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &[Some(self.target.color_attachment(wgpu::Color::BLACK))],
+            depth_stencil_attachment: Some(self.target.depth_attachment()),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &self.globals_group, &[]);
+        self.sky.draw(&mut pass);
+        self.terrain.draw(&mut pass);
+        self.objects.draw(&mut pass);
+        pass
+    }
+
     #[must_use]
     pub fn frame_view(&self) -> &wgpu::TextureView {
         self.target.frame_view()
@@ -369,6 +477,37 @@ impl Renderer {
         sim: &Simulation,
     ) -> Result<image::RgbaImage, RenderError> {
         self.draw(device, queue, sim);
+        self.target.read(device)
+    }
+
+    /// [`Renderer::encode_gpu`], submitted, with the frame copied for
+    /// read-back ([`Renderer::read_frame`] or [`Renderer::render_gpu`]).
+    pub fn draw_gpu(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        gpu: &mut trample_gpu::GpuSimulation,
+    ) {
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame (GPU path)"),
+        });
+        self.encode_gpu(device, queue, gpu, &mut encoder);
+        self.target.copy_out(&mut encoder);
+        queue.submit([encoder.finish()]);
+    }
+
+    /// Draws the GPU path's current state ([`Renderer::draw_gpu`]) and reads
+    /// the image back: the frame, not the field, crosses to the CPU.
+    ///
+    /// # Errors
+    /// [`RenderError`] when the read-back fails.
+    pub fn render_gpu(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        gpu: &mut trample_gpu::GpuSimulation,
+    ) -> Result<image::RgbaImage, RenderError> {
+        self.draw_gpu(device, queue, gpu);
         self.target.read(device)
     }
 }

@@ -99,11 +99,6 @@ pub fn run(a: &Args) -> Result<()> {
     if !a.scaling && (a.max_blades.is_some() || a.max_triangles.is_some()) {
         bail!("--max-blades / --max-triangles: only with --scaling");
     }
-    if a.render && a.backend != Backend::Cpu {
-        bail!(
-            "--render: with --backend cpu only for now (the renderer does not draw from the GPU path's buffers yet)"
-        );
-    }
     if a.render && a.scaling {
         bail!("--render: not with --scaling (scaling times the simulation alone)");
     }
@@ -204,14 +199,23 @@ fn lap_frames(sim: &Simulation) -> Option<u64> {
     (frames > 0).then_some(frames)
 }
 
+/// What a bench sees after a step: the simulation on the path that
+/// stepped it (to draw it, say).
+pub enum Stepped<'a> {
+    /// The CPU path's simulation.
+    Cpu(&'a Simulation),
+    /// The GPU path's (its `sim` is not brought up to date each frame).
+    Gpu(&'a mut trample_gpu::GpuSimulation),
+}
+
 /// Steps `sim` for `frames` frames of its `dt`, restarting from its
 /// first state after every lap (a copy is kept only then), and returns each
-/// step's timings. Calls `tick` with the simulation after each step (the
-/// step's timings are `sim.timings`).
+/// step's timings. Calls `tick` after each step with the simulation and the
+/// step's timings.
 fn time_frames(
     mut sim: Simulation,
     frames: u64,
-    mut tick: impl FnMut(&Simulation) -> Result<()>,
+    mut tick: impl FnMut(Stepped<'_>, &StepTimings) -> Result<()>,
 ) -> Result<Vec<StepTimings>> {
     let lap = lap_frames(&sim).filter(|&l| l < frames);
     let start = lap.map(|_| sim.clone());
@@ -225,7 +229,7 @@ fn time_frames(
             sim.clone_from(start);
         }
         let t = sim.step(dt)?.clone();
-        tick(&sim)?;
+        tick(Stepped::Cpu(&sim), &t)?;
         steps.push(t);
     }
     Ok(steps)
@@ -239,7 +243,7 @@ fn time_frames_gpu(
     gpu: &trample_render::headless::Gpu,
     sim: Simulation,
     frames: u64,
-    mut tick: impl FnMut(&Simulation) -> Result<()>,
+    mut tick: impl FnMut(Stepped<'_>, &StepTimings) -> Result<()>,
 ) -> Result<Vec<StepTimings>> {
     use trample_gpu::GpuSimulation;
     let (device, queue) = (&gpu.device, &gpu.queue);
@@ -261,9 +265,7 @@ fn time_frames_gpu(
         let c = g.read_counters(device, queue)?;
         let mut t = crate::gpu_run::timings_with_counters(&g.sim.timings, &c);
         t.total_ms = clock.elapsed().as_secs_f64() * 1e3;
-        // `g.sim` is the CPU-side copy, not brought up to date each frame
-        // (`--render` is refused with the GPU path for that reason).
-        tick(&g.sim)?;
+        tick(Stepped::Gpu(&mut g), &t)?;
         steps.push(t);
     }
     Ok(steps)

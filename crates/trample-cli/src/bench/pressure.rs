@@ -6,7 +6,7 @@
 
 use super::chart::{COLORS, Chart, Series, line_chart, thousands};
 use super::machine::Machine;
-use super::{Backend, Setup, lap_frames, motion_end_s, progress, time_frames};
+use super::{Backend, Setup, Stepped, lap_frames, motion_end_s, progress, time_frames};
 use crate::summary::{Recorder, Stats, write_json};
 use anyhow::Result;
 use plotters::prelude::SeriesLabelPosition;
@@ -175,13 +175,17 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         };
         let (mut render_ms, mut frame_ms) = (Vec::new(), Vec::new());
         let clock = Instant::now();
-        let tick = |sim: &trample::Simulation| -> Result<()> {
+        let tick = |stepped: Stepped<'_>, t: &trample::StepTimings| -> Result<()> {
             if let (Some(r), Some(g)) = (renderer.as_mut(), &gpu) {
                 let c = Instant::now();
-                r.render(&g.device, &g.queue, sim)?;
+                // The GPU path is drawn straight from its buffers.
+                match stepped {
+                    Stepped::Cpu(sim) => drop(r.render(&g.device, &g.queue, sim)?),
+                    Stepped::Gpu(s) => drop(r.render_gpu(&g.device, &g.queue, s)?),
+                }
                 let ms = c.elapsed().as_secs_f64() * 1e3;
                 render_ms.push(ms);
-                frame_ms.push(sim.timings.total_ms + ms);
+                frame_ms.push(t.total_ms + ms);
             }
             bar.inc(1);
             Ok(())

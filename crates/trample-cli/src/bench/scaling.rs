@@ -152,7 +152,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
                 what: &str,
                 skipped: &mut Vec<String>|
      -> Result<Option<Recorder>> {
-        let tick = |_: &trample::Simulation| {
+        let tick = |_: super::Stepped<'_>, _: &trample::StepTimings| {
             bar.inc(1);
             Ok(())
         };
