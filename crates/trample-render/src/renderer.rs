@@ -244,7 +244,11 @@ impl Renderer {
         &self.params
     }
 
-    fn globals_of(&self, sim: &Simulation) -> Globals {
+    /// The per-frame uniform every pass reads, for `sim`'s frame (camera,
+    /// sun, fog, debug view, wind). Public for tests and tools that run the
+    /// shared WGSL (`globals.wgsl`) themselves.
+    #[must_use]
+    pub fn globals_of(&self, sim: &Simulation) -> Globals {
         let mut view = sim.view;
         view.aspect = self.params.width as f32 / self.params.height as f32;
         let view_proj = view.proj() * view.view();

@@ -124,3 +124,123 @@ fn gusts_change_the_picture_with_time_and_calm_does_not() {
     let changed = differing_pixels(&c, &d);
     assert!(changed > 500, "a gust moved only {changed} pixels");
 }
+
+/// `wind_tip_offset` in `globals.wgsl` is `trample::wind::tip_offset`: the
+/// shared WGSL, run in a compute shader on the globals the renderer makes,
+/// gives the Rust formula's offset at roots across the field and instants
+/// across a gust period (within 2e-5 m: f32 `sin` of the GPU).
+#[test]
+fn the_shaders_wind_is_the_cores_formula() {
+    use wgpu::util::DeviceExt;
+    let gpu = trample_render::headless::create_device()
+        .unwrap_or_else(|e| panic!("the wind test needs an adapter: {e}"));
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut sim = scene();
+    sim.wind = WindParams {
+        direction_deg: 35.0,
+        strength_m: 0.04,
+        gust_m: 0.07,
+        gust_period_s: 2.5,
+        gust_wavelength_m: 6.0,
+    };
+    let renderer = Renderer::new(device, queue, &sim, RenderParams::default()).unwrap();
+    let roots: Vec<[f32; 4]> = (0..64)
+        .map(|i| {
+            let (x, z) = ((i % 8) as f32 * 1.7 - 6.0, (i / 8) as f32 * 2.3 - 8.0);
+            [x, 0.1 * x, z, 0.0]
+        })
+        .collect();
+    let source = trample_render::globals::shader_source(
+        "@group(0) @binding(1) var<storage, read> roots: array<vec4<f32>>;
+         @group(0) @binding(2) var<storage, read_write> out: array<vec4<f32>>;
+         @compute @workgroup_size(64)
+         fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+             out[gid.x] = vec4<f32>(wind_tip_offset(roots[gid.x].xyz), 0.0);
+         }",
+    );
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("wind formula"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let roots_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(&roots),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let size = (roots.len() * 16) as u64;
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut worst = 0.0f32;
+    for t in [0.0, 0.4, 1.1, 1.9, 3.3] {
+        sim.time = t;
+        let globals = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: None,
+            contents: bytemuck::bytes_of(&renderer.globals_of(&sim)),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: globals.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: roots_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: out.as_entire_binding(),
+                },
+            ],
+        });
+        let mut enc = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
+        queue.submit([enc.finish()]);
+        staging
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, |r| r.unwrap());
+        device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+        let got: Vec<[f32; 4]> =
+            bytemuck::cast_slice(&staging.slice(..).get_mapped_range().unwrap()).to_vec();
+        staging.unmap();
+        for (r, g) in roots.iter().zip(&got) {
+            let want =
+                trample::wind::tip_offset(&sim.wind, glam::Vec3::new(r[0], r[1], r[2]), t as f32);
+            let d = (glam::Vec3::new(g[0], g[1], g[2]) - want).length();
+            worst = worst.max(d);
+            assert!(d < 2e-5, "root {r:?}, t = {t}: shader {g:?}, core {want}");
+        }
+    }
+    // The wind is not calm: the comparison means something.
+    assert!(
+        trample::wind::tip_offset(&sim.wind, glam::Vec3::ZERO, 0.0).length() > 0.03,
+        "worst {worst}"
+    );
+}
