@@ -175,8 +175,14 @@ impl BillboardPass {
             }
         }
         let bytes = (self.list.len() * 48) as u64;
-        if bytes > self.instances.size() {
-            self.instances = Self::buffer(device, bytes.next_power_of_two());
+        if let Some(b) = crate::pipeline::grown(
+            device,
+            Some(&self.instances),
+            "billboard instances",
+            wgpu::BufferUsages::STORAGE,
+            bytes,
+        ) {
+            self.instances = b;
             self.bind_group = Self::bind(
                 device,
                 &self.layout,

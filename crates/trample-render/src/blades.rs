@@ -237,13 +237,14 @@ impl BladePass {
             }
         }
         let bytes = (self.list.len() * 8) as u64;
-        if bytes > self.instances.size() {
-            self.instances = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("blade instances"),
-                size: bytes.next_power_of_two(),
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
+        if let Some(b) = crate::pipeline::grown(
+            device,
+            Some(&self.instances),
+            "blade instances",
+            wgpu::BufferUsages::STORAGE,
+            bytes,
+        ) {
+            self.instances = b;
             self.bind_group = Some(self.bind_cpu(device));
         }
         queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.list));

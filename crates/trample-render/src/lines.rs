@@ -197,17 +197,14 @@ impl LinePass {
             return;
         }
         let bytes: &[u8] = bytemuck::cast_slice(&self.scratch);
-        let fits = self
-            .vertices
-            .as_ref()
-            .is_some_and(|b| b.size() >= bytes.len() as u64);
-        if !fits {
-            self.vertices = Some(device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("debug lines"),
-                size: (bytes.len() as u64).next_power_of_two(),
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
+        if let Some(b) = crate::pipeline::grown(
+            device,
+            self.vertices.as_ref(),
+            "debug lines",
+            wgpu::BufferUsages::VERTEX,
+            bytes.len() as u64,
+        ) {
+            self.vertices = Some(b);
         }
         if let Some(b) = &self.vertices {
             queue.write_buffer(b, 0, bytes);

@@ -130,3 +130,26 @@ pub fn texture_and_sampler(binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {
         },
     ]
 }
+
+/// A per-frame buffer that must hold `bytes`: `None` when `current` does,
+/// else a new buffer of the next power of two bytes (`usage` plus
+/// `COPY_DST`) to replace it (bind groups over the old one must be made
+/// again). Growing by powers of two keeps reallocations rare as lists grow.
+#[must_use]
+pub fn grown(
+    device: &wgpu::Device,
+    current: Option<&wgpu::Buffer>,
+    label: &str,
+    usage: wgpu::BufferUsages,
+    bytes: u64,
+) -> Option<wgpu::Buffer> {
+    if current.is_some_and(|b| b.size() >= bytes) {
+        return None;
+    }
+    Some(device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16).next_power_of_two(),
+        usage: usage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    }))
+}
