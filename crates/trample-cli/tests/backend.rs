@@ -4,8 +4,10 @@
 //! with `WGPU_BACKEND=gl` (Mesa llvmpipe); without one, `--backend gpu`
 //! fails and so do these tests (they do not skip).
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
+
+use common::{dir, ok, trample};
+use std::process::Command;
 
 const SCENE: &str = r#"
 name = "backend"
@@ -27,24 +29,6 @@ shape = { kind = "sphere", radius_m = 0.4 }
 orientation = "rolling"
 path = { kind = "line", from = [-2.0, 0.4, 0.0], to = [2.0, 0.4, 0.0], duration_s = 2.0 }
 "#;
-
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("trample-backend-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn trample(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trample"))
-        .args(args)
-        .output()
-        .expect("run trample")
-}
-
-fn ok(o: &Output) {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
 
 #[test]
 fn collide_on_the_gpu_gives_the_cpu_hit_flags_at_every_precision() {

@@ -5,26 +5,9 @@
 //! same frames, `--scaling --backend both` puts GPU points beside the CPU
 //! ones, and bad flags fail in one line.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("trample-bench-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn trample(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trample"))
-        .args(args)
-        .output()
-        .expect("run trample")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use common::{dir, stderr, trample};
 
 /// Asserts `path` is a PNG of the charts' size, not blank.
 fn assert_chart(path: &std::path::Path) {

@@ -1,7 +1,10 @@
 //! The `trample` command line: the flags and files the issues spell out are a
 //! contract (summary.json keys, .npy shapes and dtypes, exit codes, one-line errors).
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::{dir, trample};
+use std::path::Path;
 use std::process::{Command, Output};
 use trample::npy::{Dtype, decode};
 
@@ -21,20 +24,6 @@ shape = { kind = "sphere", radius_m = 0.4 }
 orientation = "rolling"
 path = { kind = "line", from = [-2.0, 0.4, 0.0], to = [2.0, 0.4, 0.0], duration_s = 1.0 }
 "#;
-
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("trample-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn trample(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trample"))
-        .args(args)
-        .output()
-        .expect("run trample")
-}
 
 fn scene_in(d: &Path) -> String {
     let p = d.join("scene.toml");
