@@ -54,14 +54,15 @@ const _: () = assert!(std::mem::size_of::<GpuWorldObb>() == 80);
 
 impl GpuWorldObb {
     /// `o` with the rectangle of cells whose square overlaps its (x, z)
-    /// extent: the cells `trample::step::stages::bend_billboards` tests
-    /// (`reach_rect(obb, 0)` and `FieldLayout::patch_cells_overlapping`),
-    /// with the same float steps, so both paths test the same billboards.
+    /// extent grown by `reach` (a blade's greatest length): the cells
+    /// `trample::step::stages::bend_billboards` tests (`reach_rect(obb,
+    /// reach)` and `FieldLayout::patch_cells_overlapping`), with the same
+    /// float steps, so both paths test the same billboards.
     #[must_use]
-    pub fn new(o: &Obb, layout: &FieldLayout) -> Self {
+    pub fn new(o: &Obb, layout: &FieldLayout, reach: f32) -> Self {
         let corners = o.corners();
-        let lo = corners.iter().fold(Vec3::INFINITY, |a, c| a.min(*c)) - Vec3::ZERO;
-        let hi = corners.iter().fold(Vec3::NEG_INFINITY, |a, c| a.max(*c)) + Vec3::ZERO;
+        let lo = corners.iter().fold(Vec3::INFINITY, |a, c| a.min(*c)) - Vec3::splat(reach);
+        let hi = corners.iter().fold(Vec3::NEG_INFINITY, |a, c| a.max(*c)) + Vec3::splat(reach);
         // An empty rectangle for NaN boxes.
         let cell =
             |x: f32, origin: f32| ((x - origin) / layout.cell_size).floor().clamp(-2.0, 1.0e7);

@@ -270,7 +270,11 @@ impl GpuSimulation {
             for (body, obj) in self.sim.bodies.iter_mut().zip(&mut self.objects) {
                 body.set_time(t);
                 obj.set_pose(&body.pose);
-                roots.push(GpuWorldObb::new(&body.world_root, &self.sim.field.layout));
+                roots.push(GpuWorldObb::new(
+                    &body.world_root,
+                    &self.sim.field.layout,
+                    self.sim.field.max_blade_length,
+                ));
             }
             let positions: Vec<_> = self.sim.bodies.iter().map(|b| b.pose.position).collect();
             self.sim.view = self.sim.camera.view_at(t, &positions);

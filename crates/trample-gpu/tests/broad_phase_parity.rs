@@ -75,7 +75,7 @@ fn gpu_lists_the_patches_the_cpu_broad_phase_hits() {
             body.set_time(t);
             patches_hit(&layout.patch_list, &body.world_root, &mut hits);
             cpu.extend_from_slice(&hits);
-            boxes.push(GpuWorldObb::new(&body.world_root, &layout));
+            boxes.push(GpuWorldObb::new(&body.world_root, &layout, 0.3));
         }
         cpu.sort_unstable();
         cpu.dedup();

@@ -279,3 +279,59 @@ fn bend_last_segment_moves_only_the_tip() {
     let mut root_only = vec![Vec3A::ZERO];
     bend_last_segment(&mut root_only, 0.25, Vec3::X, &Terrain::Flat(0.0), 0.0);
 }
+
+/// A billboard whose base lies beside an object's footprint but which leans
+/// into the object's box is deflected (Eq. 8): the cells tested reach a
+/// blade's length beyond the box (they stopped at its footprint before).
+#[test]
+fn a_billboard_leaning_into_the_box_from_beside_it_is_deflected() {
+    let text = r#"
+[field]
+patches = [2, 2]
+cells_per_patch = 8
+cell_size_m = 0.1
+[lod]
+geometry_m = 0.01
+billboard_m = 100.0
+[camera]
+path = { kind = "static", position = [0.0, 5.0, 0.5] }
+look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
+[[objects]]
+name = "crate"
+shape = { kind = "box", half_extents_m = [0.1, 0.05, 0.3] }
+path = { kind = "static", position = [0.0, 0.22, 0.0] }
+"#;
+    let mut sim = trample::scene::Scene::parse(text, "leaning.toml", std::path::Path::new("."))
+        .and_then(|s| s.build())
+        .expect("scene builds");
+    let layout = &sim.field.layout;
+    let [gx, gz] = layout.cell_at(0.25, 0.05).expect("inside the field");
+    let c = layout.cell_index(gx, gz);
+    let cells = &mut sim.field.cells;
+    // Lean 45° towards −x: the top edge (the cell's billboard is ≈ 0.34 m
+    // tall) ends in the box (y 0.17–0.27 m), its base 0.1 m beyond the
+    // footprint's edge.
+    let origin = cells.slope_origin[c];
+    cells.slope[c] = Vec3::new(-1.0, 1.0, 0.0).normalize() * origin.length();
+    let leaning = cells.slope[c];
+    let top = trample::deform::billboard::billboard_top(
+        cells.base[c],
+        leaning,
+        cells.height[c],
+        &sim.field.terrain,
+        trample::field::generate::GROUND_CLEARANCE_M,
+    );
+    assert!(
+        cells.base[c].x > 0.15 && top.x < 0.1,
+        "base {} top {top}",
+        cells.base[c]
+    );
+    assert!((0.17..0.27).contains(&top.y), "top {top}");
+    sim.step(sim.params.dt_s).unwrap();
+    assert_eq!(sim.field.cells.lod[c], trample::field::Lod::Billboard);
+    assert!(sim.timings.bbg_cells > 0, "no billboard deflected");
+    assert_ne!(
+        sim.field.cells.slope[c], leaning,
+        "the leaning billboard was not deflected"
+    );
+}

@@ -264,13 +264,16 @@ fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) {
 }
 
 /// Eq. 8 for billboard cells whose skeleton line (base centre → top) meets
-/// an object's root box; returns how many were deflected.
+/// an object's root box; returns how many were deflected. The cells tested
+/// are those within a blade's length of the box (a billboard as tall as
+/// its blades can lean into the box from a cell beside it).
 fn bend_billboards(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> u32 {
     let mut deflected = 0;
+    let reach = sim.field.max_blade_length;
     for (body, patches) in sim.bodies.iter().zip(patch_hits) {
         let obb = body.world_root;
         let r = obb.half_diagonal();
-        let (min, max) = reach_rect(&obb, 0.0);
+        let (min, max) = reach_rect(&obb, reach);
         for &p in patches {
             for c in sim
                 .field
@@ -422,8 +425,8 @@ fn recover(sim: &mut Simulation, h: f32) {
 }
 
 /// The (x, z) rectangle a world box covers, grown by `reach` metres: only
-/// cells in it can hold a blade (rooted in the cell, at most `reach` long)
-/// or a billboard base that meets the box.
+/// cells in it can hold a blade or a billboard (rooted in the cell, at most
+/// `reach` long) that meets the box.
 fn reach_rect(obb: &crate::obb::Obb, reach: f32) -> ([f32; 2], [f32; 2]) {
     let corners = obb.corners();
     let lo = corners.iter().fold(Vec3::INFINITY, |a, c| a.min(*c)) - Vec3::splat(reach);
