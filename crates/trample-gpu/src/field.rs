@@ -308,11 +308,16 @@ impl GpuField {
             class: init(
                 "trample-gpu blade classes",
                 bytemuck::cast_slice(&vec![0u32; blades.count]),
-                U::STORAGE | U::COPY_SRC,
+                U::STORAGE | U::COPY_SRC | U::COPY_DST,
             ),
+            // A blade away from rest is displaced: recovery works on it.
             displaced: init(
                 "trample-gpu displaced flags",
-                bytemuck::cast_slice(&vec![0u32; blades.count]),
+                bytemuck::cast_slice(
+                    &(0..blades.count)
+                        .map(|b| u32::from(!blades.is_at_rest(b)))
+                        .collect::<Vec<u32>>(),
+                ),
                 U::STORAGE | U::COPY_SRC,
             ),
             cell_count: lod.len() as u32,

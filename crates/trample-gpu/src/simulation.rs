@@ -144,6 +144,9 @@ impl GpuSimulation {
             _ => 0.0,
         };
         let field = GpuField::from_field_chunked(device, queue, &sim.field, max_chunk_bytes)?;
+        // The blades' classes so far (a simulation handed over mid-run).
+        let class: Vec<u32> = sim.class.iter().map(|&c| u32::from(c)).collect();
+        queue.write_buffer(&field.class, 0, bytemuck::cast_slice(&class));
         let objects = sim
             .bodies
             .iter()

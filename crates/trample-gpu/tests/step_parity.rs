@@ -294,3 +294,47 @@ fn rolling_ball_over_a_height_map_matches_the_cpu() {
         "{class_diff} class differences"
     );
 }
+
+/// A simulation handed to the GPU mid-run (as the viewer's backend switch
+/// does) carries its state over: blades the CPU bent go on recovering on
+/// the GPU (they start in the displaced set) and the classes so far are
+/// kept. 120 frames on the CPU, then 120 on both paths.
+#[test]
+fn a_simulation_handed_over_mid_run_goes_on_like_the_cpu() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut cpu = build_in(ROLLING_BALL, std::path::Path::new("."));
+    let dt = cpu.params.dt_s;
+    for _ in 0..120 {
+        cpu.step(dt).unwrap();
+    }
+    let bent = (0..cpu.field.blades.count)
+        .filter(|&b| !cpu.field.blades.is_at_rest(b))
+        .count();
+    assert!(bent > 100, "only {bent} blades bent before the hand-over");
+    let mut g = GpuSimulation::new(device, queue, cpu.clone()).unwrap();
+    let class = g.field.read_u32(device, queue, &g.field.class).unwrap();
+    assert!(
+        class
+            .iter()
+            .zip(&cpu.class)
+            .all(|(a, b)| *a == u32::from(*b))
+    );
+    for _ in 0..120 {
+        cpu.step(dt).unwrap();
+        g.step(device, queue, dt).unwrap();
+    }
+    let pos = g.field.read_positions(device, queue).unwrap();
+    let worst = pos
+        .iter()
+        .zip(&cpu.field.blades.pos)
+        .map(|(p, q)| glam::Vec3A::new(p[0], p[1], p[2]).distance(*q))
+        .fold(0.0f32, f32::max);
+    eprintln!(
+        "hand-over after 120 frames, 120 more: worst vertex difference {worst:e} m ({bent} blades bent at the hand-over)"
+    );
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+}
