@@ -1,9 +1,10 @@
 //! `trample view`: the interactive viewer (crate `trample-view`) on a scene.
 
+use crate::backend::Backend;
 use crate::common::{SimOverrides, load_scene};
 use anyhow::Result;
 use std::path::PathBuf;
-use trample_view::{ViewOptions, run as view};
+use trample_view::{StartBackend, ViewOptions, run as view};
 
 /// Arguments of `trample view`.
 #[derive(clap::Args, Debug)]
@@ -24,6 +25,15 @@ pub struct Args {
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]
     pub precision: Option<u32>,
+    /// Simulation path to start on (the panel switches it live): cpu = the
+    /// reference (default); auto = the GPU on a hardware adapter, else the
+    /// CPU; gpu = the GPU path, also on a software adapter. The GPU path
+    /// runs on the window's device; a scene it refuses (terrain other than
+    /// flat, a field too large) runs on the CPU, and stderr says why. Not
+    /// auto by default: the renderer does not draw from the GPU buffers
+    /// yet, so the GPU path reads the whole field back every frame.
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+    pub backend: Backend,
 }
 
 /// Runs the viewer until its window closes.
@@ -41,6 +51,11 @@ pub fn run(a: &Args) -> Result<()> {
         frames: a.frames,
         screenshot: a.screenshot.clone(),
         samples: 4,
+        backend: match a.backend {
+            Backend::Cpu => StartBackend::Cpu,
+            Backend::Gpu => StartBackend::Gpu,
+            Backend::Auto => StartBackend::Auto,
+        },
     })?;
     Ok(())
 }

@@ -1,0 +1,342 @@
+//! Which path steps the viewer's simulation: the CPU reference (rayon) or
+//! the GPU path ([`GpuSimulation`], wgpu compute) on the viewer's own device.
+//!
+//! [`Backend`] holds the one running simulation either way, so every action
+//! of the app (driving, parameters, camera, reset, restart) goes to
+//! [`Backend::sim_mut`] and reaches whichever path runs: the GPU path reads
+//! its parameters, camera and poses from its `sim` at each step.
+//!
+//! The renderer still draws from the CPU arrays: after each GPU step the
+//! state comes back ([`GpuSimulation::sync_to_cpu`]) in one place,
+//! [`OnGpu::step`]. When the renderer draws straight from the GPU buffers,
+//! that read-back is what goes.
+//!
+//! Every GPU call runs inside wgpu error scopes ([`guarded`]): a refused
+//! scene, a validation error, running out of memory or a lost device ends
+//! the GPU path with a message and the simulation goes on on the CPU from
+//! the last state read back. Nothing here panics on a GPU failure.
+
+use trample::Simulation;
+use trample::step::{BladeClass, SimError};
+use trample_gpu::{GpuError, GpuSimulation};
+
+/// Which path runs the simulation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BackendKind {
+    /// The CPU reference path (rayon).
+    #[default]
+    Cpu,
+    /// The GPU path (wgpu compute) on the viewer's device.
+    Gpu,
+}
+
+impl BackendKind {
+    /// Name shown in the panel.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cpu => "CPU",
+            Self::Gpu => "GPU",
+        }
+    }
+}
+
+/// What `trample view --backend` asks for when the window opens.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StartBackend {
+    /// The CPU path (the default: until the renderer draws from the GPU
+    /// buffers, the GPU path reads the whole field back every frame).
+    #[default]
+    Cpu,
+    /// The GPU path, also on a software adapter.
+    Gpu,
+    /// The GPU path on a hardware adapter, the CPU path on a software one
+    /// (llvmpipe, lavapipe: slower than the CPU path, PLATFORM.md).
+    Auto,
+}
+
+impl StartBackend {
+    /// The path to start on with `device` (`None`: no device).
+    #[must_use]
+    pub fn resolve(self, device: Option<&GpuDevice>) -> BackendKind {
+        match (self, device) {
+            (Self::Cpu, _) | (_, None) => BackendKind::Cpu,
+            (Self::Gpu, Some(_)) => BackendKind::Gpu,
+            (Self::Auto, Some(d)) if d.software => BackendKind::Cpu,
+            (Self::Auto, Some(_)) => BackendKind::Gpu,
+        }
+    }
+}
+
+/// The device the viewer draws with, lent to the GPU path (wgpu handles
+/// are shared references: cloning one does not make a new device).
+#[derive(Clone, Debug)]
+pub struct GpuDevice {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// "name (backend, device type)".
+    pub adapter: String,
+    /// A software adapter (Mesa llvmpipe or lavapipe).
+    pub software: bool,
+}
+
+impl GpuDevice {
+    /// The device and queue of `adapter`.
+    #[must_use]
+    pub fn new(device: wgpu::Device, queue: wgpu::Queue, adapter: &wgpu::Adapter) -> Self {
+        let info = adapter.get_info();
+        Self {
+            device,
+            queue,
+            adapter: format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type),
+            software: info.device_type == wgpu::DeviceType::Cpu,
+        }
+    }
+}
+
+/// The running simulation, on the CPU or on the GPU.
+pub enum Backend {
+    /// Stepped by [`Simulation::step`].
+    Cpu(Box<Simulation>),
+    /// Stepped by [`GpuSimulation::step`]; its `sim` holds everything else.
+    Gpu(Box<OnGpu>),
+}
+
+/// The GPU path's state.
+pub struct OnGpu {
+    gpu: GpuSimulation,
+    device: GpuDevice,
+    /// Each blade's class over the run before the GPU path took over: the
+    /// GPU counts classes from its own start.
+    class_before: Vec<u8>,
+    /// Wall time of the last read-back, milliseconds.
+    readback_ms: f64,
+}
+
+impl Backend {
+    /// The path that runs.
+    #[must_use]
+    pub fn kind(&self) -> BackendKind {
+        match self {
+            Self::Cpu(_) => BackendKind::Cpu,
+            Self::Gpu(_) => BackendKind::Gpu,
+        }
+    }
+
+    /// The simulation: on the GPU path, its CPU side (parameters, bodies,
+    /// camera, time) and the field as last read back.
+    #[must_use]
+    pub fn sim(&self) -> &Simulation {
+        match self {
+            Self::Cpu(sim) => sim,
+            Self::Gpu(g) => &g.gpu.sim,
+        }
+    }
+
+    /// The simulation, to edit: parameters, LOD distances, wind, camera and
+    /// driving take effect at the next step on either path.
+    pub fn sim_mut(&mut self) -> &mut Simulation {
+        match self {
+            Self::Cpu(sim) => sim,
+            Self::Gpu(g) => &mut g.gpu.sim,
+        }
+    }
+
+    /// The GPU adapter the simulation runs on, if on the GPU path.
+    #[must_use]
+    pub fn adapter(&self) -> Option<&str> {
+        match self {
+            Self::Cpu(_) => None,
+            Self::Gpu(g) => Some(&g.device.adapter),
+        }
+    }
+
+    /// On the GPU path: the wall time of the last per-frame read-back of
+    /// the state (for drawing), milliseconds.
+    #[must_use]
+    pub fn readback_ms(&self) -> Option<f64> {
+        match self {
+            Self::Cpu(_) => None,
+            Self::Gpu(g) => Some(g.readback_ms),
+        }
+    }
+
+    /// Moves the simulation onto the GPU path on `device`, field state and
+    /// all (a copy of the simulation is uploaded). Nothing changes when
+    /// already there.
+    ///
+    /// # Errors
+    /// Why the GPU path refuses the scene ([`GpuSimulation::supports`]:
+    /// terrain other than flat, a field over one storage binding) or the
+    /// upload failed; the simulation stays on the CPU.
+    pub fn to_gpu(&mut self, device: &GpuDevice) -> Result<(), String> {
+        let Self::Cpu(sim) = self else {
+            return Ok(());
+        };
+        let on_gpu = OnGpu::new(device, sim)?;
+        *self = Self::Gpu(Box::new(on_gpu));
+        Ok(())
+    }
+
+    /// Moves the simulation back to the CPU path with the GPU's state.
+    ///
+    /// # Errors
+    /// The read-back failed (device lost): the simulation is on the CPU
+    /// anyway, from the last state read back.
+    pub fn to_cpu(&mut self) -> Result<(), String> {
+        let Self::Gpu(g) = self else {
+            return Ok(());
+        };
+        let read = g.read_back();
+        let sim = g.take_over();
+        *self = Self::Cpu(Box::new(sim));
+        read
+    }
+
+    /// Replaces the simulation (a field reset) on the same path: on the
+    /// GPU path the GPU side is rebuilt from `sim` (new field, new shape).
+    ///
+    /// # Errors
+    /// The GPU path refused the new simulation: it runs on the CPU.
+    pub fn replace(&mut self, sim: Simulation) -> Result<(), String> {
+        let device = match self {
+            Self::Cpu(_) => None,
+            Self::Gpu(g) => Some(g.device.clone()),
+        };
+        *self = Self::Cpu(Box::new(sim));
+        match device {
+            Some(d) => self.to_gpu(&d),
+            None => Ok(()),
+        }
+    }
+
+    /// One step of `dt` seconds on the path that runs. `profile`: on the GPU
+    /// path, time each stage on its own (slower; see
+    /// [`GpuSimulation::set_profiling`]).
+    ///
+    /// Returns `Ok(Some(message))` when the GPU path failed and the
+    /// simulation fell back to the CPU (this step is not retaken).
+    ///
+    /// # Errors
+    /// The CPU step refused its parameters (e.g. `dt`).
+    pub fn step(&mut self, dt: f32, profile: bool) -> Result<Option<String>, SimError> {
+        match self {
+            Self::Cpu(sim) => sim.step(dt).map(|_| None),
+            Self::Gpu(g) => match g.step(dt, profile) {
+                Ok(()) => Ok(None),
+                Err(e) => {
+                    let sim = g.take_over();
+                    *self = Self::Cpu(Box::new(sim));
+                    Ok(Some(e))
+                }
+            },
+        }
+    }
+}
+
+impl OnGpu {
+    fn new(device: &GpuDevice, sim: &Simulation) -> Result<Self, String> {
+        let (d, q) = (&device.device, &device.queue);
+        GpuSimulation::supports(d, sim).map_err(|e| e.to_string())?;
+        let gpu = guarded(d, || GpuSimulation::new(d, q, sim.clone()))?;
+        Ok(Self {
+            gpu,
+            device: device.clone(),
+            class_before: sim.class.clone(),
+            readback_ms: 0.0,
+        })
+    }
+
+    /// One GPU step, then the state back into `sim` for the renderer and
+    /// the stats (the one per-frame read-back; see the module docs).
+    fn step(&mut self, dt: f32, profile: bool) -> Result<(), String> {
+        let (d, q) = (&self.device.device, &self.device.queue);
+        let gpu = &mut self.gpu;
+        gpu.set_profiling(profile);
+        let mut readback = std::time::Duration::ZERO;
+        guarded(d, || {
+            gpu.step(d, q, dt)?;
+            let start = std::time::Instant::now();
+            let read = gpu.sync_to_cpu(d, q);
+            readback = start.elapsed();
+            read
+        })?;
+        self.readback_ms = readback.as_secs_f64() * 1e3;
+        self.merge_classes();
+        Ok(())
+    }
+
+    /// The GPU state into `sim`.
+    fn read_back(&mut self) -> Result<(), String> {
+        let (d, q) = (&self.device.device, &self.device.queue);
+        let gpu = &mut self.gpu;
+        guarded(d, || gpu.sync_to_cpu(d, q))?;
+        self.merge_classes();
+        Ok(())
+    }
+
+    /// Whole-run classes: hit directly on either path wins, then reached by
+    /// propagation on either.
+    fn merge_classes(&mut self) {
+        const DIRECT: u8 = BladeClass::Direct as u8;
+        for (now, &before) in self.gpu.sim.class.iter_mut().zip(&self.class_before) {
+            *now = if *now == DIRECT || before == DIRECT {
+                DIRECT
+            } else {
+                (*now).max(before)
+            };
+        }
+    }
+
+    /// The simulation as last read back, ready for the CPU path.
+    fn take_over(&mut self) -> Simulation {
+        let mut sim = self.gpu.sim.clone();
+        // The CPU step recovers only the blades it knows are displaced.
+        sim.rescan_displaced();
+        sim
+    }
+}
+
+/// Runs `f` (GPU work on `device`) inside error scopes for validation,
+/// out-of-memory and internal errors, so that a failure comes back as a
+/// message instead of wgpu's default handler's panic. A panic inside `f`
+/// (wgpu's own helpers `expect` a mapping that a lost device refuses,
+/// e.g. `create_buffer_init`) is caught too and comes back as a message.
+///
+/// # Errors
+/// `f`'s error or the first error a scope caught, in one line.
+pub fn guarded<T>(
+    device: &wgpu::Device,
+    f: impl FnOnce() -> Result<T, GpuError>,
+) -> Result<T, String> {
+    let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
+    // After a panic the GPU side is dropped, never used again: nothing is
+    // seen half-updated.
+    let out = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(out) => out.map_err(|e| e.to_string()),
+        Err(panic) => {
+            let why = panic
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| panic.downcast_ref::<&str>().copied())
+                .unwrap_or("no message");
+            Err(format!("wgpu panicked: {why}"))
+        }
+    };
+    // Scopes pop in reverse order of their pushes.
+    let caught = [internal.pop(), validation.pop(), oom.pop()]
+        .into_iter()
+        .find_map(pollster::block_on);
+    let one_line = |s: String| s.replace('\n', " ");
+    match (out, caught) {
+        (Ok(v), None) => Ok(v),
+        (Ok(_), Some(e)) => Err(one_line(format!("GPU error: {e}"))),
+        (Err(e), None) => Err(one_line(format!("GPU error: {e}"))),
+        // The device's own words say more than the call that noticed.
+        (Err(e), Some(c)) => Err(one_line(format!("GPU error: {c} ({e})"))),
+    }
+}
