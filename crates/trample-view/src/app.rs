@@ -236,7 +236,7 @@ impl App {
         done
     }
 
-    /// "simulating on the CPU" / "simulating on the GPU (adapter)".
+    /// "simulating on the CPU" / "simulating on the GPU: ADAPTER".
     fn backend_line(&self) -> String {
         match self.backend.adapter() {
             Some(a) => format!("simulating on the GPU: {a}"),

@@ -27,7 +27,10 @@ const WIND: &str = "Wind is drawn, not simulated (DESIGN §6): it bends blades a
 const BACKEND: &str = "CPU: the reference path (rayon). GPU: every stage as wgpu compute \
                        on the window's device, the state read back each frame for drawing. \
                        The field carries over both ways; a scene the GPU path refuses \
-                       (terrain other than flat, too many blades) stays on the CPU.";
+                       (terrain other than flat, too many blades) stays on the CPU. \
+                       Known gap: blades bent before a switch to the GPU recover there \
+                       only once touched again (the GPU path does not take over the \
+                       set of displaced blades yet).";
 /// Tooltip of the GPU choice without a device.
 const NO_DEVICE: &str = "no GPU device was lent to the viewer";
 
