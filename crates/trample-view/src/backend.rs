@@ -96,6 +96,18 @@ impl GpuDevice {
     }
 }
 
+/// How the last GPU step went, for the panel's stats.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GpuStepStats {
+    /// Its stages were timed one by one ([`GpuSimulation::set_profiling`]);
+    /// otherwise `sim.timings` has no stage times and `total_ms` is the
+    /// recording time only.
+    pub profiled: bool,
+    /// Wall time of the read-back of the state for drawing, milliseconds
+    /// (without profiling it includes waiting for the step to finish).
+    pub readback_ms: f64,
+}
+
 /// The running simulation, on the CPU or on the GPU.
 pub enum Backend {
     /// Stepped by [`Simulation::step`].
@@ -111,8 +123,8 @@ pub struct OnGpu {
     /// Each blade's class over the run before the GPU path took over: the
     /// GPU counts classes from its own start.
     class_before: Vec<u8>,
-    /// Wall time of the last read-back, milliseconds.
-    readback_ms: f64,
+    /// The last step.
+    stats: GpuStepStats,
 }
 
 impl Backend {
@@ -153,13 +165,12 @@ impl Backend {
         }
     }
 
-    /// On the GPU path: the wall time of the last per-frame read-back of
-    /// the state (for drawing), milliseconds.
+    /// On the GPU path: how its last step went.
     #[must_use]
-    pub fn readback_ms(&self) -> Option<f64> {
+    pub fn gpu_stats(&self) -> Option<GpuStepStats> {
         match self {
             Self::Cpu(_) => None,
-            Self::Gpu(g) => Some(g.readback_ms),
+            Self::Gpu(g) => Some(g.stats),
         }
     }
 
@@ -245,7 +256,7 @@ impl OnGpu {
             gpu,
             device: device.clone(),
             class_before: sim.class.clone(),
-            readback_ms: 0.0,
+            stats: GpuStepStats::default(),
         })
     }
 
@@ -263,7 +274,10 @@ impl OnGpu {
             readback = start.elapsed();
             read
         })?;
-        self.readback_ms = readback.as_secs_f64() * 1e3;
+        self.stats = GpuStepStats {
+            profiled: profile,
+            readback_ms: readback.as_secs_f64() * 1e3,
+        };
         self.merge_classes();
         Ok(())
     }

@@ -244,24 +244,28 @@ fn statistics(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
     });
     let sim = app.sim();
     let t = &sim.timings;
-    let step = match (&on_gpu, app.stage_times) {
-        (None, _) => "step",
-        (Some(_), true) => "GPU step (stages timed one by one)",
-        (Some(_), false) => "GPU step recorded",
+    let gpu = app.backend().gpu_stats();
+    let step = match gpu.map(|g| g.profiled) {
+        None => "step",
+        Some(true) => "GPU step (stages timed one by one)",
+        Some(false) => "GPU step recorded",
     };
     ui.label(format!(
         "{step} {:.2} ms, t = {:.2} s, frame {}",
         t.total_ms, sim.time, sim.frame
     ));
-    if let Some(ms) = app.backend().readback_ms() {
+    if let Some(g) = gpu {
         // Without per-stage timing the step only records: the read-back
         // also waits for the GPU to finish it.
-        let wait = if app.stage_times {
+        let wait = if g.profiled {
             ""
         } else {
             " (with the wait for the step)"
         };
-        ui.label(format!("read-back for drawing {ms:.2} ms{wait}"));
+        ui.label(format!(
+            "read-back for drawing {:.2} ms{wait}",
+            g.readback_ms
+        ));
     }
     let stages = egui::CollapsingHeader::new("time per stage")
         .default_open(true)

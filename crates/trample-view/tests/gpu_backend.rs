@@ -106,13 +106,15 @@ fn the_gpu_backend_drives_like_the_cpu_backend_and_hands_its_state_back() {
     assert_eq!(cpu.sim().class, gpu.sim().class, "whole-run classes");
     // Stage times come from the GPU's profiling mode while shown...
     assert!(tg.narrow_ms > 0.0 && tg.propagation_ms > 0.0, "{tg}");
-    assert!(gpu.backend().readback_ms().is_some_and(|ms| ms > 0.0));
+    let stats = gpu.backend().gpu_stats().unwrap();
+    assert!(stats.profiled && stats.readback_ms > 0.0, "{stats:?}");
     // ... and are not measured (0) otherwise.
     gpu.stage_times = false;
     cpu.stage_times = false;
     hold(&mut gpu, &[Key::ArrowUp], 1);
     hold(&mut cpu, &[Key::ArrowUp], 1);
     let tg = &gpu.sim().timings;
+    assert!(!gpu.backend().gpu_stats().unwrap().profiled);
     assert!(tg.stages().iter().all(|(_, ms)| *ms == 0.0), "{tg}");
     assert!(tg.total_ms > 0.0 && tg.dbg_blades > 0, "{tg}");
 
