@@ -10,7 +10,8 @@ use trample_render::headless::{Gpu, create_device};
 
 /// The `--backend` flag (defaults: `cpu` for `simulate` and `collide`,
 /// whose figures an adapter probe would skew; `auto` for `run`, which has a
-/// device anyway).
+/// device anyway; `cpu` for `view`, whose GPU path still reads the field
+/// back every frame).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Backend {
     /// The GPU on a hardware adapter, else the CPU.

@@ -18,14 +18,9 @@ use trample_render::headless::Gpu;
 /// (read back by `GpuSimulation::read_counters`).
 #[must_use]
 pub fn timings_with_counters(base: &StepTimings, c: &trample_gpu::GpuCounters) -> StepTimings {
-    StepTimings {
-        dbg_blades: c.dbg,
-        pbg_blades: c.pbg,
-        generations: c.generations,
-        transitions: c.transitions,
-        displaced_blades: c.displaced,
-        ..base.clone()
-    }
+    let mut t = base.clone();
+    c.apply_to(&mut t);
+    t
 }
 
 /// Fault injection for tests (`RELIABILITY.md`): with

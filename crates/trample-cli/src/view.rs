@@ -1,9 +1,10 @@
 //! `trample view`: the interactive viewer (crate `trample-view`) on a scene.
 
+use crate::backend::Backend;
 use crate::common::{SimOverrides, load_scene};
 use anyhow::Result;
 use std::path::PathBuf;
-use trample_view::{ViewOptions, run as view};
+use trample_view::{StartBackend, ViewOptions, run as view};
 
 /// Arguments of `trample view`.
 #[derive(clap::Args, Debug)]
@@ -24,6 +25,14 @@ pub struct Args {
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]
     pub precision: Option<u32>,
+    /// Simulation path to start on (the panel switches it live): auto (the
+    /// default, as for `run`) = the GPU on a hardware adapter, else the
+    /// CPU; gpu = the GPU path, also on a software adapter; cpu = the
+    /// reference. The GPU path runs on the window's device and is drawn
+    /// straight from its buffers; a scene it refuses (a field too large for
+    /// the device) runs on the CPU, and stderr says why.
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    pub backend: Backend,
 }
 
 /// Runs the viewer until its window closes.
@@ -41,6 +50,11 @@ pub fn run(a: &Args) -> Result<()> {
         frames: a.frames,
         screenshot: a.screenshot.clone(),
         samples: 4,
+        backend: match a.backend {
+            Backend::Cpu => StartBackend::Cpu,
+            Backend::Gpu => StartBackend::Gpu,
+            Backend::Auto => StartBackend::Auto,
+        },
     })?;
     Ok(())
 }

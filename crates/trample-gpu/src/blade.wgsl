@@ -31,6 +31,9 @@ struct State {
     displaced: atomic<u32>,
     // cells that changed level this sub-step
     transitions: atomic<u32>,
+    // cells at each level after `classify`: geometry, billboard, texture
+    lod: array<atomic<u32>, 3>,
+    pad: u32,
 }
 
 const NO_GENERATION: u32 = 255u;

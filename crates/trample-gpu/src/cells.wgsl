@@ -76,6 +76,7 @@ fn classify(@builtin(global_invocation_id) gid: vec3<u32>) {
         from_level = level(s);
         atomicAdd(&state.transitions, 1u);
     }
+    atomicAdd(&state.lod[new_level], 1u);
     cell_state[c] = (s & BENT) | (from_level << 2u) | new_level;
 }
 

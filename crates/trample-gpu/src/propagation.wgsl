@@ -32,6 +32,9 @@ fn begin() {
     atomicStore(&state.pbg, 0u);
     atomicStore(&state.displaced, 0u);
     atomicStore(&state.transitions, 0u);
+    atomicStore(&state.lod[0], 0u);
+    atomicStore(&state.lod[1], 0u);
+    atomicStore(&state.lod[2], 0u);
     next_gather[0] = params.counts.w;
     next_gather[1] = (params.counts.x + params.counts.w * 64u - 1u) / (params.counts.w * 64u);
     next_gather[2] = 1u;

@@ -419,22 +419,25 @@ impl GpuSimulation {
             };
             cells.slope[c] = glam::Vec3::new(slopes[c][0], slopes[c][1], slopes[c][2]);
         }
-        let mut lod = trample::field::LodCounts::default();
-        for l in &cells.lod {
-            match l {
-                Lod::Geometry => lod.geometry += 1,
-                Lod::Billboard => lod.billboard += 1,
-                Lod::Texture => lod.texture += 1,
-            }
-        }
-        let k = self.read_counters(device, queue)?;
-        let t = &mut self.sim.timings;
-        t.lod = lod;
-        t.dbg_blades = k.dbg;
-        t.pbg_blades = k.pbg;
-        t.generations = k.generations;
-        t.displaced_blades = k.displaced;
+        self.sync_counters(device, queue)?;
         Ok(())
+    }
+
+    /// Reads back the counters of the last sub-step (32 + 16 bytes: DBG,
+    /// PBG, generations, displaced blades, transitions, cells per level)
+    /// into `sim.timings`; the field stays on the GPU. Cheap enough for
+    /// every frame of a viewer, but it waits for the step to finish.
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn sync_counters(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<GpuCounters, GpuError> {
+        let k = self.read_counters(device, queue)?;
+        k.apply_to(&mut self.sim.timings);
+        Ok(k)
     }
 
     /// Reads back the counters of the last sub-step (DBG, PBG, generations,

@@ -45,5 +45,27 @@ pub struct GpuCounters {
     pub displaced: u32,
     /// Cells that changed level of detail (transitions).
     pub transitions: u32,
+    /// Cells at each level of detail after the sub-step's classification:
+    /// geometry, billboard, texture.
+    pub lod: [u32; 3],
+    /// Padding to 16 bytes.
+    pub pad: u32,
 }
-const _: () = assert!(std::mem::size_of::<GpuCounters>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuCounters>() == 48);
+
+impl GpuCounters {
+    /// Writes the counts into a step's timings: DBG, PBG, generations,
+    /// transitions, displaced blades, cells per level.
+    pub fn apply_to(&self, t: &mut trample::StepTimings) {
+        t.dbg_blades = self.dbg;
+        t.pbg_blades = self.pbg;
+        t.generations = self.generations;
+        t.transitions = self.transitions;
+        t.displaced_blades = self.displaced;
+        t.lod = trample::field::LodCounts {
+            geometry: self.lod[0],
+            billboard: self.lod[1],
+            texture: self.lod[2],
+        };
+    }
+}

@@ -1,9 +1,11 @@
 //! The viewer's state and what each key and panel control does to it, with
-//! no window: [`App`] owns the simulation, the camera controllers, the
-//! driven object and the settings that wait for a reset. The window feeds it
-//! keys and mouse motion and draws what it holds; tests script it directly.
+//! no window: [`App`] owns the simulation (on the CPU or the GPU path, see
+//! [`crate::backend`]), the camera controllers, the driven object and the
+//! settings that wait for a reset. The window feeds it keys and mouse motion,
+//! lends it its GPU device and draws what it holds; tests script it directly.
 
 use crate::ViewError;
+use crate::backend::{Backend, BackendKind, GpuDevice};
 use crate::camera::{CameraMode, Fly, Orbit};
 use crate::driver::Driver;
 use crate::input::{Action, Input, Key};
@@ -80,8 +82,16 @@ pub struct Pending {
 pub struct App {
     /// The scene as last built (with the settings of the last reset).
     pub scene: Scene,
-    /// The running simulation; its `params` and `lod` are edited live.
-    pub sim: Simulation,
+    /// The running simulation and the path that steps it: see [`App::sim`].
+    backend: Backend,
+    /// The device the window lends to the GPU path.
+    gpu: Option<GpuDevice>,
+    /// Why the GPU path failed on that device, if it did: the device may
+    /// be lost, so the GPU path is not offered again.
+    gpu_failed: Option<String>,
+    /// Time each stage of a GPU step on its own (the panel sets it while
+    /// its per-stage stats are shown; see `GpuSimulation::set_profiling`).
+    pub stage_times: bool,
     /// Held keys.
     pub input: Input,
     /// Simulation paused.
@@ -144,11 +154,109 @@ impl App {
             scene_camera: sim.camera.clone(),
             aspect: sim.camera.params.aspect,
             scene,
-            sim,
+            backend: Backend::Cpu(Box::new(sim)),
+            gpu: None,
+            gpu_failed: None,
+            stage_times: false,
         };
         app.apply_camera();
         app.refresh_view();
         Ok(app)
+    }
+
+    /// The running simulation (on the GPU path: its CPU side, with the
+    /// field as read back after the last step).
+    #[must_use]
+    pub fn sim(&self) -> &Simulation {
+        self.backend.sim()
+    }
+
+    /// The running simulation, to edit: parameters (`params`, `lod`,
+    /// `wind`) take effect at the next step on either path.
+    pub fn sim_mut(&mut self) -> &mut Simulation {
+        self.backend.sim_mut()
+    }
+
+    /// The path that steps the simulation.
+    #[must_use]
+    pub fn backend(&self) -> &Backend {
+        &self.backend
+    }
+
+    /// On the GPU path: the GPU simulation, for the renderer to draw
+    /// straight from its buffers.
+    pub fn gpu_mut(&mut self) -> Option<&mut trample_gpu::GpuSimulation> {
+        self.backend.gpu_mut()
+    }
+
+    /// On the GPU path: the field read back into [`App::sim`] (see
+    /// [`Backend::sync_field`]); nothing on the CPU path.
+    ///
+    /// # Errors
+    /// The read-back failed (device lost).
+    pub fn sync_field(&mut self) -> Result<(), String> {
+        self.backend.sync_field()
+    }
+
+    /// Lends the GPU path a device (the window's own; tests bring one).
+    pub fn attach_gpu(&mut self, device: GpuDevice) {
+        self.gpu = Some(device);
+        self.gpu_failed = None;
+    }
+
+    /// Why the GPU path failed on the lent device, if it did (it is not
+    /// offered again on that device).
+    #[must_use]
+    pub fn gpu_failed(&self) -> Option<&str> {
+        self.gpu_failed.as_deref()
+    }
+
+    /// The device lent to the GPU path, if any.
+    #[must_use]
+    pub fn gpu_device(&self) -> Option<&GpuDevice> {
+        self.gpu.as_ref()
+    }
+
+    /// Moves the simulation to the `kind` path, field state and all; says
+    /// what happened in [`App::message`]. The GPU path needs a device
+    /// ([`App::attach_gpu`]) and a scene it supports.
+    ///
+    /// # Errors
+    /// Why the GPU path was refused (no device, a field too large for it)
+    /// or failed: the simulation then runs on the CPU.
+    pub fn set_backend(&mut self, kind: BackendKind) -> Result<(), String> {
+        if kind == self.backend.kind() {
+            return Ok(());
+        }
+        let done = match kind {
+            BackendKind::Cpu => self.backend.to_cpu().map_err(|e| {
+                self.gpu_failed = Some(e.clone());
+                format!("{e}; simulating on the CPU from the last state read back")
+            }),
+            BackendKind::Gpu => match (&self.gpu, &self.gpu_failed) {
+                (None, _) => Err("no GPU device to simulate on; simulating on the CPU".to_string()),
+                (Some(_), Some(failed)) => Err(format!(
+                    "GPU path refused: it failed on this device before ({failed}); simulating on the CPU"
+                )),
+                (Some(d), None) => self
+                    .backend
+                    .to_gpu(d)
+                    .map_err(|e| format!("GPU path refused: {e}; simulating on the CPU")),
+            },
+        };
+        self.message = match &done {
+            Ok(()) => self.backend_line(),
+            Err(e) => e.clone(),
+        };
+        done
+    }
+
+    /// "simulating on the CPU" / "simulating on the GPU: ADAPTER".
+    fn backend_line(&self) -> String {
+        match self.backend.adapter() {
+            Some(a) => format!("simulating on the GPU: {a}"),
+            None => "simulating on the CPU".to_string(),
+        }
     }
 
     /// A key went down (`pressed`) or up; `repeat` for auto-repeat.
@@ -180,8 +288,9 @@ impl App {
             Action::Screenshot => self.screenshot_requested = true,
             Action::TogglePanel => self.show_panel = !self.show_panel,
             Action::Precision(d) => {
-                let p = self.sim.params.precision as i32 + d;
-                self.sim.params.precision = p.clamp(1, MAX_PRECISION as i32) as u32;
+                let params = &mut self.sim_mut().params;
+                let p = params.precision as i32 + d;
+                params.precision = p.clamp(1, MAX_PRECISION as i32) as u32;
             }
         }
     }
@@ -211,21 +320,24 @@ impl App {
     /// Starts or stops driving the first object. Driving starts where the
     /// object is, facing where it goes; stopping gives it back to its path.
     pub fn set_driving(&mut self, on: bool) {
-        if self.sim.bodies.is_empty() || on == self.driving {
+        if self.sim().bodies.is_empty() || on == self.driving {
             return;
         }
         self.driving = on;
         if on {
-            self.driver = driver_for(&self.sim);
+            self.driver = driver_for(self.sim());
         } else {
-            self.sim.release(0);
+            self.sim_mut().release(0);
         }
     }
 
     /// One frame that took `frame_dt` seconds of wall time: the free-fly
     /// camera moves in wall time; the simulation takes one step of its
     /// `dt_s` unless paused (so a slow machine shows slow motion, not a
-    /// coarser simulation). Returns whether it stepped.
+    /// coarser simulation). Returns whether it stepped. On the GPU path a
+    /// failed step (device lost, out of memory) puts the simulation back on
+    /// the CPU, from the last state read back, and says so in
+    /// [`App::message`].
     ///
     /// # Errors
     /// [`ViewError::Step`] when the step refuses its parameters.
@@ -244,31 +356,38 @@ impl App {
             self.refresh_view();
             return Ok(false);
         }
-        let dt = self.sim.params.dt_s;
+        let dt = self.sim().params.dt_s;
         if self.driving {
             self.driver.update(&held, dt);
-            self.sim
-                .drive(0, self.driver.position, self.driver.rotation, dt);
+            let (position, rotation) = (self.driver.position, self.driver.rotation);
+            self.sim_mut().drive(0, position, rotation, dt);
         }
         self.apply_camera();
-        self.sim
-            .step(dt)
+        let fell_back = self
+            .backend
+            .step(dt, self.stage_times)
             .map_err(|e| ViewError::Step(e.to_string()))?;
+        if let Some(e) = fell_back {
+            self.message = format!("{e}; simulating on the CPU from the last state read back");
+            self.gpu_failed = Some(e);
+        }
         Ok(true)
     }
 
     /// Rebuilds the field at rest with the live parameters and the pending
-    /// settings (blade density, shape). On error the running simulation is
-    /// kept and the error returned.
+    /// settings (blade density, shape), on the same path (the GPU path is
+    /// rebuilt; if it refuses the new field, the CPU path takes it). On
+    /// error the running simulation is kept and the error returned.
     ///
     /// # Errors
     /// The scene's message for a setting it refuses (e.g. a mesh path
     /// outside the scene's folder).
     pub fn reset_field(&mut self) -> Result<(), String> {
         let mut scene = self.scene.clone();
-        scene.file.sim = self.sim.params.clone();
-        scene.file.lod = self.sim.lod.clone();
-        scene.file.wind = self.sim.wind.clone();
+        let live = self.sim();
+        scene.file.sim = live.params.clone();
+        scene.file.lod = live.lod.clone();
+        scene.file.wind = live.wind.clone();
         scene.file.field.blades_per_cell = self.pending.blades_per_cell;
         if let Some(object) = scene.file.objects.first_mut() {
             object.shape = self.pending_shape(&object.shape);
@@ -276,11 +395,17 @@ impl App {
         let sim = scene.build().map_err(|e| e.to_string())?;
         self.scene = scene;
         self.scene_camera = sim.camera.clone();
-        self.sim = sim;
+        let blades = sim.field.blades.count;
+        let on_gpu = self.backend.replace(sim);
         self.driving = false;
-        self.driver = driver_for(&self.sim);
+        self.driver = driver_for(self.sim());
         self.field_version += 1;
-        self.message = format!("field reset: {} blades", self.sim.field.blades.count);
+        self.message = match on_gpu {
+            Ok(()) => format!("field reset: {blades} blades"),
+            Err(e) => format!(
+                "field reset: {blades} blades; GPU path refused: {e}; simulating on the CPU"
+            ),
+        };
         self.apply_camera();
         self.refresh_view();
         Ok(())
@@ -289,8 +414,9 @@ impl App {
     /// Every object starts its path again from now (the field is kept).
     pub fn restart_paths(&mut self) {
         self.set_driving(false);
-        let t = self.sim.time as f32;
-        for (body, params) in self.sim.bodies.iter_mut().zip(&self.scene.file.objects) {
+        let sim = self.backend.sim_mut();
+        let t = sim.time as f32;
+        for (body, params) in sim.bodies.iter_mut().zip(&self.scene.file.objects) {
             let m = &body.object.motion;
             if let Ok(motion) = Motion::new(
                 m.path().clone(),
@@ -330,7 +456,7 @@ impl App {
     /// viewpoint and culls the patches).
     fn apply_camera(&mut self) {
         let target = self
-            .sim
+            .sim()
             .bodies
             .first()
             .map_or(Vec3::ZERO, |b| b.pose.position);
@@ -340,18 +466,19 @@ impl App {
             CameraMode::Fly => fixed_camera(&self.scene_camera, self.fly.eye, self.fly.target()),
         };
         camera.params.aspect = self.aspect;
-        self.sim.camera = camera;
+        self.sim_mut().camera = camera;
     }
 
     /// View and culling for the current camera without a step (paused).
     /// Levels of detail wait for the next step, which blends them (Eq. 9–13).
     fn refresh_view(&mut self) {
-        let positions: Vec<Vec3> = self.sim.bodies.iter().map(|b| b.pose.position).collect();
-        self.sim.view = self.sim.camera.view_at(self.sim.time as f32, &positions);
-        self.sim.timings.visible_patches = cull_patches(
-            &self.sim.field.layout.patch_list,
-            &self.sim.view.frustum(),
-            &mut self.sim.visible,
+        let sim = self.backend.sim_mut();
+        let positions: Vec<Vec3> = sim.bodies.iter().map(|b| b.pose.position).collect();
+        sim.view = sim.camera.view_at(sim.time as f32, &positions);
+        sim.timings.visible_patches = cull_patches(
+            &sim.field.layout.patch_list,
+            &sim.view.frustum(),
+            &mut sim.visible,
         );
     }
 }

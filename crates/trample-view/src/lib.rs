@@ -7,10 +7,13 @@
 //! - [`driver`]: the arrow-key driven object;
 //! - [`camera`]: orbit and free-fly controllers;
 //! - [`app`]: the state they act on ([`App`]);
+//! - [`backend`]: the path that steps the simulation, CPU or GPU (on the
+//!   window's device);
 //! - [`panel`]: the egui panel; [`window`]: the event loop; [`blit`]: the
 //!   copy of the frame onto the window surface.
 
 pub mod app;
+pub mod backend;
 pub mod blit;
 pub mod camera;
 pub mod driver;
@@ -19,6 +22,7 @@ pub mod panel;
 pub mod window;
 
 pub use app::App;
+pub use backend::{BackendKind, GpuDevice, StartBackend};
 pub use window::{ViewOptions, run};
 
 /// Why the viewer could not run. Each message is one line.

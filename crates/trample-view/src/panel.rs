@@ -2,6 +2,7 @@
 //! the next reset, the camera and debug view, and the stats of the frame.
 
 use crate::app::{App, MAX_BLADES_PER_CELL, MAX_PRECISION, ShapeChoice};
+use crate::backend::BackendKind;
 use crate::camera::CameraMode;
 use egui::{RichText, Slider};
 use trample_render::DebugView;
@@ -15,6 +16,9 @@ pub struct FrameStats {
     pub blades_drawn: usize,
     /// Billboards drawn in the last frame.
     pub billboards_drawn: usize,
+    /// The last frame was drawn from the GPU path's buffers (its counts of
+    /// blades and billboards stay on the GPU).
+    pub drawn_on_gpu: bool,
     /// The adapter: name, backend, device type.
     pub adapter: String,
 }
@@ -22,12 +26,18 @@ pub struct FrameStats {
 /// Tooltip of the wind controls.
 const WIND: &str = "Wind is drawn, not simulated (DESIGN §6): it bends blades and \
                     billboards in the vertex stage; the interaction state is untouched.";
-/// Tooltip of the GPU backend choice.
-const NO_GPU: &str = "The GPU compute path is being built on its own branch; \
-                      the viewer simulates on the CPU (rayon) until it lands.";
+/// Tooltip of the backend choice.
+const BACKEND: &str = "CPU: the reference path (rayon). GPU: every stage as wgpu compute \
+                       on the window's device, drawn straight from its buffers. \
+                       The field carries over both ways; a scene the GPU path refuses \
+                       (a field too large for the device) stays on the CPU.";
+/// Tooltip of the GPU choice without a device.
+const NO_DEVICE: &str = "no GPU device was lent to the viewer";
 
 /// Draws the panel on the left of `ui` (the root ui of the frame).
 pub fn show(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
+    // Set again below while the per-stage times are on screen.
+    app.stage_times = false;
     if !app.show_panel {
         return;
     }
@@ -114,7 +124,7 @@ fn contents(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
 }
 
 fn parameters(ui: &mut egui::Ui, app: &mut App) {
-    let p = &mut app.sim.params;
+    let p = &mut app.sim_mut().params;
     ui.add(Slider::new(&mut p.precision, 1..=MAX_PRECISION).text("precision"))
         .on_hover_text("depth of the OBB tree the collision test goes down to (root = 1)");
     ui.add(Slider::new(&mut p.att, 0.0..=1.0).text("att"))
@@ -142,13 +152,13 @@ fn parameters(ui: &mut egui::Ui, app: &mut App) {
         );
     }
     ui.add(Slider::new(&mut p.trail, 0.0..=5.0).text("trail"));
-    let lod = &mut app.sim.lod;
+    let lod = &mut app.sim_mut().lod;
     ui.add(Slider::new(&mut lod.geometry_m, 1.0..=60.0).text("blades up to, m"));
     let low = lod.geometry_m + 0.5;
     lod.billboard_m = lod.billboard_m.max(low);
     ui.add(Slider::new(&mut lod.billboard_m, low..=200.0).text("billboards up to, m"));
 
-    let wind = &mut app.sim.wind;
+    let wind = &mut app.sim_mut().wind;
     ui.add(Slider::new(&mut wind.direction_deg, 0.0..=360.0).text("wind direction, °"))
         .on_hover_text(WIND);
     ui.add(Slider::new(&mut wind.strength_m, 0.0..=0.5).text("wind lean, m"))
@@ -162,10 +172,34 @@ fn parameters(ui: &mut egui::Ui, app: &mut App) {
     )
     .on_hover_text(WIND);
     ui.horizontal(|ui| {
-        ui.label("backend");
-        let _ = ui.radio(true, "CPU");
-        ui.add_enabled(false, egui::RadioButton::new(false, "GPU"))
-            .on_disabled_hover_text(NO_GPU);
+        ui.label("backend").on_hover_text(BACKEND);
+        let now = app.backend().kind();
+        let mut wanted = now;
+        ui.radio_value(&mut wanted, BackendKind::Cpu, BackendKind::Cpu.name())
+            .on_hover_text(BACKEND);
+        let gpu = BackendKind::Gpu;
+        let why_not = match (app.gpu_device(), app.gpu_failed()) {
+            (None, _) => Some(NO_DEVICE.to_string()),
+            (Some(_), Some(failed)) => {
+                Some(format!("the GPU path failed on this device: {failed}"))
+            }
+            (Some(_), None) => None,
+        };
+        if ui
+            .add_enabled(
+                why_not.is_none(),
+                egui::RadioButton::new(now == gpu, gpu.name()),
+            )
+            .on_hover_text(BACKEND)
+            .on_disabled_hover_text(why_not.unwrap_or_default())
+            .clicked()
+        {
+            wanted = gpu;
+        }
+        if wanted != now {
+            // The outcome (or why not) goes to the panel's message.
+            let _ = app.set_backend(wanted);
+        }
     });
 }
 
@@ -193,25 +227,58 @@ fn rebuild(ui: &mut egui::Ui, app: &mut App) {
     }
 }
 
-fn statistics(ui: &mut egui::Ui, app: &App, stats: &FrameStats) {
-    let t = &app.sim.timings;
+fn statistics(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
     let fps = if stats.frame_ms > 0.0 {
         1000.0 / stats.frame_ms
     } else {
         0.0
     };
     ui.label(format!("frame {:.1} ms ({fps:.1} fps)", stats.frame_ms));
-    ui.label(format!(
-        "step {:.2} ms, t = {:.2} s, frame {}",
-        t.total_ms, app.sim.time, app.sim.frame
-    ));
-    egui::Grid::new("stages").num_columns(2).show(ui, |ui| {
-        for (name, ms) in t.stages() {
-            ui.label(name);
-            ui.label(format!("{ms:.3} ms"));
-            ui.end_row();
-        }
+    let on_gpu = app.backend().adapter().map(str::to_owned);
+    ui.label(match &on_gpu {
+        Some(adapter) => format!("simulating on the GPU: {adapter}"),
+        None => format!(
+            "simulating on the CPU ({} threads)",
+            std::thread::available_parallelism().map_or(1, usize::from)
+        ),
     });
+    let sim = app.sim();
+    let t = &sim.timings;
+    let gpu = app.backend().gpu_stats();
+    let step = match gpu.map(|g| g.profiled) {
+        None => "step",
+        Some(true) => "GPU step (stages timed one by one)",
+        Some(false) => "GPU step recorded",
+    };
+    ui.label(format!(
+        "{step} {:.2} ms, t = {:.2} s, frame {}",
+        t.total_ms, sim.time, sim.frame
+    ));
+    if let Some(g) = gpu {
+        // Without per-stage timing the step only records: the read-back
+        // also waits for the GPU to finish it.
+        let wait = if g.profiled {
+            ""
+        } else {
+            " (with the wait for the step)"
+        };
+        ui.label(format!(
+            "counters read back {:.2} ms{wait}; drawn from the GPU buffers",
+            g.readback_ms
+        ));
+    }
+    let stages = egui::CollapsingHeader::new("time per stage")
+        .default_open(true)
+        .show(ui, |ui| {
+            egui::Grid::new("stages").num_columns(2).show(ui, |ui| {
+                for (name, ms) in t.stages() {
+                    ui.label(name);
+                    ui.label(format!("{ms:.3} ms"));
+                    ui.end_row();
+                }
+            });
+        });
+    let shown = stages.body_returned.is_some();
     ui.label(format!(
         "DBG {} · PBG {} · generations {}",
         t.dbg_blades, t.pbg_blades, t.generations
@@ -220,14 +287,23 @@ fn statistics(ui: &mut egui::Ui, app: &App, stats: &FrameStats) {
         "cells: blades {} · billboards {} · texture {}",
         t.lod.geometry, t.lod.billboard, t.lod.texture
     ));
-    ui.label(format!(
-        "drawn: {} blades, {} billboards; {} patches visible",
-        stats.blades_drawn, stats.billboards_drawn, t.visible_patches
-    ));
+    if stats.drawn_on_gpu {
+        ui.label(format!(
+            "drawn on the GPU from its lists; {} patches visible",
+            t.visible_patches
+        ));
+    } else {
+        ui.label(format!(
+            "drawn: {} blades, {} billboards; {} patches visible",
+            stats.blades_drawn, stats.billboards_drawn, t.visible_patches
+        ));
+    }
     ui.label(format!(
         "field: {} blades, camera {}",
-        app.sim.field.blades.count,
+        sim.field.blades.count,
         app.camera_mode.name()
     ));
     ui.label(RichText::new(&stats.adapter).small());
+    // The GPU path times its stages only while they are on screen.
+    app.stage_times = shown;
 }

@@ -5,6 +5,7 @@
 
 use crate::ViewError;
 use crate::app::App;
+use crate::backend::{BackendKind, GpuDevice, StartBackend};
 use crate::blit::Blit;
 use crate::input::Key;
 use crate::panel::{self, FrameStats};
@@ -33,6 +34,8 @@ pub struct ViewOptions {
     pub screenshot: Option<PathBuf>,
     /// MSAA samples wanted (1 where the adapter cannot).
     pub samples: u32,
+    /// The simulation path to start on (the panel switches it live).
+    pub backend: StartBackend,
 }
 
 /// Opens the window and runs until it is closed (or `frames` are drawn).
@@ -130,8 +133,6 @@ impl Viewer {
             apply_limit_buckets: false,
         }))
         .map_err(|e| ViewError::Graphics(format!("no adapter for the window: {}", one_line(&e))))?;
-        let info = adapter.get_info();
-        self.stats.adapter = format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("trample view"),
             required_features: wgpu::Features::empty(),
@@ -141,6 +142,9 @@ impl Viewer {
             trace: wgpu::Trace::Off,
         }))
         .map_err(|e| ViewError::Graphics(format!("device: {}", one_line(&e))))?;
+        let lent = GpuDevice::new(device.clone(), queue.clone(), &adapter);
+        self.stats.adapter.clone_from(&lent.adapter);
+        self.app.attach_gpu(lent);
         let size = window.inner_size();
         let (w, h) = (size.width.max(1), size.height.max(1));
         let caps = surface.get_capabilities(&adapter);
@@ -175,7 +179,7 @@ impl Viewer {
             ..RenderParams::default()
         };
         self.app.set_aspect(w as f32 / h as f32);
-        let renderer = Renderer::new(&device, &queue, &self.app.sim, render_params)
+        let renderer = Renderer::new(&device, &queue, self.app.sim(), render_params)
             .map_err(|e| ViewError::Graphics(one_line(&e)))?;
         let egui_ctx = egui::Context::default();
         let egui_state = egui_winit::State::new(
@@ -223,7 +227,7 @@ impl Viewer {
             return Ok(false);
         };
         if g.field_version != self.app.field_version {
-            g.renderer = Renderer::new(&g.device, &g.queue, &self.app.sim, g.render_params)
+            g.renderer = Renderer::new(&g.device, &g.queue, self.app.sim(), g.render_params)
                 .map_err(|e| ViewError::Graphics(one_line(&e)))?;
             g.field_version = self.app.field_version;
         }
@@ -252,11 +256,19 @@ impl Viewer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("view frame"),
             });
-        let counts = g
-            .renderer
-            .encode(&g.device, &g.queue, &self.app.sim, &mut encoder);
-        self.stats.blades_drawn = counts.blades;
-        self.stats.billboards_drawn = counts.billboards;
+        // The GPU path is drawn straight from its buffers.
+        if let Some(gpu) = self.app.gpu_mut() {
+            g.renderer
+                .encode_gpu(&g.device, &g.queue, gpu, &mut encoder);
+            self.stats.drawn_on_gpu = true;
+        } else {
+            let counts = g
+                .renderer
+                .encode(&g.device, &g.queue, self.app.sim(), &mut encoder);
+            self.stats.blades_drawn = counts.blades;
+            self.stats.billboards_drawn = counts.billboards;
+            self.stats.drawn_on_gpu = false;
+        }
         let mut commands =
             g.egui_renderer
                 .update_buffers(&g.device, &g.queue, &mut encoder, &jobs, &screen);
@@ -310,7 +322,7 @@ impl Viewer {
 
         let last = self.options.frames.is_some_and(|n| self.frames >= n);
         if std::mem::take(&mut self.app.screenshot_requested) {
-            let path = PathBuf::from(format!("trample-view-{:05}.png", self.app.sim.frame));
+            let path = PathBuf::from(format!("trample-view-{:05}.png", self.app.sim().frame));
             save_frame(g, &path)?;
             self.app.message = format!("wrote {}", path.display());
         }
@@ -318,6 +330,26 @@ impl Viewer {
             save_frame(g, path)?;
         }
         Ok(last)
+    }
+
+    /// Puts the simulation on the path `--backend` asks for, now that the
+    /// window's device is there, and says which on stderr (as `simulate`).
+    fn start_backend(&mut self) {
+        let wanted = self.options.backend.resolve(self.app.gpu_device());
+        let adapter = self
+            .app
+            .gpu_device()
+            .map_or_else(String::new, |d| d.adapter.clone());
+        match (self.options.backend, wanted) {
+            (StartBackend::Auto, BackendKind::Cpu) => eprintln!(
+                "trample: {adapter} is a software adapter: CPU path (--backend gpu forces the GPU path)"
+            ),
+            (_, BackendKind::Cpu) => {}
+            (_, BackendKind::Gpu) => match self.app.set_backend(BackendKind::Gpu) {
+                Ok(()) => eprintln!("trample: GPU path on {adapter}"),
+                Err(e) => eprintln!("trample: {e}"),
+            },
+        }
     }
 
     fn resize(&mut self, width: u32, height: u32) -> Result<(), ViewError> {
@@ -361,6 +393,7 @@ impl ApplicationHandler for Viewer {
         match self.create_graphics(event_loop) {
             Ok(g) => {
                 self.gfx = Some(g);
+                self.start_backend();
                 self.last = Instant::now();
             }
             Err(e) => self.fail(event_loop, e),

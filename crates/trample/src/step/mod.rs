@@ -3,6 +3,7 @@
 pub mod drive;
 pub mod params;
 pub mod query;
+pub mod rescan;
 pub mod simulation;
 pub mod stages;
 pub mod timings;
