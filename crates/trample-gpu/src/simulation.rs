@@ -383,8 +383,9 @@ impl GpuSimulation {
         self.draw_lists.as_ref()
     }
 
-    /// Copies the GPU state back into [`GpuSimulation::sim`]: blade
-    /// positions, classes and generations, cell levels and billboard slopes,
+    /// Copies the GPU state back into [`GpuSimulation::sim`], ready to go on
+    /// on the CPU path: blade positions (and the sets of displaced blades and
+    /// bent billboards), classes and generations, cell levels and billboard slopes,
     /// and the last sub-step's counters into `sim.timings` (DBG, PBG,
     /// generations, displaced blades, cells per level). For dumps and summaries at the end of
     /// a run, not per frame.
@@ -420,6 +421,9 @@ impl GpuSimulation {
             cells.slope[c] = glam::Vec3::new(slopes[c][0], slopes[c][1], slopes[c][2]);
         }
         self.sync_counters(device, queue)?;
+        // The CPU step recovers only the blades and billboards it knows are
+        // away from rest: rebuild those sets from the field read back.
+        self.sim.rescan_displaced();
         Ok(())
     }
 

@@ -327,12 +327,10 @@ impl OnGpu {
         }
     }
 
-    /// The simulation as last read back, ready for the CPU path.
+    /// The simulation as last read back, ready for the CPU path
+    /// (`sync_to_cpu` rebuilt its sets of displaced blades).
     fn take_over(&mut self) -> Simulation {
-        let mut sim = self.gpu.sim.clone();
-        // The CPU step recovers only the blades it knows are displaced.
-        sim.rescan_displaced();
-        sim
+        self.gpu.sim.clone()
     }
 }
 
