@@ -160,7 +160,8 @@ impl NarrowPhase {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &field_group, &[]);
             pass.set_bind_group(1, &object_group, &[]);
-            // The shader computes the blade as x + y · (groups in x · 64).
+            // The shader computes the blade as x + y · (groups in x · 64),
+            // and takes gid.z as a 0 the driver cannot fold (z stays 1).
             pass.dispatch_workgroups(gx, gy, 1);
         }
     }
