@@ -10,8 +10,10 @@
 //! (`tests/step_parity.rs`'s first scene), in profiling mode
 //! (`GpuSimulation::set_profiling`). Prints each frame's stage times and the
 //! median narrow phase from the third frame on (the first dispatches
-//! include the driver's compilation). Set `MESA_SHADER_CACHE_DISABLE=true`
-//! to see compilations the on-disk shader cache would otherwise hide.
+//! include the driver's compilation). Stage times come from timestamp
+//! queries where the adapter has them; `TRAMPLE_STAGE_TIMING=wall` asks for
+//! the wall-time way instead. Set `MESA_SHADER_CACHE_DISABLE=true` to see
+//! compilations the on-disk shader cache would otherwise hide.
 
 use trample::scene::Scene;
 use trample_gpu::GpuSimulation;
@@ -44,13 +46,29 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(path) => std::fs::read_to_string(path)?,
         None => SCENE.to_string(),
     };
-    let gpu = trample_render::headless::create_device()?;
+    // Timestamp queries where the adapter has them, unless told otherwise.
+    let wall = std::env::var("TRAMPLE_STAGE_TIMING").is_ok_and(|v| v == "wall");
+    let features = if wall {
+        trample_gpu::wgpu::Features::empty()
+    } else {
+        trample_gpu::TIMESTAMP_FEATURES
+    };
+    let gpu = trample_render::headless::create_device_with(features)?;
     let (device, queue) = (&gpu.device, &gpu.queue);
     println!("adapter: {}", gpu.adapter_name());
+    let ts = trample_gpu::wgpu::Features::TIMESTAMP_QUERY
+        | trample_gpu::wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+        | trample_gpu::wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+    println!(
+        "adapter timestamp features: {:?}; timestamp period {} ns",
+        gpu.adapter.features() & ts,
+        queue.get_timestamp_period()
+    );
     let sim = Scene::parse(&text, "scene.toml", std::path::Path::new("."))?.build()?;
     let dt = sim.params.dt_s;
     let mut g = GpuSimulation::new(device, queue, sim)?;
     g.set_profiling(true);
+    println!("stage timing: {}", g.stage_timing().name());
     let mut narrow = Vec::new();
     for f in 0..frames {
         let start = std::time::Instant::now();

@@ -42,7 +42,7 @@ pub mod field;
 mod kernel;
 pub mod narrow_phase;
 pub mod object;
-mod profile;
+pub mod profile;
 pub mod propagation;
 pub mod query;
 pub mod readback;
@@ -54,6 +54,7 @@ pub use error::GpuError;
 pub use field::{GpuField, GpuForce};
 pub use narrow_phase::NarrowPhase;
 pub use object::{GpuNode, GpuObject, GpuObjectParams};
+pub use profile::{StageTiming, TIMESTAMP_FEATURES};
 pub use simulation::GpuSimulation;
 pub use step_params::{GpuCounters, GpuStepParams};
 /// The wgpu this crate is built against (the workspace pins one major version).
