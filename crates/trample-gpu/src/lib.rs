@@ -22,18 +22,25 @@
 //! | chunking of fields over one storage binding | **not yet**: refused with [`GpuError::TooLarge`] ([`GpuSimulation::supports`]) |
 //! | terrain other than flat | **not yet**: refused with [`GpuError::Unsupported`] |
 //! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`); `run` reads the state back per rendered frame: the renderer does not draw from [`GpuField::pos`] yet |
-//! | per-stage GPU times in `summary.json` | **partly**: profiling mode ([`GpuSimulation::set_profiling`]) submits and waits per stage; timestamp queries not yet |
+//! | per-stage GPU times in `summary.json` | **done**: profiling mode ([`GpuSimulation::set_profiling`], [`profile`]) with timestamp queries read back once per step on a device with [`TIMESTAMP_FEATURES`] (lavapipe and llvmpipe/GL both have them through wgpu 30), else submit-and-wait per stage; `stage_timing` in `summary.json` says which; tested on both drivers |
 //! | device loss / out of memory | caught by the CLI (uncaptured-error and device-lost callbacks), `auto` falls back to the CPU; not provoked in a test |
 //!
 //! Parity tests (`tests/`): narrow phase + EqF (hit flags identical at
 //! precisions 1–7 on sphere, box, capsule, knot), propagation (generations
 //! identical), bending + recovery, and whole runs (300 frames: vertices
-//! within 1e-3 m, measured 1.3e-5 m on llvmpipe; classes, DBG/PBG counts
-//! and levels identical). Known problem: on lavapipe (Vulkan) the
-//! narrow-phase kernel is about 100× slower than on llvmpipe through GL (≈ 1 s
-//! a dispatch for 4,096 geometric blades), so the whole-run tests take too
-//! long there; suspected, not verified: the 66-entry private stacks of the
-//! walk. llvmpipe through GL (what CI uses) is fine.
+//! within 1e-3 m, measured 1.3e-5 m on llvmpipe through GL and 1.0e-5 m on
+//! lavapipe; classes, DBG/PBG counts and levels identical on both). CI
+//! runs them on both Mesa drivers (`.ci/run`: GL, then Vulkan with only
+//! lavapipe offered; `TRAMPLE_TEST_ADAPTER` makes a test on another
+//! adapter fail, and no adapter fails them too).
+//!
+//! Lavapipe (Mesa 22.3) folds the uniform values that decide a branch or a
+//! loop bound into a shader and compiles it again at every dispatch, with
+//! no cache of the variants: a kernel whose branches read its uniform costs
+//! seconds a dispatch there (the narrow phase did: 3–13 s, against ≈ 10 ms
+//! for the dispatch itself). Read such values through a copy the compiler
+//! cannot see as uniform (see `narrow_phase.wgsl`); `examples/stage_times.rs`
+//! with `MESA_SHADER_CACHE_DISABLE=true` shows a recompiling stage.
 
 pub mod bend;
 pub mod cells;

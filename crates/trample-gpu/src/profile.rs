@@ -17,9 +17,9 @@
 //!   step (slower, and each time includes one submission), but works on
 //!   every adapter.
 //!
-//! [`Laps`] marks the stage boundaries of one sub-step for either way;
-//! [`StageTimer::finish_step`] writes the sums over the step's sub-steps
-//! into `StepTimings`.
+//! Inside the crate, `Laps` marks the stage boundaries of one sub-step for
+//! either way, and `StageTimer::finish_step` writes the sums over the
+//! step's sub-steps into `StepTimings`.
 
 use std::time::Instant;
 
