@@ -6,7 +6,7 @@
 //! also on a software adapter, and fails with a clear message without one.
 
 use anyhow::{Result, bail};
-use trample_render::headless::{Gpu, create_device};
+use trample_render::headless::{Gpu, create_device_with};
 
 /// The `--backend` flag (defaults: `cpu` for `simulate` and `collide`,
 /// whose figures an adapter probe would skew; `auto` for `run`, which has a
@@ -23,14 +23,16 @@ pub enum Backend {
 }
 
 /// The device to run on, or `None` for the CPU path. `auto` falls back to
-/// the CPU with a message on stderr.
+/// the CPU with a message on stderr. The device has the timestamp queries
+/// of `trample_gpu::TIMESTAMP_FEATURES` where the adapter offers them, for
+/// the per-stage GPU times of `summary.json`.
 ///
 /// # Errors
 /// `gpu` without a usable adapter.
 pub fn choose(backend: Backend) -> Result<Option<Gpu>> {
     match backend {
         Backend::Cpu => Ok(None),
-        Backend::Gpu => match create_device() {
+        Backend::Gpu => match create_device_with(trample_gpu::TIMESTAMP_FEATURES) {
             Ok(gpu) => {
                 eprintln!("trample: GPU path on {}", gpu.adapter_name());
                 Ok(Some(gpu))
@@ -39,7 +41,7 @@ pub fn choose(backend: Backend) -> Result<Option<Gpu>> {
                 "--backend gpu: no usable GPU adapter ({e}); use --backend cpu, or WGPU_BACKEND=gl for Mesa llvmpipe"
             ),
         },
-        Backend::Auto => match create_device() {
+        Backend::Auto => match create_device_with(trample_gpu::TIMESTAMP_FEATURES) {
             Ok(gpu) if gpu.adapter.get_info().device_type == wgpu_device_type_cpu() => {
                 eprintln!(
                     "trample: {} is a software adapter: CPU path (--backend gpu forces the GPU path)",

@@ -34,10 +34,12 @@ fn fault_device_lost_after() -> Option<u64> {
 }
 
 /// Steps `sim` on `gpu` for `frames` frames in profiling mode
-/// (`GpuSimulation::set_profiling`): each stage is submitted and waited for
-/// on its own, so `summary.json`'s `stages_ms` are per-stage GPU times (each
-/// with one submission; no timestamp queries yet) and `step_ms` their sum
-/// plus the CPU's share (poses, recording). The per-frame counters (DBG,
+/// (`GpuSimulation::set_profiling`), so `summary.json`'s `stages_ms` are
+/// per-stage GPU times: from timestamp queries, read back once per step,
+/// where the device has them (`backend::choose` asks for them), else each
+/// stage submitted and waited for on its own (`stage_timing` says which);
+/// `step_ms` is the whole step with the CPU's share (poses, recording) and,
+/// the GPU's work being waited for, the GPU's. The per-frame counters (DBG,
 /// PBG, generations) are read back, 32 bytes a frame, for the progress bar
 /// and the summary (the blade buffers are not).
 ///
@@ -60,8 +62,11 @@ pub fn simulate_on_gpu(
     }));
     let lost = failure.clone();
     device.set_device_lost_callback(move |reason, msg| {
+        // A lost device is the cause of the errors reported before it was
+        // noticed (wgpu notices at the next wait: with timestamp profiling
+        // that is the read-back, whose mapping fails first), so it wins.
         let mut slot = lost.lock().unwrap_or_else(|p| p.into_inner());
-        slot.get_or_insert_with(|| format!("device lost ({reason:?}): {msg}"));
+        *slot = Some(format!("device lost ({reason:?}): {msg}"));
     });
     let check = || -> Result<()> {
         match failure.lock().unwrap_or_else(|p| p.into_inner()).take() {

@@ -337,6 +337,10 @@ pub fn run(a: &Args) -> Result<()> {
     };
     // The run summary names the adapter itself (`adapter`).
     summary.sim.backend = backend;
+    if backend == "gpu" {
+        // `run` does not profile the GPU path: its stages read 0.
+        summary.sim.stage_timing = "none";
+    }
     write_json(&out.join("summary.json"), &summary)?;
     eprintln!(
         "trample: {frames} frames in {wall_s:.2} s on {adapter}; step median {:.2} ms, render median {:.1} ms, {:.1} fps avg; wrote {pngs} PNG(s){} and {}",

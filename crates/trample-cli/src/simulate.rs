@@ -98,6 +98,7 @@ pub fn run(a: &Args) -> Result<()> {
     let gpu = crate::backend::choose(a.backend)?;
     let mut clock = Instant::now();
     let mut adapter = None;
+    let mut stage_timing = "wall";
     if let Some(gpu) = &gpu {
         // A scene the GPU path cannot run is the user's choice to make:
         // `gpu` stops, `auto` takes the CPU path. A failure during the run
@@ -112,6 +113,8 @@ pub fn run(a: &Args) -> Result<()> {
                 Ok((s, r)) => {
                     (sim, rec) = (s, r);
                     adapter = Some(gpu.adapter_name());
+                    // What `GpuSimulation`'s profiling mode used on this device.
+                    stage_timing = trample_gpu::StageTiming::for_device(&gpu.device).name();
                 }
                 Err(e) => {
                     bar.suspend(|| {
@@ -155,6 +158,7 @@ pub fn run(a: &Args) -> Result<()> {
     if adapter.is_some() {
         summary.backend = "gpu";
         summary.adapter = adapter;
+        summary.stage_timing = stage_timing;
     }
     outputs.stage(
         &summary_path,

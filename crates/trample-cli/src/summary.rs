@@ -82,6 +82,13 @@ pub struct SimSummary {
     pub wall_s: f64,
     pub step_ms: Stats,
     pub stages_ms: BTreeMap<&'static str, f64>,
+    /// How `stages_ms` were measured: `"wall"`, a clock around each stage
+    /// (the CPU path; the GPU path's profiling mode on a device without
+    /// timestamp queries, where each stage is submitted and waited for on
+    /// its own); `"timestamp"`, GPU timestamp queries between the stages,
+    /// read back once per step; `"none"`, not measured (`run` on the GPU
+    /// path: the stages read 0).
+    pub stage_timing: &'static str,
     pub dbg_blades: u32,
     pub pbg_blades: u32,
     pub generations: u32,
@@ -126,6 +133,8 @@ impl SimSummary {
             wall_s,
             step_ms: rec.step_ms(),
             stages_ms: rec.stages_ms(),
+            // The CPU path's clocks; the GPU path's callers say theirs.
+            stage_timing: "wall",
             dbg_blades: last.dbg_blades,
             pbg_blades: last.pbg_blades,
             generations: last.generations,

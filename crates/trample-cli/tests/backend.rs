@@ -1,8 +1,10 @@
 //! `--backend` (issue 4): the GPU path of `collide` and `simulate` gives
 //! the CPU path's answers, `auto` picks the CPU on a software adapter, and
 //! the exact reference refuses the GPU. Needs an adapter: CI runs these
-//! with `WGPU_BACKEND=gl` (Mesa llvmpipe); without one, `--backend gpu`
-//! fails and so do these tests (they do not skip).
+//! with `WGPU_BACKEND=gl` (Mesa llvmpipe) and `=vulkan` (lavapipe); without
+//! one, `--backend gpu` fails and so do these tests (they do not skip).
+//! `TRAMPLE_TEST_ADAPTER` (comma-separated words the adapter's name must
+//! contain, as in `trample-gpu`'s tests) pins the driver.
 
 mod common;
 
@@ -29,6 +31,21 @@ shape = { kind = "sphere", radius_m = 0.4 }
 orientation = "rolling"
 path = { kind = "line", from = [-2.0, 0.4, 0.0], to = [2.0, 0.4, 0.0], duration_s = 2.0 }
 "#;
+
+/// The adapter a GPU summary names, checked against `TRAMPLE_TEST_ADAPTER`.
+fn check_adapter(summary: &serde_json::Value) {
+    let name = summary["adapter"]
+        .as_str()
+        .expect("a GPU summary names its adapter");
+    if let Ok(wanted) = std::env::var("TRAMPLE_TEST_ADAPTER") {
+        for word in wanted.split(',').map(str::trim).filter(|w| !w.is_empty()) {
+            assert!(
+                name.contains(word),
+                "adapter {name}, TRAMPLE_TEST_ADAPTER={wanted}"
+            );
+        }
+    }
+}
 
 #[test]
 fn collide_on_the_gpu_gives_the_cpu_hit_flags_at_every_precision() {
@@ -100,8 +117,20 @@ fn simulate_on_the_gpu_touches_the_blades_the_cpu_touches() {
     }
     let (g, c) = (&summaries[0], &summaries[1]);
     assert_eq!(g["backend"], "gpu");
-    assert!(g["adapter"].is_string());
+    check_adapter(g);
     assert_eq!(c["backend"], "cpu");
+    // Per-stage GPU times (issue 4), and how they were taken.
+    assert!(
+        matches!(g["stage_timing"].as_str(), Some("timestamp" | "wall")),
+        "stage_timing {}",
+        g["stage_timing"]
+    );
+    assert!(
+        g["stages_ms"]["narrow"].as_f64().unwrap() > 0.0,
+        "{}",
+        g["stages_ms"]
+    );
+    assert_eq!(c["stage_timing"], "wall");
     assert!(c["classes"]["direct"].as_u64().unwrap() > 0);
     assert_eq!(g["classes"], c["classes"], "blade classes differ");
     assert_eq!(g["lod_cells"], c["lod_cells"], "levels of detail differ");
@@ -155,6 +184,11 @@ fn run_on_the_gpu_renders_and_says_so() {
     let text = std::fs::read_to_string(out.join("summary.json")).unwrap();
     let s: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(s["backend"], "gpu");
+    check_adapter(&s);
+    assert_eq!(
+        s["stage_timing"], "none",
+        "run does not time the GPU stages"
+    );
     assert!(out.join("frame_0010.png").exists());
 }
 

@@ -17,24 +17,31 @@
 //! | broad phase | **done** ([`broad_phase`]): one thread per patch against every object's root box (the CPU's SAT, twice its slack), per-chunk lists, indirect dispatch of the narrow phase over the listed patches' blades; lists equal to the CPU's (`tests/broad_phase_parity.rs`) |
 //! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested |
 //! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
-//! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested; flat terrain only |
+//! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested |
 //! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
 //! | chunking of fields over one storage binding | **done** ([`chunk`]): blade vertices in chunks of whole patches, one dispatch per chunk; the 16-byte-a-blade arrays stay whole-field (≈ 8.4 M blades on the software drivers, [`GpuError::TooLarge`] beyond); chunked = unchunked bit for bit (`tests/chunking.rs`) |
 //! | terrain (flat, noise, height map) in the ground guard | **done** ([`terrain`], `guard.wgsl`): the core's `Terrain::height_at` over a table of the height map or of the noise lattice the core computes; whole-run parity on noise and height-map terrain (`tests/step_parity.rs`) |
 //! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`) |
 //! | the renderer draws straight from the GPU buffers | **done**: [`draw_lists`] builds the blade and billboard instance lists and indirect draws on the GPU; `trample-render`'s `Renderer::encode_gpu` draws each chunk's `pos`; frames identical to the CPU path's (`trample-render/tests/gpu_draw.rs`) |
-//! | per-stage GPU times in `summary.json` | **partly**: profiling mode ([`GpuSimulation::set_profiling`]) submits and waits per stage; timestamp queries not yet |
+//! | per-stage GPU times in `summary.json` | **done**: profiling mode ([`GpuSimulation::set_profiling`], [`profile`]) with timestamp queries read back once per step on a device with [`TIMESTAMP_FEATURES`] (lavapipe and llvmpipe/GL both have them through wgpu 30), else submit-and-wait per stage; `stage_timing` in `summary.json` says which; tested on both drivers |
 //! | device loss / out of memory | caught by the CLI (uncaptured-error and device-lost callbacks), `auto` falls back to the CPU; not provoked in a test |
 //!
 //! Parity tests (`tests/`): chunked against unchunked (bit for bit), narrow phase + EqF (hit flags identical at
 //! precisions 1–7 on sphere, box, capsule, knot), propagation (generations
 //! identical), bending + recovery, and whole runs (300 frames: vertices
-//! within 1e-3 m, measured 1.3e-5 m on llvmpipe; classes, DBG/PBG counts
-//! and levels identical). Known problem: on lavapipe (Vulkan) the
-//! narrow-phase kernel is about 100× slower than on llvmpipe through GL (≈ 1 s
-//! a dispatch for 4,096 geometric blades), so the whole-run tests take too
-//! long there; suspected, not verified: the 66-entry private stacks of the
-//! walk. llvmpipe through GL (what CI uses) is fine.
+//! within 1e-3 m, measured 1.3e-5 m on llvmpipe through GL and 1.0e-5 m on
+//! lavapipe; classes, DBG/PBG counts and levels identical on both). CI
+//! runs them on both Mesa drivers (`.ci/run`: GL, then Vulkan with only
+//! lavapipe offered; `TRAMPLE_TEST_ADAPTER` makes a test on another
+//! adapter fail, and no adapter fails them too).
+//!
+//! Lavapipe (Mesa 22.3) folds the uniform values that decide a branch or a
+//! loop bound into a shader and compiles it again at every dispatch, with
+//! no cache of the variants: a kernel whose branches read its uniform costs
+//! seconds a dispatch there (the narrow phase did: 3–13 s, against ≈ 10 ms
+//! for the dispatch itself). Read such values through a copy the compiler
+//! cannot see as uniform (see `narrow_phase.wgsl`); `examples/stage_times.rs`
+//! with `MESA_SHADER_CACHE_DISABLE=true` shows a recompiling stage.
 
 pub mod bend;
 pub mod broad_phase;
@@ -46,7 +53,7 @@ pub mod field;
 mod kernel;
 pub mod narrow_phase;
 pub mod object;
-mod profile;
+pub mod profile;
 pub mod propagation;
 pub mod query;
 pub mod readback;
@@ -60,6 +67,7 @@ pub use error::GpuError;
 pub use field::{GpuField, GpuForce};
 pub use narrow_phase::NarrowPhase;
 pub use object::{GpuNode, GpuObject, GpuObjectParams};
+pub use profile::{StageTiming, TIMESTAMP_FEATURES};
 pub use simulation::GpuSimulation;
 pub use step_params::{GpuCounters, GpuStepParams};
 /// The wgpu this crate is built against (the workspace pins one major version).

@@ -201,7 +201,9 @@ impl NarrowPhase {
                 &self.pipeline
             });
             pass.set_bind_group(1, &object_group, &[]);
-            // One dispatch per chunk of patches (`chunk.wgsl`).
+            // One dispatch per chunk of patches (`chunk.wgsl`), one
+            // workgroup deep in z: the shader takes gid.z as a 0 the driver
+            // cannot fold (`dispatch_args` writes z = 1 too).
             for (c, (group, (gx, gy))) in field_groups.iter().enumerate() {
                 pass.set_bind_group(0, group, &[]);
                 match broad {

@@ -59,6 +59,20 @@ struct ObjectParams {
 @group(1) @binding(2) var<storage, read> triangles: array<vec4<f32>>;
 @group(1) @binding(3) var<storage, read> voxels: array<u32>;
 
+// The object's header as every branch and loop bound below reads it: a copy
+// of `obj.tree` and `obj.field` with `gid.z` added, which is 0 (this kernel
+// is always dispatched one workgroup deep in z) but unknown to the driver
+// when it compiles. Why: Mesa's lavapipe (22.3, what CI installs) finds the
+// uniform values that decide a branch or a loop's trip count, folds them into
+// the shader and compiles it again through LLVM at every dispatch, without a
+// cache of the variants. With `obj.tree` / `obj.field` deciding branches it
+// did that for this kernel at every dispatch: 3–13 s each on the 2-core CI
+// machine, against ≈ 10–20 ms for the dispatch itself (Mesa's on-disk shader
+// cache hid it for the poses an earlier run had already compiled). Values
+// that only index (`obj.field.x`, `.z`) may stay plain uniform reads.
+var<private> tree: vec4<u32>;
+var<private> field: vec4<u32>;
+
 const NO_CHILD: u32 = 0xffffffffu;
 const NONE: u32 = 0xffffffffu;
 // MAX_TREE_DEPTH + 2, as `exact::STACK_SIZE`.
@@ -136,7 +150,7 @@ fn walk(p0: vec3<f32>, p1: vec3<f32>, final_depth: u32) -> Walk {
     var stack: array<vec2<u32>, STACK_SIZE>;
     stack[0] = vec2<u32>(0u, 1u);
     var len = 1u;
-    let count = obj.tree.x;
+    let count = tree.x;
     while len > 0u {
         len -= 1u;
         let i = stack[len].x;
@@ -238,7 +252,7 @@ fn inside_by_ray(p: vec3<f32>) -> bool {
     stack[0] = 0u;
     var len = 1u;
     var crossings = 0u;
-    let count = obj.tree.x;
+    let count = tree.x;
     while len > 0u {
         len -= 1u;
         let i = stack[len];
@@ -268,7 +282,7 @@ fn inside_by_ray(p: vec3<f32>) -> bool {
 
 // `exact::point_inside`: the voxel grid first, the ray where it cannot tell.
 fn point_inside(p: vec3<f32>) -> bool {
-    let side = obj.field.w;
+    let side = field.w;
     if side > 0u {
         let dd = p - obj.grid_center.xyz;
         let q = vec3<f32>(dot3(dd, obj.grid_u.xyz), dot3(dd, obj.grid_v.xyz), dot3(dd, obj.grid_w.xyz));
@@ -297,7 +311,7 @@ struct SegmentHit {
 
 fn collide_segment(p0: vec3<f32>, p1: vec3<f32>) -> SegmentHit {
     let miss = SegmentHit(false, Contact(vec3<f32>(0.0), vec3<f32>(0.0)));
-    if obj.tree.x == 0u {
+    if tree.x == 0u {
         return miss;
     }
     let centre = (p0 + p1) * 0.5;
@@ -305,11 +319,11 @@ fn collide_segment(p0: vec3<f32>, p1: vec3<f32>) -> SegmentHit {
     if !hits_obb(centre, half, nodes[0]) {
         return miss;
     }
-    let w = walk(p0, p1, obj.tree.z);
+    let w = walk(p0, p1, tree.z);
     if w.first != NONE {
         return SegmentHit(true, contact(w, p0, p1));
     }
-    if w.deepest_hit == 0u || obj.tree.y == 0u || !point_inside((p0 + p1) * 0.5) {
+    if w.deepest_hit == 0u || tree.y == 0u || !point_inside((p0 + p1) * 0.5) {
         return miss;
     }
     let deep = walk(p0, p1, w.deepest_hit);
@@ -327,6 +341,7 @@ fn point_velocity(p: vec3<f32>) -> vec3<f32> {
 // Every blade of the chunk (no broad phase: `trample collide`, stage tests).
 @compute @workgroup_size(64)
 fn collide(@builtin(global_invocation_id) gid: vec3<u32>) {
+    opaque_uniforms(gid);
     let b = chunk_blade(gid);
     if b != NOT_IN_CHUNK {
         collide_blade(b);
@@ -337,6 +352,7 @@ fn collide(@builtin(global_invocation_id) gid: vec3<u32>) {
 // dispatch of `dispatch_args`); forces and hit masks were cleared first.
 @compute @workgroup_size(64)
 fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    opaque_uniforms(gid);
     let per_patch = max(chunk.groups.w, 1u);
     let t = gid.x + gid.y * groups.x * 64u;
     let slot = t / per_patch;
@@ -347,14 +363,21 @@ fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     collide_blade(p * per_patch + t % per_patch);
 }
 
+// `tree` and `field`: the object's uniforms as the compiler cannot fold
+// them (see their declarations).
+fn opaque_uniforms(gid: vec3<u32>) {
+    tree = obj.tree + vec4<u32>(gid.z);
+    field = obj.field + vec4<u32>(gid.z);
+}
+
 fn collide_blade(b: u32) {
-    let first_object = obj.tree.w == 1u;
+    let first_object = tree.w == 1u;
     var f = vec4<f32>(0.0);
     if !first_object {
         f = force[b];
     }
     var mask = 0u;
-    let segments = min(obj.field.y, MAX_SEGMENTS);
+    let segments = min(field.y, MAX_SEGMENTS);
     let cell = b / max(obj.field.z, 1u);
     if (cell_state[cell] & 3u) == LOD_GEOMETRY {
         var prev = to_local(pos[vertex_at(0u, b)].xyz);

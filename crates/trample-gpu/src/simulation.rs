@@ -11,8 +11,8 @@
 //!
 //! Fields over one storage binding run in chunks of patches
 //! ([`crate::chunk`]); the narrow phase runs over the patches the broad
-//! phase lists ([`crate::broad_phase`]). Not yet on the GPU (see the crate
-//! docs): per-stage timestamps.
+//! phase lists ([`crate::broad_phase`]); per-stage times come from
+//! timestamp queries where the device has them ([`crate::profile`]).
 
 use trample::Simulation;
 use trample::deform::bend::weights;
@@ -31,7 +31,7 @@ use crate::field::GpuField;
 use crate::kernel::grid;
 use crate::narrow_phase::NarrowPhase;
 use crate::object::GpuObject;
-use crate::profile::{Laps, new_encoder};
+use crate::profile::{Stage, StageTimer, StageTiming, new_encoder};
 use crate::propagation::Propagation;
 use crate::readback::read_buffer;
 use crate::recovery::Recovery;
@@ -62,18 +62,29 @@ pub struct GpuSimulation {
     profiling: bool,
     /// Made by the first [`GpuSimulation::record_draw_lists`].
     draw_lists: Option<DrawLists>,
+    timer: StageTimer,
 }
 
 impl GpuSimulation {
-    /// Profiling mode: each stage of a sub-step is submitted and waited
-    /// for on its own, and its wall time goes into `sim.timings`
-    /// (`lod_ms`, `narrow_ms` (with EqF), `propagation_ms`,
+    /// Profiling mode: each stage's GPU time goes into `sim.timings`
+    /// (`lod_ms`, `broad_ms`, `narrow_ms` (with EqF), `propagation_ms`,
     /// `deformation_ms` (blades and billboards), `transitions_ms`,
-    /// `recovery_ms`). Slower; off by default, when `sim.timings` holds only
-    /// `total_ms` (recording time, the GPU runs on asynchronously), the
-    /// sub-step counts and, after [`GpuSimulation::sync_to_cpu`], the counters.
+    /// `recovery_ms`), measured the way [`GpuSimulation::stage_timing`]
+    /// says: timestamp queries read back once per step (the step waits for
+    /// the GPU at its end, and `total_ms` includes that wait), or, on a
+    /// device without [`crate::TIMESTAMP_FEATURES`], each stage submitted
+    /// and waited for on its own (slower). Off by default, when
+    /// `sim.timings` holds only `total_ms` (recording time, the GPU runs on
+    /// asynchronously), the sub-step counts and, after
+    /// [`GpuSimulation::sync_to_cpu`], the counters.
     pub fn set_profiling(&mut self, on: bool) {
         self.profiling = on;
+    }
+
+    /// How the profiling mode measures stage times on this device.
+    #[must_use]
+    pub fn stage_timing(&self) -> StageTiming {
+        self.timer.method()
     }
 
     /// Whether the GPU path can run `sim` on `device`: 9 storage buffers a
@@ -186,6 +197,7 @@ impl GpuSimulation {
             ground,
             profiling: false,
             draw_lists: None,
+            timer: StageTimer::new(device),
         })
     }
 
@@ -237,10 +249,14 @@ impl GpuSimulation {
 
     /// Advances the simulation by `dt` seconds: the same sub-steps and
     /// poses as `Simulation::step`, every stage on the GPU, one submission
-    /// per sub-step, nothing read back. Returns the number of sub-steps.
+    /// per sub-step, nothing read back (in profiling mode: the stage
+    /// times, see [`GpuSimulation::set_profiling`]). Returns the number of
+    /// sub-steps.
     ///
     /// # Errors
-    /// `dt` must be positive and finite ([`GpuError::Layout`] otherwise).
+    /// `dt` must be positive and finite ([`GpuError::Layout`] otherwise);
+    /// [`GpuError::ReadBack`] when profiling and the timestamps cannot be
+    /// read back (device lost).
     pub fn step(
         &mut self,
         device: &wgpu::Device,
@@ -259,6 +275,7 @@ impl GpuSimulation {
         let h = dt / substeps as f32;
         let max = device.limits().max_compute_workgroups_per_dimension;
         let groups = grid(self.field.count, max);
+        self.timer.begin_step(device, self.profiling, substeps);
         let cell_groups = self.cells.bind(
             device,
             &self.field,
@@ -287,8 +304,9 @@ impl GpuSimulation {
                 queue.write_buffer(&self.world_roots, 0, bytemuck::cast_slice(&roots));
             }
             let mut encoder = new_encoder(device);
-            let mut laps = Laps::new(self.profiling);
-            let tm = &mut self.sim.timings;
+            let mut laps = self
+                .timer
+                .laps(device, queue, &mut encoder, self.profiling)?;
             self.propagation.record_reset(
                 device,
                 &mut encoder,
@@ -297,10 +315,10 @@ impl GpuSimulation {
                 &self.state,
             );
             self.cells.record_classify(&mut encoder, &cell_groups);
-            laps.lap(device, queue, &mut encoder, &mut tm.lod_ms);
+            laps.lap(device, queue, &mut encoder, Stage::Lod);
             if !self.objects.is_empty() {
                 self.broad.record(device, &mut encoder, &self.world_roots);
-                laps.lap(device, queue, &mut encoder, &mut tm.broad_ms);
+                laps.lap(device, queue, &mut encoder, Stage::Broad);
                 self.narrow.record(
                     device,
                     queue,
@@ -310,7 +328,7 @@ impl GpuSimulation {
                     self.sim.params.precision,
                     Some(&self.broad),
                 );
-                laps.lap(device, queue, &mut encoder, &mut tm.narrow_ms);
+                laps.lap(device, queue, &mut encoder, Stage::Narrow);
                 self.propagation.record(
                     device,
                     &mut encoder,
@@ -320,20 +338,22 @@ impl GpuSimulation {
                     groups,
                     params.counts[2],
                 );
-                laps.lap(device, queue, &mut encoder, &mut tm.propagation_ms);
+                laps.lap(device, queue, &mut encoder, Stage::Propagation);
                 self.bend
                     .record(device, &mut encoder, &self.field, &self.params);
             }
             self.cells.record_billboards(&mut encoder, &cell_groups);
-            laps.lap(device, queue, &mut encoder, &mut tm.deformation_ms);
+            laps.lap(device, queue, &mut encoder, Stage::Deformation);
             self.cells.record_transitions(&mut encoder, &cell_groups);
-            laps.lap(device, queue, &mut encoder, &mut tm.transitions_ms);
+            laps.lap(device, queue, &mut encoder, Stage::Transitions);
             self.recovery
                 .record(device, &mut encoder, &self.field, &self.params, &self.state);
             self.cells.record_recover_slopes(&mut encoder, &cell_groups);
-            laps.lap(device, queue, &mut encoder, &mut tm.recovery_ms);
+            laps.lap(device, queue, &mut encoder, Stage::Recovery);
             queue.submit([encoder.finish()]);
         }
+        self.timer
+            .finish_step(device, queue, &mut self.sim.timings)?;
         self.sim.timings.visible_patches = trample::field::cull_patches(
             &self.sim.field.layout.patch_list,
             &self.sim.view.frustum(),

@@ -59,6 +59,16 @@ pub fn supported_msaa(adapter: &wgpu::Adapter, wanted: u32) -> u32 {
 /// [`RenderError::NoAdapter`] names the backends tried; [`RenderError::Device`]
 /// when the adapter refuses the device.
 pub fn create_device() -> Result<Gpu, RenderError> {
+    create_device_with(wgpu::Features::empty())
+}
+
+/// As [`create_device`], also enabling those of `optional` the adapter
+/// offers (e.g. `trample_gpu::TIMESTAMP_FEATURES` for per-stage GPU
+/// times); `device.features()` says which it got.
+///
+/// # Errors
+/// As [`create_device`].
+pub fn create_device_with(optional: wgpu::Features) -> Result<Gpu, RenderError> {
     let desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     let backends = desc.backends;
     let instance = wgpu::Instance::new(desc);
@@ -75,7 +85,7 @@ pub fn create_device() -> Result<Gpu, RenderError> {
     let limits = crate::required_limits(&adapter);
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("trample"),
-        required_features: wgpu::Features::empty(),
+        required_features: adapter.features() & optional,
         required_limits: limits,
         experimental_features: wgpu::ExperimentalFeatures::disabled(),
         memory_hints: wgpu::MemoryHints::Performance,

@@ -1,0 +1,101 @@
+//! Measures `GpuSimulation::step` stage by stage on the adapter that
+//! `WGPU_BACKEND` picks (a measurement, not a test: it prints, it asserts
+//! nothing about speed).
+//!
+//! ```text
+//! WGPU_BACKEND=vulkan cargo run -p trample-gpu --example stage_times -- [FRAMES] [SCENE.toml]
+//! ```
+//!
+//! Default: 100 frames of a 4,096-blade field with a rolling ball
+//! (`tests/step_parity.rs`'s first scene), in profiling mode
+//! (`GpuSimulation::set_profiling`). Prints each frame's stage times and the
+//! median narrow phase from the third frame on (the first dispatches
+//! include the driver's compilation). Stage times come from timestamp
+//! queries where the adapter has them; `TRAMPLE_STAGE_TIMING=wall` asks for
+//! the wall-time way instead. Set `MESA_SHADER_CACHE_DISABLE=true` to see
+//! compilations the on-disk shader cache would otherwise hide.
+
+use trample::scene::Scene;
+use trample_gpu::GpuSimulation;
+
+const SCENE: &str = r#"
+name = "gpu-stage-times"
+[field]
+patches = [4, 4]
+cells_per_patch = 16             # 4,096 blades
+[lod]
+geometry_m = 500.0
+billboard_m = 600.0
+[sim]
+precision = 5
+recovery_s = 1.5
+[camera]
+path = { kind = "line", from = [-4.0, 2.0, 3.0], to = [4.0, 2.0, 3.0], duration_s = 5.0 }
+look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
+[[objects]]
+name = "ball"
+shape = { kind = "sphere", radius_m = 0.5 }
+orientation = "rolling"
+path = { kind = "line", from = [-3.5, 0.5, 0.2], to = [3.5, 0.5, -0.3], duration_s = 5.0 }
+"#;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let frames: u32 = args.next().map_or(Ok(100), |s| s.parse())?;
+    let text = match args.next() {
+        Some(path) => std::fs::read_to_string(path)?,
+        None => SCENE.to_string(),
+    };
+    // Timestamp queries where the adapter has them, unless told otherwise.
+    let wall = std::env::var("TRAMPLE_STAGE_TIMING").is_ok_and(|v| v == "wall");
+    let features = if wall {
+        trample_gpu::wgpu::Features::empty()
+    } else {
+        trample_gpu::TIMESTAMP_FEATURES
+    };
+    let gpu = trample_render::headless::create_device_with(features)?;
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    println!("adapter: {}", gpu.adapter_name());
+    let ts = trample_gpu::wgpu::Features::TIMESTAMP_QUERY
+        | trample_gpu::wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+        | trample_gpu::wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+    println!(
+        "adapter timestamp features: {:?}; timestamp period {} ns",
+        gpu.adapter.features() & ts,
+        queue.get_timestamp_period()
+    );
+    let sim = Scene::parse(&text, "scene.toml", std::path::Path::new("."))?.build()?;
+    let dt = sim.params.dt_s;
+    let mut g = GpuSimulation::new(device, queue, sim)?;
+    g.set_profiling(true);
+    println!("stage timing: {}", g.stage_timing().name());
+    let mut narrow = Vec::new();
+    for f in 0..frames {
+        let start = std::time::Instant::now();
+        g.step(device, queue, dt)?;
+        let c = g.read_counters(device, queue)?;
+        let wall = start.elapsed().as_secs_f64() * 1e3;
+        let t = &g.sim.timings;
+        println!(
+            "frame {f}: {wall:.1} ms wall; lod {:.2} narrow {:.2} propagation {:.2} deformation {:.2} transitions {:.2} recovery {:.2} ms; DBG {}",
+            t.lod_ms,
+            t.narrow_ms,
+            t.propagation_ms,
+            t.deformation_ms,
+            t.transitions_ms,
+            t.recovery_ms,
+            c.dbg
+        );
+        if f >= 2 {
+            narrow.push(t.narrow_ms);
+        }
+    }
+    narrow.sort_by(f64::total_cmp);
+    if let Some(m) = narrow.get(narrow.len() / 2) {
+        println!(
+            "narrow phase: median {m:.2} ms over {} frames",
+            narrow.len()
+        );
+    }
+    Ok(())
+}
