@@ -407,7 +407,8 @@ fn blades_chart(r: &Report, setup: &Setup) -> Result<()> {
                     series.push(Series {
                         name: format!("{backend}, {name}, precision {precision}: step median"),
                         points,
-                        color: COLORS[(i + 2 * j + 5 * k) % COLORS.len()],
+                        // A colour per series, precision and path.
+                        color: COLORS[(i + 2 * (j + setup.precisions.len() * k)) % COLORS.len()],
                     });
                 }
             }
