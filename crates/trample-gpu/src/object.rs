@@ -104,12 +104,44 @@ pub struct GpuObject {
 }
 
 impl GpuObject {
+    /// Whether `tree`'s buffers (nodes, triangles, inside-test voxels) each
+    /// fit one storage binding of `device`; checked before anything is
+    /// allocated.
+    ///
+    /// # Errors
+    /// [`GpuError::TooLarge`] naming the buffer.
+    pub fn fits(device: &wgpu::Device, tree: &ObbTree) -> Result<(), GpuError> {
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let voxels = tree
+            .inside
+            .as_ref()
+            .filter(|_| tree.closed)
+            .map_or(1, |g| g.voxels.len());
+        for (what, bytes) in [
+            (
+                "the object's OBB-tree nodes",
+                (tree.nodes.len().max(1) * std::mem::size_of::<GpuNode>()) as u64,
+            ),
+            (
+                "the object's triangles",
+                (tree.triangles.len().max(1) * 48) as u64,
+            ),
+            ("the object's inside-test voxels", (voxels * 4) as u64),
+        ] {
+            if bytes > limit {
+                return Err(GpuError::TooLarge { what, bytes, limit });
+            }
+        }
+        Ok(())
+    }
+
     /// Uploads `tree`.
     ///
     /// # Errors
-    /// [`GpuError::TooLarge`] when the triangles exceed one storage binding.
+    /// [`GpuError::TooLarge`] when one of its buffers exceeds one storage
+    /// binding ([`GpuObject::fits`]).
     pub fn new(device: &wgpu::Device, tree: &ObbTree) -> Result<Self, GpuError> {
-        let limit = device.limits().max_storage_buffer_binding_size;
+        Self::fits(device, tree)?;
         let mut nodes = flatten_nodes(tree);
         if nodes.is_empty() {
             nodes.push(GpuNode::zeroed()); // bindings may not be empty
@@ -117,14 +149,6 @@ impl GpuObject {
         let mut tris: Vec<[f32; 4]> = tree.triangles.iter().flat_map(|t| t.map(v4)).collect();
         if tris.is_empty() {
             tris.push([0.0; 4]);
-        }
-        let tri_bytes = (tris.len() * 16) as u64;
-        if tri_bytes > limit {
-            return Err(GpuError::TooLarge {
-                what: "object triangles",
-                bytes: tri_bytes,
-                limit,
-            });
         }
         let mut params = GpuObjectParams::zeroed();
         params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 1];

@@ -120,6 +120,9 @@ impl GpuSimulation {
             sim.field.max_blade_length,
             limit,
         )?;
+        for body in &sim.bodies {
+            GpuObject::fits(device, &body.tree)?;
+        }
         Ok(())
     }
 
