@@ -10,18 +10,9 @@ use crate::summary::Recorder;
 use anyhow::{Result, anyhow};
 use indicatif::ProgressBar;
 use std::sync::{Arc, Mutex};
-use trample::{Simulation, StepTimings};
+use trample::Simulation;
 use trample_gpu::GpuSimulation;
 use trample_render::headless::Gpu;
-
-/// `base` (a GPU step's timings) with the counts the GPU kept for that step
-/// (read back by `GpuSimulation::read_counters`).
-#[must_use]
-pub fn timings_with_counters(base: &StepTimings, c: &trample_gpu::GpuCounters) -> StepTimings {
-    let mut t = base.clone();
-    c.apply_to(&mut t);
-    t
-}
 
 /// Fault injection for tests (`RELIABILITY.md`): with
 /// `TRAMPLE_FAULT_GPU_LOST_AFTER=N` the device is destroyed before frame N,
@@ -96,7 +87,8 @@ pub fn simulate_on_gpu(
                 }
             })?;
         check()?;
-        let t = timings_with_counters(&g.sim.timings, &counters);
+        counters.apply_to(&mut g.sim.timings);
+        let t = g.sim.timings.clone();
         bar.set_message(format!("DBG {} PBG {}", t.dbg_blades, t.pbg_blades));
         rec.steps.push(t);
         bar.inc(1);

@@ -262,8 +262,8 @@ fn time_frames_gpu(
         }
         let clock = std::time::Instant::now();
         g.step(device, queue, dt)?;
-        let c = g.read_counters(device, queue)?;
-        let mut t = crate::gpu_run::timings_with_counters(&g.sim.timings, &c);
+        g.sync_counters(device, queue)?;
+        let mut t = g.sim.timings.clone();
         t.total_ms = clock.elapsed().as_secs_f64() * 1e3;
         tick(Stepped::Gpu(&mut g), &t)?;
         steps.push(t);
