@@ -31,9 +31,11 @@ fn bench(c: &mut Criterion) {
         att: sim.params.att,
         threshold: sim.params.threshold,
         max_generations: sim.params.max_generations,
+        threshold_fade: 0.0,
+        hold_weight: 0.0,
     };
     let (mut f, mut g) = (force.clone(), generation.clone());
-    let reached = propagate_forces(&dbg, neighbours, &mut f, &mut g, &params);
+    let reached = propagate_forces(&dbg, neighbours, &mut f, &mut g, &[], &params);
     eprintln!(
         "propagation: {} DBG blades reach {} PBG in {} generations",
         dbg.len(),
@@ -45,7 +47,7 @@ fn bench(c: &mut Criterion) {
     group.bench_function("ball_footprint", |b| {
         b.iter_batched_ref(
             || (force.clone(), generation.clone()),
-            |(f, g)| propagate_forces(&dbg, neighbours, f, g, &params),
+            |(f, g)| propagate_forces(&dbg, neighbours, f, g, &[], &params),
             BatchSize::LargeInput,
         );
     });

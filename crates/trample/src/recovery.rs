@@ -92,7 +92,7 @@ fn time_constant(p: &RecoveryParams, flatness: f32) -> f32 {
 
 /// `1 − height / rest_height`, clamped to `[0, 1]`; 0 when the rest height
 /// is not positive.
-fn flatness(height: f32, rest_height: f32) -> f32 {
+pub(crate) fn flatness(height: f32, rest_height: f32) -> f32 {
     if rest_height > 0.0 {
         let f = 1.0 - height / rest_height;
         if f.is_nan() { 0.0 } else { f.clamp(0.0, 1.0) }

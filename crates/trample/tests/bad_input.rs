@@ -257,6 +257,8 @@ fn cases() -> Vec<(&'static str, Want, String)> {
         e("max_substeps zero", sim("max_substeps = 0")),
         e("max_substeps huge", sim("max_substeps = 100000")),
         e("memory limit zero", sim("memory_limit_gib = 0.0")),
+        e("contact shell zero", sim("contact_shell_m = 0.0")),
+        e("contact shell nan", sim("contact_shell_m = nan")),
         // ------------------------------------------------ [field], [lod], [camera]
         e("zero patches", outcome("[field]\npatches = [0, 4]\n", &[])),
         e(
@@ -431,6 +433,36 @@ fn cases() -> Vec<(&'static str, Want, String)> {
             "start time nan",
             outcome(
                 &object_scene(&format!("{SPHERE}\n{STATIC}\nstart_s = nan")),
+                &[],
+            ),
+        ),
+        e(
+            "track press negative",
+            outcome(
+                &object_scene(&format!("{SPHERE}\n{STATIC}\ntrack = {{ press = -1.0 }}")),
+                &[],
+            ),
+        ),
+        e(
+            "track recovery zero",
+            outcome(
+                &object_scene(&format!(
+                    "{SPHERE}\n{STATIC}\ntrack = {{ recovery_s = 0.0 }}"
+                )),
+                &[],
+            ),
+        ),
+        e(
+            "track trail infinite",
+            outcome(
+                &object_scene(&format!("{SPHERE}\n{STATIC}\ntrack = {{ trail = inf }}")),
+                &[],
+            ),
+        ),
+        e(
+            "track unknown key",
+            outcome(
+                &object_scene(&format!("{SPHERE}\n{STATIC}\ntrack = {{ lasting = true }}")),
                 &[],
             ),
         ),

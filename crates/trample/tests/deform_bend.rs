@@ -71,46 +71,46 @@ fn eq7_weight_hand_values() {
 #[test]
 fn eq5_offset_base_hand_cases() {
     let (ab, v1) = (Vec3::Y, Vec3::new(3.0, 4.0, 0.0));
-    assert_eq!(offset_base(ab, v1, 1), Vec3::new(3.0, 0.0, 0.0));
-    assert_eq!(offset_base(ab, v1, 2), Vec3::new(1.5, 0.0, 0.0));
+    assert_eq!(offset_base(ab, v1, 1.0), Vec3::new(3.0, 0.0, 0.0));
+    assert_eq!(offset_base(ab, v1, 2.0), Vec3::new(1.5, 0.0, 0.0));
     assert_eq!(
-        offset_base(ab, v1, 0),
+        offset_base(ab, v1, 0.0),
         Vec3::new(3.0, 0.0, 0.0),
         "num = 0 is taken as 1"
     );
     assert_eq!(
-        offset_base(ab * 2.5, v1, 1),
+        offset_base(ab * 2.5, v1, 1.0),
         Vec3::new(3.0, 0.0, 0.0),
         "independent of |AB|"
     );
     // Tilted blade: v1 = x, AB = (1,1,0): v2 = (1,−1,0)/√2, (v2·v1) v2 = (0.5,−0.5,0).
     assert!(
-        (offset_base(Vec3::new(1.0, 1.0, 0.0), Vec3::X, 1) - Vec3::new(0.5, -0.5, 0.0)).length()
+        (offset_base(Vec3::new(1.0, 1.0, 0.0), Vec3::X, 1.0) - Vec3::new(0.5, -0.5, 0.0)).length()
             < 1e-6
     );
     // The result is perpendicular to AB.
-    let b = offset_base(Vec3::new(0.2, 1.0, -0.3), Vec3::new(-1.0, 0.5, 2.0), 3);
+    let b = offset_base(Vec3::new(0.2, 1.0, -0.3), Vec3::new(-1.0, 0.5, 2.0), 3.0);
     assert!(b.dot(Vec3::new(0.2, 1.0, -0.3)).abs() < 1e-6);
 }
 
 #[test]
 fn eq5_parallel_or_degenerate_is_zero() {
     assert_eq!(
-        offset_base(Vec3::Y, Vec3::new(0.0, 5.0, 0.0), 1),
+        offset_base(Vec3::Y, Vec3::new(0.0, 5.0, 0.0), 1.0),
         Vec3::ZERO
     );
     assert_eq!(
-        offset_base(Vec3::new(1.0, 2.0, 3.0), Vec3::new(-2.0, -4.0, -6.0), 1),
+        offset_base(Vec3::new(1.0, 2.0, 3.0), Vec3::new(-2.0, -4.0, -6.0), 1.0),
         Vec3::ZERO
     );
-    assert_eq!(offset_base(Vec3::ZERO, Vec3::X, 1), Vec3::ZERO, "AB = 0");
-    assert_eq!(offset_base(Vec3::Y, Vec3::ZERO, 1), Vec3::ZERO);
+    assert_eq!(offset_base(Vec3::ZERO, Vec3::X, 1.0), Vec3::ZERO, "AB = 0");
+    assert_eq!(offset_base(Vec3::Y, Vec3::ZERO, 1.0), Vec3::ZERO);
     assert_eq!(
-        offset_base(Vec3::Y, Vec3::new(f32::NAN, 0.0, 0.0), 1),
+        offset_base(Vec3::Y, Vec3::new(f32::NAN, 0.0, 0.0), 1.0),
         Vec3::ZERO
     );
     assert_eq!(
-        offset_base(Vec3::new(0.0, f32::INFINITY, 0.0), Vec3::X, 1),
+        offset_base(Vec3::new(0.0, f32::INFINITY, 0.0), Vec3::X, 1.0),
         Vec3::ZERO
     );
 }
@@ -126,7 +126,7 @@ fn eq6_bend_and_length_preservation_hand_case() {
         &mut v,
         1.0,
         Vec3::X,
-        1,
+        1.0,
         &weights(2, 1.0, 1.0),
         &Terrain::Flat(0.0),
         0.0,
@@ -150,7 +150,7 @@ fn pushed_sideways_bends_toward_force_and_tip_lowers() {
     let mut v = rest.clone();
     let w = weights(4, 1.0, 2.0);
     let push = Vec3::new(0.0, 0.0, 0.05);
-    bend_blade(&mut v, 0.1, push, 1, &w, &Terrain::Flat(0.0), 0.0);
+    bend_blade(&mut v, 0.1, push, 1.0, &w, &Terrain::Flat(0.0), 0.0);
     assert!(v[4].z > rest[4].z + 1e-3, "towards the force");
     assert!(v[4].y < rest[4].y - 1e-4, "the tip lowers");
     assert!(
@@ -165,10 +165,10 @@ fn pushed_sideways_bends_toward_force_and_tip_lowers() {
     }
     // Pushing again bends further; two segments hitting (num = 2) bend less.
     let mut again = v.clone();
-    bend_blade(&mut again, 0.1, push, 1, &w, &Terrain::Flat(0.0), 0.0);
+    bend_blade(&mut again, 0.1, push, 1.0, &w, &Terrain::Flat(0.0), 0.0);
     assert!(again[4].z > v[4].z);
     let mut halved = rest.clone();
-    bend_blade(&mut halved, 0.1, push, 2, &w, &Terrain::Flat(0.0), 0.0);
+    bend_blade(&mut halved, 0.1, push, 2.0, &w, &Terrain::Flat(0.0), 0.0);
     assert!(halved[4].z < v[4].z && halved[4].z > rest[4].z);
 }
 
@@ -253,15 +253,15 @@ fn bad_input_leaves_blade_unchanged() {
     ];
     for (name, seg_len, v1, w) in cases {
         let mut v = rest.clone();
-        bend_blade(&mut v, seg_len, v1, 1, &w, &flat, 0.0);
+        bend_blade(&mut v, seg_len, v1, 1.0, &w, &flat, 0.0);
         assert_eq!(bits(&v), bits(&rest), "{name}");
     }
     // Too few vertices or weights: no panic.
     let mut one = vec![Vec3A::ZERO];
-    bend_blade(&mut one, 0.1, Vec3::X, 1, &w, &flat, 0.0);
-    bend_blade(&mut [], 0.1, Vec3::X, 1, &w, &flat, 0.0);
+    bend_blade(&mut one, 0.1, Vec3::X, 1.0, &w, &flat, 0.0);
+    bend_blade(&mut [], 0.1, Vec3::X, 1.0, &w, &flat, 0.0);
     let mut v = rest.clone();
-    bend_blade(&mut v, 0.1, Vec3::Z * 0.1, 1, &w[..2], &flat, 0.0);
+    bend_blade(&mut v, 0.1, Vec3::Z * 0.1, 1.0, &w[..2], &flat, 0.0);
     assert!(v.iter().all(|p| p.is_finite()));
     // NaN clearance counts as 0; NaN terrain keeps things finite.
     let mut v = vec![Vec3A::ZERO, Vec3A::new(1.0, -1.0, 0.0)];
@@ -306,7 +306,7 @@ fn random_bends_preserve_lengths_root_and_ground() {
             for _ in 0..3 {
                 let v1 = rng.vec(1.0) * rng.f32(0.0, 1.0);
                 let num = (rng.next() % 5) as u32;
-                bend_blade(&mut v, seg_len, v1, num, &w, terrain, clearance);
+                bend_blade(&mut v, seg_len, v1, num as f32, &w, terrain, clearance);
                 bends += 1;
                 assert_eq!(
                     v[0].to_array().map(f32::to_bits),

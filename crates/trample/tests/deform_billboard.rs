@@ -182,7 +182,7 @@ fn transition_round_trip_is_consistent() {
             b,
             h / 4.0,
             push,
-            1,
+            1.0,
             &weights(4, 1.0, 2.0),
             &Terrain::Flat(0.0),
             0.0,
@@ -255,7 +255,7 @@ fn bend_last_segment_moves_only_the_tip() {
         &mut bent,
         0.25,
         Vec3::new(0.07, 0.0, 0.03),
-        1,
+        1.0,
         &weights(3, 1.0, 2.0),
         &Terrain::Flat(0.0),
         0.0,
@@ -285,7 +285,10 @@ fn bend_last_segment_moves_only_the_tip() {
 /// blade's length beyond the box (they stopped at its footprint before).
 #[test]
 fn a_billboard_leaning_into_the_box_from_beside_it_is_deflected() {
+    // Eq. 8 is the paper's mode; otherwise billboards follow their blades.
     let text = r#"
+[sim]
+track_everywhere = false
 [field]
 patches = [2, 2]
 cells_per_patch = 8

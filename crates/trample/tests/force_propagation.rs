@@ -60,7 +60,7 @@ fn run(
     params: &PropagationParams,
 ) -> (PropagationResult, Vec<Vec3>, Vec<u8>) {
     let (list, mut force, mut generation) = setup(nb.len(), dbg);
-    let r = propagate_forces(&list, nb, &mut force, &mut generation, params);
+    let r = propagate_forces(&list, nb, &mut force, &mut generation, &[], params);
     (r, force, generation)
 }
 
@@ -69,6 +69,8 @@ fn params(att: f32, threshold: f32) -> PropagationParams {
         att,
         threshold,
         max_generations: GENERATION_CAP,
+        threshold_fade: 0.0,
+        hold_weight: 0.0,
     }
 }
 
@@ -232,7 +234,8 @@ fn parallel_relation_ancestors_never_receive() {
         r,
         PropagationResult {
             generations: 0,
-            pbg: vec![]
+            pbg: vec![],
+            sources: vec![]
         }
     );
     assert_eq!((force[12], force[13]), (dbg[0].1, dbg[1].1));
@@ -278,6 +281,7 @@ fn below_threshold_zero_generations_and_bad_input_do_not_propagate() {
         &short_nb,
         &mut force,
         &mut generation,
+        &[],
         &params(0.9, 0.1),
     );
     assert!(r.pbg.iter().all(|&b| b < 25));
@@ -286,6 +290,7 @@ fn below_threshold_zero_generations_and_bad_input_do_not_propagate() {
         &nb[..2],
         &mut force,
         &mut generation,
+        &[],
         &params(0.9, 0.1),
     );
     assert_eq!(r.generations, 0);
@@ -300,6 +305,8 @@ fn generation_cap_fits_u8() {
         att: 1.0,
         threshold: 0.0,
         max_generations: 10_000,
+        threshold_fade: 0.0,
+        hold_weight: 0.0,
     };
     let (r, force, generation) = run(&nb, &[(0, Vec3::X)], &p);
     assert_eq!(r.generations, GENERATION_CAP);
@@ -499,4 +506,61 @@ fn deterministic_independent_of_thread_count() {
         assert_eq!(bits(&sf), bits(&one.1), "{name}: scatter");
         assert_eq!(sg, one.2, "{name}: scatter generations");
     }
+}
+
+/// The threshold's fade-in (ours, DESIGN §5 "continuous"): an ancestor a
+/// hair below L pushes nothing, a hair above it pushes a hair; without the
+/// fade the same hair decides between nothing and `att · L`.
+#[test]
+fn a_force_at_the_threshold_pushes_continuously() {
+    let nb = grid(5, 5);
+    let l = 0.25;
+    let push = |f: f32, fade: f32| {
+        let p = PropagationParams {
+            threshold_fade: fade,
+            ..params(0.5, l)
+        };
+        run(&nb, &[(12, Vec3::new(f, 0.0, 0.0))], &p).1[13].x
+    };
+    let (below, above) = (l * (1.0 - 1e-6), l * (1.0 + 1e-6));
+    assert_eq!(push(below, 0.25), 0.0);
+    assert!(push(above, 0.25) < 1e-5, "{}", push(above, 0.25));
+    assert!((push(above, 0.0) - 0.5 * above).abs() < 1e-7);
+    // Full push from (1 + fade) L on.
+    assert!((push(2.0 * l, 0.25) - 0.5 * 2.0 * l).abs() < 1e-7);
+}
+
+/// An ancestor barely touched (contact weight near 0) takes a neighbour's
+/// push as a child would; one touched at the hold weight or more is the
+/// paper's ancestor and takes none; in between, in proportion.
+#[test]
+fn lightly_held_ancestors_take_part_of_a_push() {
+    let nb = grid(5, 5);
+    let p = PropagationParams {
+        hold_weight: 0.1,
+        ..params(0.5, 0.1)
+    };
+    let taken = |w13: f32| {
+        let (list, mut force, mut generation) = setup(
+            nb.len(),
+            &[
+                (12, Vec3::new(2.0, 0.0, 0.0)),
+                (13, Vec3::new(0.0, 0.0, 0.01)),
+            ],
+        );
+        let mut weight = vec![0.0; nb.len()];
+        weight[12] = 1.0;
+        weight[13] = w13;
+        propagate_forces(&list, &nb, &mut force, &mut generation, &weight, &p);
+        (force[13], generation[13])
+    };
+    let (f, g) = taken(1.0);
+    assert_eq!((f, g), (Vec3::new(0.0, 0.0, 0.01), 0), "wholly held");
+    let (f, g) = taken(0.0);
+    assert_eq!(g, 1);
+    assert!((f.x - 1.0).abs() < 1e-6 && (f.z - 0.01).abs() < 1e-7, "{f}");
+    let (f, _) = taken(0.05);
+    assert!((f.x - 0.5).abs() < 1e-6, "half held takes half: {f}");
+    let (a, _) = taken(0.1 - 1e-6);
+    assert!(a.x < 1e-4, "at the hold weight: {a}");
 }

@@ -20,6 +20,7 @@ fn params(shape: ShapeParams, orientation: Orientation, path: PathParams) -> Obj
         orientation,
         path,
         start_s: 0.0,
+        track: Default::default(),
     }
 }
 

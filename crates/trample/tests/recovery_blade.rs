@@ -24,7 +24,7 @@ fn bent_blade(push: Vec3) -> Vec<Vec3A> {
         &mut v,
         SEG,
         push,
-        1,
+        1.0,
         &weights(4, 1.0, 2.0),
         &Terrain::Flat(0.0),
         0.0,

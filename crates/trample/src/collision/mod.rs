@@ -4,6 +4,8 @@
 //! inside test for closed meshes). One query per file, named by shape pair.
 
 pub mod broad_phase;
+pub mod closest_point;
+pub mod contact;
 pub mod exact;
 pub mod inside_grid;
 pub mod narrow_phase;
@@ -12,6 +14,9 @@ pub mod segment_triangle;
 
 pub use broad_phase::{obb_overlaps_aabb, patches_hit, world_obb};
 pub use exact::{point_inside, segment_hits_exact};
-pub use narrow_phase::{BladeContacts, SegmentContact, collide_blade, collide_segment};
+pub use narrow_phase::{
+    BladeContacts, LocalMotion, SegmentContact, collide_blade, collide_segment, contact_blade,
+    contact_segment,
+};
 pub use segment_obb::{segment_hits_box_local, segment_hits_obb};
 pub use segment_triangle::{segment_crosses_triangle_interior, segment_hits_triangle};

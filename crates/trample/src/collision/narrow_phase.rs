@@ -20,11 +20,28 @@
 //! The paper's depth-buffer read-back between levels (a 2009-GPU device) is
 //! replaced by a depth-first walk with a fixed-size stack: no allocation per
 //! query.
+//!
+//! # Hit flags and contacts
+//! Two queries share the walk. [`collide_segment`] / [`collide_blade`] give
+//! the paper's yes/no hit at a precision (what `trample collide` dumps and
+//! the accuracy tables measure). [`contact_segment`] / [`contact_blade`]
+//! give what the simulation uses (ours, DESIGN §5 "a continuous response"):
+//! the boxes grown by a **contact shell** (a blade is not a line: its
+//! half width reaches past its centre line), and a **weight** in [0, 1]
+//! per segment — how deep it reaches into the final-depth boxes
+//! ([`segment_depth_in_obb`]) over the shell's thickness. A grazing contact
+//! has a weight near 0, so two states a few ulp apart, one hitting and one
+//! not, get forces a few ulp apart instead of 0 and a full-speed push. The
+//! push direction and the contact point are weighted by the nodes' weights
+//! too, so a node that starts being touched enters them smoothly.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
+use super::contact::penetration;
 use super::exact::{STACK_SIZE, point_inside};
-use super::segment_obb::{centred, segment_hits_obb_centred};
+use super::segment_obb::{
+    centred, segment_depth_in_obb, segment_hits_obb_centred, segment_hits_obb_inflated,
+};
 use crate::field::MAX_SEGMENTS;
 use crate::obb::build::closest_point_on_segment;
 use crate::obb::{MAX_TREE_DEPTH, ObbTree};
@@ -35,17 +52,27 @@ use crate::obb::{MAX_TREE_DEPTH, ObbTree};
 pub struct SegmentContact {
     /// Unit direction of the push: the normalised sum of
     /// [`ObbTree::eqn_direction`] (Eq. 3's EqN, or its fallback) over the
-    /// final-depth nodes the segment hit. Eq. 2 scales it by the contact
-    /// speed: `EqF = |v| · EqN`.
+    /// final-depth nodes the segment hit (weighted by their
+    /// [`SegmentContact::weight`]s for [`contact_segment`]). Eq. 2 scales it
+    /// by the contact speed: `EqF = |v| · EqN`.
     pub dir: Vec3,
-    /// The point of the segment closest to the centre of the first
-    /// final-depth node it hit (depth first, left child first).
+    /// Where the push is applied: the point of the segment closest to the
+    /// centre of the first final-depth node it hit (depth first, left child
+    /// first) for [`collide_segment`]; the weighted mean of those points over
+    /// the nodes hit for [`contact_segment`].
     pub point: Vec3,
+    /// How firmly the segment touches, in [0, 1]: 1 for every hit of
+    /// [`collide_segment`]; for [`contact_segment`], the largest over the
+    /// final-depth nodes of (depth of the segment in the shell-grown box) /
+    /// shell, clamped (see [`contact_segment`]).
+    pub weight: f32,
 }
 
 /// The contacts of one blade: bit `k` of `mask` is set when segment `k`
 /// (vertex `k` → `k + 1`) hit, and then `contacts[k]` holds its contact
-/// (other entries are zero). `mask.count_ones()` is Eq. 5's `num`.
+/// (other entries are zero). `mask.count_ones()` is Eq. 5's `num` for the
+/// yes/no hits of [`collide_blade`]; [`BladeContacts::weight_sum`] is the
+/// `num` the simulation uses (DESIGN §6).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BladeContacts {
     /// Bit `k`: segment `k` hit.
@@ -60,6 +87,18 @@ impl BladeContacts {
     #[inline]
     pub fn hit_count(&self) -> u32 {
         self.mask.count_ones()
+    }
+
+    /// Sum of the segments' weights: Eq. 5's `num` with each segment counted
+    /// by how firmly it touches (equal to [`BladeContacts::hit_count`] when
+    /// every hit is full).
+    #[must_use]
+    #[inline]
+    pub fn weight_sum(&self) -> f32 {
+        (0..MAX_SEGMENTS)
+            .filter(|k| self.mask & (1 << k) != 0)
+            .map(|k| self.contacts[k].weight)
+            .sum()
     }
 }
 
@@ -77,6 +116,8 @@ impl BladeContacts {
 /// 1, ≈ 150 ns at 7 for segments near a 2k-triangle sphere, measured in the
 /// dev profile), and, for a segment of a closed mesh that hits the root but
 /// no final node, one [`point_inside`] (≈ 0.5 µs).
+///
+/// See also [`contact_segment`], the weighted contact the simulation uses.
 #[must_use]
 pub fn collide_segment(
     p0: Vec3,
@@ -94,17 +135,156 @@ pub fn collide_segment(
         return None;
     }
     let final_depth = precision.clamp(1, MAX_TREE_DEPTH);
-    let walk = walk(tree, p0, p1, final_depth);
-    if walk.first != u32::MAX {
-        return Some(walk.contact(tree, p0, p1));
+    let mut first = FirstAndSum::default();
+    let deepest = walk(tree, p0, p1, final_depth, 0.0, |i| {
+        first.add(i, tree.eqn_direction(i, p0, p1));
+    });
+    if first.first != u32::MAX {
+        return Some(first.contact(tree, p0, p1));
     }
-    // Hit the root but no final-depth node: inside a closed mesh? If so, take
-    // the direction from the deepest nodes hit, which are exactly the
-    // final-depth nodes hit by a walk that stops at that depth.
-    if walk.deepest_hit == 0 || !tree.closed || !point_inside(tree, (p0 + p1) * 0.5) {
+    inside_fallback(tree, p0, p1, deepest, 0.0)
+}
+
+/// The weighted contact of segment `p0–p1` (object-local frame) with the
+/// object of `tree` at `precision`, the boxes grown by `shell` metres (> 0):
+/// see the module docs. `None` when no final-depth node is reached deeper
+/// than 0 and the segment is not inside a closed mesh; otherwise a contact
+/// whose weight is in (0, 1].
+///
+/// Weight of a final-depth node `j` hit: `w_j = min(1, reach_j / (shell +
+/// ramp_j))`. `reach_j` is how far the segment reaches into the node: its
+/// depth in the grown box ([`segment_depth_in_obb`], continuous in the
+/// segment) or, where the node's EqN is a reliable normal
+/// ([`ObbTree::eqn_unit`]), how far its deeper end lies below the node's
+/// surface patch (the plane through the box centre across EqN) and inside
+/// the mesh, plus the shell, if more (see [`below_patch`]). A
+/// segment crossing the surface of a finely split mesh is barely inside any
+/// one thin box; this weighs it by how deep it really goes. A segment of a
+/// closed mesh that meets no final box but lies inside the mesh (then at
+/// least a shell deep) pushes towards the nearest surface
+/// ([`super::contact::penetration`]) with `w = min(1, (depth + shell) /
+/// (shell + ramp))`. And `ramp_j` = [`LocalMotion::ramp_at`] the point `c_j` of the
+/// segment closest to the node's centre: [`RAMP_TRAVELS`] times how far
+/// the object's surface there travels in the sub-step (at least in
+/// [`RAMP_STEP_S`], at most the object's thickness). Eq. 2 then pushes
+/// a segment `depth` into a box by about `min(depth / RAMP_TRAVELS,
+/// travel)` in the sub-step: a grazing blade is pushed part of the way out,
+/// never past the surface — a contraction, so small differences between
+/// two runs (the CPU and GPU paths differ by ulps) shrink instead of
+/// growing. A still object ([`LocalMotion::STILL`]) has weights that reach
+/// 1 at the shell's depth.
+/// The segment's weight is `max_j w_j`; its direction the normalised
+/// `Σ w_j · dir_j` (`dir_j` = [`ObbTree::eqn_direction`]; where the sum
+/// cancels, the direction of the heaviest node); its point `Σ w_j · c_j /
+/// Σ w_j` with `c_j` the point of the segment closest to node `j`'s centre.
+/// With `shell ≤ 0` or NaN this is [`collide_segment`] with every weight 1.
+///
+/// The hits are a superset of [`collide_segment`]'s at the same precision
+/// (the boxes only grow), so no exact hit is missed.
+#[must_use]
+pub fn contact_segment(
+    p0: Vec3,
+    p1: Vec3,
+    tree: &ObbTree,
+    precision: u32,
+    shell: f32,
+    motion: &LocalMotion,
+) -> Option<SegmentContact> {
+    if shell.is_nan() || shell <= 0.0 {
+        return collide_segment(p0, p1, tree, precision);
+    }
+    // The root's reach box holds every box of the tree (see `walk`).
+    let root = tree.reach.first().or(tree.nodes.first().map(|n| &n.obb))?;
+    let (centre, half) = centred(p0, p1);
+    if tree.is_empty() || !segment_hits_obb_inflated(centre, half, root, shell) {
         return None;
     }
-    let deep = self::walk(tree, p0, p1, walk.deepest_hit);
+    let final_depth = precision.clamp(1, MAX_TREE_DEPTH);
+    let mut acc = Weighted::default();
+    // True depths of the ends inside a closed mesh, asked at most once each.
+    let mut known: [Option<Option<f32>>; 2] = [None, None];
+    let mut pen = |q: Vec3| -> Option<f32> {
+        if !tree.closed {
+            return None;
+        }
+        let k = usize::from(q != p0);
+        *known[k].get_or_insert_with(|| penetration(tree, q, 0.0).map(|(_, d)| d))
+    };
+    let deepest = walk(tree, p0, p1, final_depth, shell, |i| {
+        let node = &tree.nodes[i as usize];
+        let depth = segment_depth_in_obb(centre, half, &node.obb, shell);
+        if depth > 0.0 {
+            let at = closest_point_on_segment(p0, p1, node.obb.center);
+            let reach = match tree.eqn_unit(i) {
+                Some(n) => depth.max(below_patch(node.obb.center, n, p0, p1, shell, &mut pen)),
+                None => depth,
+            };
+            let w = (reach / (shell + motion.ramp_at(at))).min(1.0);
+            acc.add(w, tree.eqn_direction(i, p0, p1), at);
+        }
+    });
+    // No final-depth box (grown by the shell) met: the segment crosses no
+    // triangle and is wholly outside a closed mesh, or wholly inside it,
+    // at least a shell deep; then its deeper end pushes towards the nearest
+    // surface.
+    if acc.max == 0.0 && tree.closed && deepest > 0 && point_inside(tree, (p0 + p1) * 0.5) {
+        let deeper = [p0, p1]
+            .into_iter()
+            .filter_map(|q| penetration(tree, q, 0.0).map(|(s, d)| (q, s, d)))
+            .max_by(|a, b| a.2.total_cmp(&b.2));
+        if let Some((q, surface, depth)) = deeper
+            && let Some(out) = (surface - q).try_normalize()
+        {
+            let w = ((depth + shell) / (shell + motion.ramp_at(q))).min(1.0);
+            acc.add(w, out, q);
+        }
+    }
+    (acc.max > 0.0).then(|| acc.contact())
+}
+
+/// How far the segment's deeper end (see [`contact_segment`]) reaches into
+/// the object below the surface patch of a node whose box centre is `c`
+/// and whose EqN is the unit `n`: `min(below, pen) + shell`, with `below`
+/// the depth of that end below the plane through `c` across `n` and `pen`
+/// its true depth inside the mesh (`pen(q)`, asked only when the plane says
+/// the end is below it; `None` = outside the mesh, then 0 in all). The
+/// true depth keeps it honest where the patch is not flat (the plane of a
+/// curved patch passes outside the mesh), the plane keeps it local.
+fn below_patch(
+    c: Vec3,
+    n: Vec3,
+    p0: Vec3,
+    p1: Vec3,
+    shell: f32,
+    pen: &mut impl FnMut(Vec3) -> Option<f32>,
+) -> f32 {
+    let (b0, b1) = ((c - p0).dot(n), (c - p1).dot(n));
+    let (q, below) = if b0 >= b1 { (p0, b0) } else { (p1, b1) };
+    if below <= 0.0 {
+        return 0.0;
+    }
+    pen(q).map_or(0.0, |depth| below.min(depth) + shell)
+}
+
+/// A segment that reached the root (down to depth `deepest`, ≥ 1 when it
+/// did) but no final-depth node: a hit of weight 1 when the mesh is closed
+/// and the segment's midpoint is inside it (it then crosses no triangle and
+/// lies wholly inside). Its direction comes from the deepest nodes hit,
+/// which are exactly the final nodes of a walk that stops at that depth.
+fn inside_fallback(
+    tree: &ObbTree,
+    p0: Vec3,
+    p1: Vec3,
+    deepest: u32,
+    shell: f32,
+) -> Option<SegmentContact> {
+    if deepest == 0 || !tree.closed || !point_inside(tree, (p0 + p1) * 0.5) {
+        return None;
+    }
+    let mut deep = FirstAndSum::default();
+    walk(tree, p0, p1, deepest, shell, |i| {
+        deep.add(i, tree.eqn_direction(i, p0, p1));
+    });
     (deep.first != u32::MAX).then(|| deep.contact(tree, p0, p1))
 }
 
@@ -119,34 +299,133 @@ pub fn collide_blade(
     precision: u32,
     out: &mut BladeContacts,
 ) {
+    blade(verts_local, out, |p0, p1| {
+        collide_segment(p0, p1, tree, precision)
+    });
+}
+
+/// [`collide_blade`] with [`contact_segment`]: the weighted contacts of
+/// one blade's segments (object-local vertices), boxes grown by `shell`,
+/// weights reaching 1 at `ramp`.
+pub fn contact_blade(
+    verts_local: &[Vec3],
+    tree: &ObbTree,
+    precision: u32,
+    shell: f32,
+    motion: &LocalMotion,
+    out: &mut BladeContacts,
+) {
+    blade(verts_local, out, |p0, p1| {
+        contact_segment(p0, p1, tree, precision, shell, motion)
+    });
+}
+
+/// How many sub-step travels of the object's surface deep a segment must
+/// reach into a final-depth box for its contact weight to be 1 (see
+/// [`contact_segment`]): 2, so Eq. 2 pushes a grazing blade at most half
+/// of the way out per sub-step. 1 already never pushes past the surface,
+/// but leaves a blade on the edge of the box with a gain of one (measured:
+/// ulp differences grew to 5e-4 m in 90 frames of the default scene; 1e-4
+/// m with 2).
+pub const RAMP_TRAVELS: f32 = 2.0;
+
+/// The shortest time whose travel sets the contact weights' ramp (see
+/// [`LocalMotion::ramp_at`]), seconds: 1/30 s. Sub-steps shorter than this
+/// (a 60 or 144 Hz loop) get the same weights as a 30 Hz one, so the same
+/// second of motion pushes the same at any frame rate (DESIGN §6); longer
+/// ones get a wider ramp, so the push of one sub-step never overshoots.
+pub const RAMP_STEP_S: f32 = 1.0 / 30.0;
+
+/// The object's motion in its own frame for the contact weights of
+/// [`contact_segment`]: linear and angular velocity (object-local, m/s and
+/// rad/s) and the sub-step, seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalMotion {
+    /// Velocity of the local origin, object-local frame, m/s.
+    pub velocity: Vec3,
+    /// Angular velocity, object-local frame, rad/s.
+    pub angular_velocity: Vec3,
+    /// The sub-step, seconds.
+    pub h: f32,
+    /// The object's thickness, metres (twice its root box's smallest half
+    /// extent: what the sub-steps keep its travel within): the travel that
+    /// sets the weights never counts more than this.
+    pub thickness: f32,
+}
+
+impl LocalMotion {
+    /// An object at rest: weights reach 1 at the shell's depth.
+    pub const STILL: LocalMotion = LocalMotion {
+        velocity: Vec3::ZERO,
+        angular_velocity: Vec3::ZERO,
+        h: 0.0,
+        thickness: 0.0,
+    };
+
+    /// [`RAMP_TRAVELS`] times the distance the material point at local
+    /// position `p` travels in the sub-step, or in [`RAMP_STEP_S`] if the
+    /// sub-step is shorter, but no more than the object's thickness, metres
+    /// (0 if not finite).
+    #[must_use]
+    #[inline]
+    pub fn ramp_at(&self, p: Vec3) -> f32 {
+        let speed = (self.velocity + self.angular_velocity.cross(p)).length();
+        let r = RAMP_TRAVELS * (self.h.max(RAMP_STEP_S) * speed).min(self.thickness);
+        if r.is_finite() { r } else { 0.0 }
+    }
+}
+
+fn blade(
+    verts_local: &[Vec3],
+    out: &mut BladeContacts,
+    mut segment: impl FnMut(Vec3, Vec3) -> Option<SegmentContact>,
+) {
     *out = BladeContacts::default();
     for (k, seg) in verts_local.windows(2).take(MAX_SEGMENTS).enumerate() {
-        if let Some(contact) = collide_segment(seg[0], seg[1], tree, precision) {
+        if let Some(contact) = segment(seg[0], seg[1]) {
             out.mask |= 1 << k;
             out.contacts[k] = contact;
         }
     }
 }
 
-/// What one walk down the tree found.
-struct Walk {
+/// The final-depth nodes of [`collide_segment`]: the first one hit and the
+/// sum of their directions.
+struct FirstAndSum {
     /// Sum of the EqN directions of the final-depth nodes hit.
     sum: Vec3,
     /// First final-depth node hit, `u32::MAX` if none.
     first: u32,
     /// Its EqN direction.
     first_dir: Vec3,
-    /// Depth of the deepest node hit (final or not), 0 if none.
-    deepest_hit: u32,
 }
 
-impl Walk {
+impl Default for FirstAndSum {
+    fn default() -> Self {
+        Self {
+            sum: Vec3::ZERO,
+            first: u32::MAX,
+            first_dir: Vec3::ZERO,
+        }
+    }
+}
+
+/// A sum of unit vectors shorter than this has cancelled out: its direction
+/// would be noise.
+const CANCELLED: f32 = 1e-3;
+
+impl FirstAndSum {
+    fn add(&mut self, node: u32, dir: Vec3) {
+        if self.first == u32::MAX {
+            self.first = node;
+            self.first_dir = dir;
+        }
+        self.sum += dir;
+    }
+
     /// The contact: normalised sum of directions (the first one's when the
     /// sum nearly cancels), point closest to the first node's centre.
     fn contact(&self, tree: &ObbTree, p0: Vec3, p1: Vec3) -> SegmentContact {
-        // A sum of unit vectors shorter than this has cancelled out: its
-        // direction would be noise.
-        const CANCELLED: f32 = 1e-3;
         let dir = if self.sum.length() > CANCELLED {
             self.sum.normalize_or(self.first_dir)
         } else {
@@ -159,21 +438,72 @@ impl Walk {
         SegmentContact {
             dir,
             point: closest_point_on_segment(p0, p1, centre),
+            weight: 1.0,
         }
     }
 }
 
-/// Depth-first walk of the nodes segment `p0–p1` hits, down to
-/// `final_depth` or the leaves (left child first, fixed-size stack).
+/// The final-depth nodes of [`contact_segment`], weighted.
+#[derive(Default)]
+struct Weighted {
+    /// Σ w_j · dir_j.
+    dir: Vec3,
+    /// Σ w_j · c_j.
+    point: Vec3,
+    /// Σ w_j.
+    sum: f32,
+    /// max_j w_j, and the direction of that node.
+    max: f32,
+    max_dir: Vec3,
+}
+
+impl Weighted {
+    fn add(&mut self, w: f32, dir: Vec3, at: Vec3) {
+        self.dir += dir * w;
+        self.point += at * w;
+        self.sum += w;
+        if w > self.max {
+            self.max = w;
+            self.max_dir = dir;
+        }
+    }
+
+    fn contact(&self) -> SegmentContact {
+        let dir = if self.dir.length() > CANCELLED * self.sum {
+            self.dir.normalize_or(self.max_dir)
+        } else {
+            self.max_dir
+        };
+        SegmentContact {
+            dir,
+            point: self.point / self.sum,
+            weight: self.max,
+        }
+    }
+}
+
+/// Depth-first walk of the nodes segment `p0–p1` hits (boxes grown by
+/// `shell`), down to `final_depth` or the leaves (left child first,
+/// fixed-size stack); calls `final_node` with each final node hit, in that
+/// order. Returns the depth of the deepest node hit (final or not), 0 if
+/// none.
+///
+/// `shell = 0` is the paper's walk: a node is visited when the segment meets
+/// its box and every ancestor's. With `shell > 0` (the contact walk) the
+/// nodes above the final depth are tested with their reach boxes
+/// ([`crate::obb::reach`]), so every final node whose own (grown) box the
+/// segment meets is found.
 #[inline]
-fn walk(tree: &ObbTree, p0: Vec3, p1: Vec3, final_depth: u32) -> Walk {
-    let (centre, half) = centred(p0, p1);
-    let mut out = Walk {
-        sum: Vec3::ZERO,
-        first: u32::MAX,
-        first_dir: Vec3::ZERO,
-        deepest_hit: 0,
-    };
+fn walk(
+    tree: &ObbTree,
+    p0: Vec3,
+    p1: Vec3,
+    final_depth: u32,
+    shell: f32,
+    mut final_node: impl FnMut(u32),
+) -> u32 {
+    let (centre, half): (Vec3A, Vec3A) = centred(p0, p1);
+    let mut deepest_hit = 0;
     // (node index, depth); the walk's own depth count, not the node's field,
     // decides where to stop, so a malformed tree cannot derail it.
     let mut stack = [(0u32, 1u32); STACK_SIZE];
@@ -184,27 +514,28 @@ fn walk(tree: &ObbTree, p0: Vec3, p1: Vec3, final_depth: u32) -> Walk {
         let Some(node) = tree.nodes.get(i as usize) else {
             continue;
         };
-        if !segment_hits_obb_centred(centre, half, &node.obb) {
-            continue;
-        }
-        out.deepest_hit = out.deepest_hit.max(depth);
         let [l, r] = node.children;
         // Children only at larger indices (no cycles in a malformed tree);
         // the stack bound never binds for a tree of depth ≤ MAX_TREE_DEPTH.
         let descend =
             depth < final_depth && !node.is_leaf() && l > i && r > i && len + 2 <= STACK_SIZE;
+        let hit = if shell > 0.0 {
+            let reach = tree.reach.get(i as usize).filter(|_| descend);
+            segment_hits_obb_inflated(centre, half, reach.unwrap_or(&node.obb), shell)
+        } else {
+            segment_hits_obb_centred(centre, half, &node.obb)
+        };
+        if !hit {
+            continue;
+        }
+        deepest_hit = deepest_hit.max(depth);
         if descend {
             stack[len] = (r, depth + 1);
             stack[len + 1] = (l, depth + 1);
             len += 2;
         } else {
-            let dir = tree.eqn_direction(i, p0, p1);
-            if out.first == u32::MAX {
-                out.first = i;
-                out.first_dir = dir;
-            }
-            out.sum += dir;
+            final_node(i);
         }
     }
-    out
+    deepest_hit
 }

@@ -62,12 +62,76 @@ pub(crate) fn centred(p0: Vec3, p1: Vec3) -> (Vec3A, Vec3A) {
 #[must_use]
 #[inline]
 pub(crate) fn segment_hits_obb_centred(centre: Vec3A, half: Vec3A, obb: &Obb) -> bool {
-    // Rows u, v, w: multiplying by it takes a vector into the box frame.
+    let (c, h) = to_box_frame(centre, half, obb);
+    hits_centred_local(c, h, Vec3A::from(obb.half))
+}
+
+/// [`segment_hits_obb_centred`] against `obb` grown by `shell` metres on
+/// every side (the contact shell of the simulation, DESIGN §5 "Contact":
+/// a blade has a width, so its centre line touches an object `shell`
+/// before the surface). `shell = 0` is [`segment_hits_obb_centred`].
+#[must_use]
+#[inline]
+pub(crate) fn segment_hits_obb_inflated(centre: Vec3A, half: Vec3A, obb: &Obb, shell: f32) -> bool {
+    let (c, h) = to_box_frame(centre, half, obb);
+    hits_centred_local(c, h, Vec3A::from(obb.half) + shell)
+}
+
+/// How deep segment `centre ± half` (parent frame) reaches into `obb` grown
+/// by `shell`: the largest, over the points of the segment, of the distance
+/// from the point to the grown box's boundary, metres; negative when the
+/// segment misses the box (then minus the gap, along the worst axis, at the
+/// segment's closest approach in that sense). See [`max_depth_local`].
+#[must_use]
+#[inline]
+pub(crate) fn segment_depth_in_obb(centre: Vec3A, half: Vec3A, obb: &Obb, shell: f32) -> f32 {
+    let (c, h) = to_box_frame(centre, half, obb);
+    max_depth_local(c, h, Vec3A::from(obb.half) + shell)
+}
+
+/// Segment `c ± h` moved into the frame of `obb` (rows u, v, w of the
+/// box's axes: multiplying by them takes a vector into the box frame).
+#[inline]
+fn to_box_frame(centre: Vec3A, half: Vec3A, obb: &Obb) -> (Vec3A, Vec3A) {
     let to_box =
         Mat3A::from_cols(obb.axes[0].into(), obb.axes[1].into(), obb.axes[2].into()).transpose();
-    let c = to_box * (centre - Vec3A::from(obb.center));
-    let h = to_box * half;
-    hits_centred_local(c, h, Vec3A::from(obb.half))
+    (to_box * (centre - Vec3A::from(obb.center)), to_box * half)
+}
+
+/// `max over s in [-1, 1] of min_i (e_i - |c_i + s h_i|)`: how far the
+/// segment `c ± h` (box frame) reaches into the box of half extents `e`
+/// (ours, DESIGN §5 "a continuous response").
+///
+/// The depth of a point is a minimum of six linear functions of `s` (two
+/// per axis), so along the segment it is concave and piecewise linear, and
+/// its maximum lies at an end (`s = ±1`) or where two of the six lines
+/// cross: the peak of an axis (`c_i + s h_i = 0`) or the crossing of two
+/// axes' lines (12 sign combinations). All 17 candidates are evaluated in a
+/// fixed order (the GPU twin `segment_depth` in `segment_obb.wgsl` does the
+/// same), so the result is exact up to rounding and continuous in the
+/// segment and the box: a segment grazing the box gives a depth near 0,
+/// never a jump. NaN input gives NaN (callers test `depth > 0`).
+#[must_use]
+#[inline]
+pub fn max_depth_local(c: Vec3A, h: Vec3A, e: Vec3A) -> f32 {
+    let depth = |s: f32| (e - (c + h * s).abs()).min_element();
+    let mut best = depth(-1.0).max(depth(1.0));
+    for i in 0..3 {
+        if h[i] != 0.0 {
+            best = best.max(depth((-c[i] / h[i]).clamp(-1.0, 1.0)));
+        }
+        for j in i + 1..3 {
+            for (si, sj) in [(1.0f32, 1.0f32), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+                // e_i − si (c_i + s h_i) = e_j − sj (c_j + s h_j)
+                let den = sj * h[j] - si * h[i];
+                if den != 0.0 {
+                    let s = (e[j] - e[i] - sj * c[j] + si * c[i]) / den;
+                    best = best.max(depth(s.clamp(-1.0, 1.0)));
+                }
+            }
+        }
+    }
+    best
 }
 
 /// The six separating-axis tests, box frame: segment `c ± h`, box half
@@ -131,5 +195,62 @@ mod tests {
             }
         }
         assert!(checked > 19_000, "{checked}");
+    }
+
+    /// The closed form of [`max_depth_local`] equals a dense sampling of the
+    /// depth along the segment (which it bounds from above by at most the
+    /// sampling step times the slope), and its sign is the hit test's.
+    #[test]
+    fn max_depth_matches_dense_sampling_and_the_hit_test() {
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32 * 4.0 - 2.0
+        };
+        let e = Vec3A::new(1.0, 0.5, 0.25);
+        for _ in 0..5_000 {
+            let c = Vec3A::new(next(), next(), next());
+            let h = Vec3A::new(next(), next(), next()) * 0.7;
+            let depth = max_depth_local(c, h, e);
+            let steps = 4000;
+            let sampled = (0..=steps)
+                .map(|i| {
+                    let t = -1.0 + 2.0 * i as f32 / steps as f32;
+                    (e - (c + h * t).abs()).min_element()
+                })
+                .fold(f32::NEG_INFINITY, f32::max);
+            let slope = h.abs().max_element();
+            assert!(
+                depth >= sampled - 1e-5,
+                "{c} {h}: {depth} < sampled {sampled}"
+            );
+            assert!(
+                depth <= sampled + slope * 2.0 / steps as f32 + 1e-5,
+                "{c} {h}: {depth} > sampled {sampled}"
+            );
+            if depth.abs() > 1e-5 {
+                assert_eq!(hits_centred_local(c, h, e), depth > 0.0, "{c} {h}");
+            }
+        }
+    }
+
+    /// A segment sliding past a box: the depth changes continuously, with no
+    /// jump where the hit test flips (the grazing contact of issue 12).
+    #[test]
+    fn depth_is_continuous_across_a_grazing_contact() {
+        let e = Vec3A::new(0.5, 0.5, 0.5);
+        let h = Vec3A::new(0.3, 0.4, 0.0);
+        let mut last = None;
+        for i in 0..=2000 {
+            let x = 0.6 + 0.4 * i as f32 / 2000.0;
+            let d = max_depth_local(Vec3A::new(x, 0.0, 0.1), h, e);
+            if let Some(prev) = last {
+                let step: f32 = d - prev;
+                assert!(step.abs() <= 0.001, "jump of {step} at x = {x}");
+            }
+            last = Some(d);
+        }
     }
 }

@@ -53,13 +53,15 @@ pub fn weights(n: usize, a: f32, b: f32) -> [f32; MAX_SEGMENTS] {
 /// - `v1`: the external force as a displacement of this step, `EqF · dt`
 ///   (DESIGN §6, ours), metres.
 /// - `num`: the number of the blade's segments that hit the object (1 for
-///   PBG); 0 is taken as 1.
+///   PBG). The simulation counts each segment by its contact weight in
+///   [0, 1] (DESIGN §6, ours: a grazing segment counts for little), so
+///   `num` is a real number; below 1 it is taken as 1 (NaN too).
 ///
 /// Returns [`Vec3::ZERO`] when `AB` is (nearly) zero, when `v1` is parallel
 /// to `AB` within 1e-6 rad (no perpendicular direction: the paper's `v2` is
 /// undefined), or when an input is not finite.
 #[must_use]
-pub fn offset_base(ab: Vec3, v1: Vec3, num: u32) -> Vec3 {
+pub fn offset_base(ab: Vec3, v1: Vec3, num: f32) -> Vec3 {
     let ab_len2 = ab.length_squared();
     if !ab.is_finite() || !v1.is_finite() || ab_len2 <= f32::MIN_POSITIVE {
         return Vec3::ZERO;
@@ -68,7 +70,7 @@ pub fn offset_base(ab: Vec3, v1: Vec3, num: u32) -> Vec3 {
     if perpendicular.length_squared() <= 1e-12 * v1.length_squared() {
         return Vec3::ZERO;
     }
-    let base = perpendicular / num.max(1) as f32;
+    let base = perpendicular / num.max(1.0);
     if base.is_finite() { base } else { Vec3::ZERO }
 }
 
@@ -105,7 +107,8 @@ pub fn preserve_lengths(verts: &mut [Vec3A], seg_len: f32, terrain: &Terrain, cl
 ///
 /// - `v1`: the force as this step's displacement `EqF · dt`, metres
 ///   (DESIGN §6, ours: frame-rate independent).
-/// - `num`: segments that hit (Eq. 5; 1 for PBG, 0 taken as 1).
+/// - `num`: segments that hit (Eq. 5; 1 for PBG; below 1 taken as 1), each
+///   counted by its contact weight (see [`offset_base`]).
 ///
 /// The blade is left unchanged (bit for bit) when the offset-base vector is
 /// zero, or when `v1`, a weight, `seg_len` or the root is not finite (or
@@ -114,7 +117,7 @@ pub fn bend_blade(
     verts: &mut [Vec3A],
     seg_len: f32,
     v1: Vec3,
-    num: u32,
+    num: f32,
     weights: &[f32],
     terrain: &Terrain,
     clearance: f32,

@@ -1,6 +1,7 @@
 //! Deformation (paper §6): blade bending with length preservation (Eq. 5–7,
 //! Fig. 7), billboard slopes (Eq. 8) and transitions between the levels of
-//! detail (Eq. 9–13).
+//! detail (Eq. 9–13); and (ours) the contact response that moves blades
+//! out of objects whatever their speed.
 //!
 //! Conventions shared by the files here:
 //! - A blade is a slice of `n + 1` vertices, world space, metres: vertex 0 is
@@ -16,4 +17,5 @@
 
 pub mod bend;
 pub mod billboard;
+pub mod contact;
 pub mod transition;

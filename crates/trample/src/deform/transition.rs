@@ -18,7 +18,7 @@
 //! slope is their mean direction scaled to unit rest height.
 
 use super::bend::{offset_base, preserve_from, valid_blade};
-use crate::field::Terrain;
+use crate::field::{Blades, Terrain};
 use glam::{Vec3, Vec3A};
 
 /// A blade's offset from its rest slope, per unit rest height (Eq. 9–10,
@@ -56,6 +56,38 @@ pub fn mean_offset(offsets: impl IntoIterator<Item = Vec3>) -> Vec3 {
     if k == 0 { Vec3::ZERO } else { sum / k as f32 }
 }
 
+/// A cell's billboard offset `off^b` (Eq. 9–11, the mean of
+/// [`blade_offset`] over the cell's blades `blades_of_cell`) and its
+/// flatness (ours: the mean over the same blades of `1 − tip height / rest
+/// tip height`, clamped to [0, 1]; see [`crate::field::Cells::flatness`]).
+/// Reads the blades' current and rest vertices; allocates nothing.
+#[must_use]
+pub fn cell_offset_and_flatness(
+    blades: &Blades,
+    blades_of_cell: std::ops::Range<usize>,
+) -> (Vec3, f32) {
+    let n = blades.segments;
+    let count = blades_of_cell.len();
+    let (mut flat, mut k) = (0.0, 0u32);
+    let off = mean_offset(blades_of_cell.map(|b| {
+        let (root, rest_root) = (blades.vertex(b, 0), blades.rest[b]);
+        let chord = Vec3::from(blades.vertex(b, n) - root);
+        let rest = Vec3::from(blades.rest[n * blades.count + b] - rest_root);
+        let f = crate::recovery::flatness(chord.y, rest.y);
+        if f.is_finite() {
+            flat += f;
+            k += 1;
+        }
+        blade_offset(chord, rest)
+    }));
+    let flatness = if k == 0 || count == 0 {
+        0.0
+    } else {
+        flat / k as f32
+    };
+    (off, flatness)
+}
+
 /// The billboard slope from its offset, Eq. 12 as a direction:
 /// `slope^b = slope^b_origin + off^b`, dimensionless. The paper's factor
 /// `height_g` is applied when the top edge is placed
@@ -87,7 +119,7 @@ pub fn offset_from_slope(slope_b: Vec3, slope_origin_b: Vec3) -> Vec3 {
 /// Billboard → geometry (paper §6.3 (2)): the billboard's offset acts as the
 /// external force on the **last segment** of a blade through Eq. 5, in place.
 ///
-/// `base` = [`offset_base`]`(V_n − V_0, v1, 1)` is added to the tip `V_n`
+/// `base` = [`offset_base`]`(V_n − V_0, v1, 1.0)` is added to the tip `V_n`
 /// alone, then the last segment gets its length back (Fig. 7, with the
 /// ground guard of [`preserve_lengths`](super::bend::preserve_lengths)).
 /// Vertices `0 ..= n−1` are not touched (bit for bit).
@@ -112,7 +144,7 @@ pub fn bend_last_segment(
     if n == 0 || !valid_blade(verts, seg_len) || !v1.is_finite() || !verts[n - 1].is_finite() {
         return;
     }
-    let base = Vec3A::from(offset_base((verts[n] - verts[0]).into(), v1, 1));
+    let base = Vec3A::from(offset_base((verts[n] - verts[0]).into(), v1, 1.0));
     if base == Vec3A::ZERO {
         return;
     }

@@ -18,6 +18,12 @@ pub struct Cells {
     pub slope_origin: Vec<Vec3>,
     /// Current billboard slope `slope_b` (Eq. 8, 12), dimensionless direction.
     pub slope: Vec<Vec3>,
+    /// How flattened the cell's blades are, in [0, 1] (ours, DESIGN §2): the
+    /// mean over its blades of `1 − (tip height above root) / (rest tip
+    /// height above root)`, clamped. 0 at rest. Kept up to date wherever
+    /// blades move when `sim.track_everywhere` is on, so a renderer can show
+    /// the track on ground-texture cells (darker, flatter ground).
+    pub flatness: Vec<f32>,
     /// Per patch: the level shared by all its cells, if they share one
     /// (lets [`super::lod::classify_cells`] skip settled patches).
     pub patch_lod: Vec<Option<Lod>>,

@@ -241,6 +241,7 @@ fn rest_cells(layout: &FieldLayout, blades: &Blades, terrain: &Terrain) -> Cells
         height,
         slope: slope_origin.clone(),
         slope_origin,
+        flatness: vec![0.0; layout.cell_count()],
     }
 }
 

@@ -64,7 +64,28 @@ pub struct PropagationParams {
     /// values above [`GENERATION_CAP`] are lowered to it. 0 turns
     /// propagation off.
     pub max_generations: u32,
+    /// Width of the fade-in of the threshold, as a fraction of `L` (ours,
+    /// DESIGN §5 "continuous"): an active blade of energy `|F|` pushes its
+    /// neighbours with `EF' · att · min(1, (|F| − L) / (fade · L))`, so a
+    /// blade a few ulp either side of `L` pushes by a few ulp, not by
+    /// `att · L` or nothing. 0 (or NaN) is the paper's hard threshold.
+    /// The simulation uses [`THRESHOLD_FADE`].
+    pub threshold_fade: f32,
+    /// Contact weight at which a DBG blade is wholly held, an ancestor of
+    /// the paper (ours; see `weight` of [`propagate_forces`]): a blade of
+    /// weight `w` is held `min(1, w / hold_weight)`. 0 (or NaN): every DBG
+    /// blade is wholly held, as in the paper. The simulation uses
+    /// [`crate::step::stages::HOLD_WEIGHT`].
+    pub hold_weight: f32,
 }
+
+/// The simulation's [`PropagationParams::threshold_fade`]: the push of Eq. 4
+/// reaches its full `EF' · att` at 1.25 L (a quarter of the threshold above
+/// it). Measured on the default scene: two runs whose blades differ by two
+/// ulp at one frame ended 1.4 mm apart 50 frames later with the paper's
+/// hard threshold (one blade a hair's breadth from L), a few µm with the
+/// fade.
+pub const THRESHOLD_FADE: f32 = 0.25;
 
 /// What [`propagate_forces`] reached.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -76,6 +97,11 @@ pub struct PropagationResult {
     /// `force` and `generation` the call changed: the caller resets exactly
     /// these before the next call.
     pub pbg: Vec<u32>,
+    /// For each entry of `pbg`, the blade of the previous generation whose
+    /// contribution comes first in the fixed neighbour order −x, +x, −z, +z:
+    /// the one that pushed it (ours: a reached blade follows the track
+    /// settings of the object that pushed its ancestor, DESIGN §6).
+    pub sources: Vec<u32>,
 }
 
 /// Propagates the forces of the directly hit blades (DBG) to the blades
@@ -96,6 +122,15 @@ pub struct PropagationResult {
 ///   the result has no vertical component).
 /// - `generation[b]`: precondition [`NO_GENERATION`] for every blade not in
 ///   `dbg`; DBG blades are set to 0 here. Reached blades get 1, 2, ….
+/// - `weight[b]` (ours, DESIGN §5 "continuous"), for the DBG blades: how
+///   firmly an object touches the blade (its contact weight). It is held
+///   `min(1, weight / hold_weight)` (1 where `weight` is too short to cover
+///   the blade, or `hold_weight` is 0). The paper's ancestors (held 1) are
+///   never changed again (Definition 7); an ancestor held less can still be
+///   reached, once, by a neighbour's push, and takes `(1 − held)` of it on
+///   top of its own force — it then joins that generation. A blade barely
+///   touched is so nearly a child, one held firmly an ancestor, with no
+///   jump between.
 ///
 /// Only the first `min(neighbours.len(), force.len(), generation.len())`
 /// blades take part. A blade with a non-finite force is never active (a bad
@@ -109,6 +144,7 @@ pub fn propagate_forces(
     neighbours: &[[u32; 4]],
     force: &mut [Vec3],
     generation: &mut [u8],
+    weight: &[f32],
     params: &PropagationParams,
 ) -> PropagationResult {
     let len = neighbours.len().min(force.len()).min(generation.len());
@@ -118,7 +154,17 @@ pub fn propagate_forces(
         params.att.clamp(0.0, 1.0)
     };
     let threshold = params.threshold;
+    let fade = if params.threshold_fade > 0.0 {
+        params.threshold_fade * threshold
+    } else {
+        0.0
+    };
     let cap = params.max_generations.min(GENERATION_CAP);
+    let hold = params.hold_weight;
+    let held_at = |b: usize| match weight.get(b) {
+        Some(&w) if hold > 0.0 => (w / hold).clamp(0.0, 1.0),
+        _ => 1.0,
+    };
 
     let mut frontier: Vec<u32> = dbg
         .iter()
@@ -147,7 +193,12 @@ pub fn propagate_forces(
                 pointed_at(nb, f.x, NEG_X, POS_X),
                 pointed_at(nb, f.z, NEG_Z, POS_Z),
             ] {
-                if (target as usize) < len && generation[target as usize] == NO_GENERATION {
+                let t = target as usize;
+                // Unreached, or an ancestor not wholly held that has not
+                // been reached yet (it would have left generation 0).
+                if t < len
+                    && (generation[t] == NO_GENERATION || (generation[t] == 0 && held_at(t) < 1.0))
+                {
                     candidates.push(target);
                 }
             }
@@ -160,7 +211,16 @@ pub fn propagate_forces(
 
         // Eq. 4, gathered: every candidate sums what points at it.
         let (f_read, g_read) = (&*force, &*generation);
-        let gather = |&c: &u32| gather_force(c, g, neighbours, f_read, g_read, len, att, threshold);
+        let gather = |&c: &u32| {
+            let take = if g_read[c as usize] == 0 {
+                1.0 - held_at(c as usize)
+            } else {
+                1.0
+            };
+            gather_force(
+                c, g, neighbours, f_read, g_read, len, att, threshold, fade, take,
+            )
+        };
         sums.clear();
         if candidates.len() > PARALLEL_FRONTIER {
             candidates
@@ -170,9 +230,10 @@ pub fn propagate_forces(
         } else {
             sums.extend(candidates.iter().map(gather));
         }
-        for (&c, &f) in candidates.iter().zip(&sums) {
+        for (&c, &(f, source)) in candidates.iter().zip(&sums) {
             force[c as usize] = f;
             generation[c as usize] = g + 1;
+            result.sources.push(source);
         }
         result.pbg.extend_from_slice(&candidates);
         result.generations += 1;
@@ -185,6 +246,17 @@ pub fn propagate_forces(
 /// threshold.
 fn is_active(f: Vec3, threshold: f32) -> bool {
     f.is_finite() && f.length() >= threshold
+}
+
+/// How much of its push an active blade of force `f` gives (see
+/// [`PropagationParams::threshold_fade`]): `min(1, (|F| − L) / fade)`, 1
+/// when `fade` is 0.
+fn fade_in(f: Vec3, threshold: f32, fade: f32) -> f32 {
+    if fade > 0.0 {
+        ((f.length() - threshold) / fade).clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
 }
 
 /// The neighbour a force component points at (Definition 6): `pos` slot for
@@ -200,8 +272,10 @@ fn pointed_at(nb: &[u32; 4], component: f32, neg: usize, pos: usize) -> u32 {
 }
 
 /// Eq. 4 for blade `c` of generation `g + 1`: its own force `EF_origin` plus
-/// `EF' · att` from each active generation-`g` neighbour pointing at it, in
-/// the fixed order −x, +x, −z, +z.
+/// `take ·` `EF' · att` (faded in, see [`fade_in`]) from each active
+/// generation-`g` neighbour pointing at it, in the fixed order −x, +x, −z,
+/// +z; and the first such neighbour ([`NO_NEIGHBOUR`] if none, which a
+/// candidate never has).
 fn gather_force(
     c: u32,
     g: u8,
@@ -211,7 +285,9 @@ fn gather_force(
     len: usize,
     att: f32,
     threshold: f32,
-) -> Vec3 {
+    fade: f32,
+    take: f32,
+) -> (Vec3, u32) {
     // (slot of the neighbour J seen from c, slot of c seen from J, axis, sign
     // of J's component that points at c).
     const FROM: [(usize, usize, usize, f32); 4] = [
@@ -221,6 +297,7 @@ fn gather_force(
         (POS_Z, NEG_Z, 2, -1.0),
     ];
     let mut sum = force[c as usize];
+    let mut first = NO_NEIGHBOUR;
     for (slot, back, axis, sign) in FROM {
         let j = neighbours[c as usize][slot];
         if j as usize >= len || generation[j as usize] != g || neighbours[j as usize][back] != c {
@@ -231,8 +308,11 @@ fn gather_force(
         if component * sign > 0.0 && is_active(f, threshold) {
             let mut ef = Vec3::ZERO;
             ef[axis] = component;
-            sum += ef * att;
+            sum += ef * (att * fade_in(f, threshold, fade) * take);
+            if first == NO_NEIGHBOUR {
+                first = j;
+            }
         }
     }
-    sum
+    (sum, first)
 }

@@ -122,7 +122,9 @@ impl ObbTree {
             closed,
             max_depth,
             inside: None,
+            reach: Vec::new(),
         };
+        tree.reach = super::reach::reach_boxes(&tree.nodes);
         tree.inside = InsideGrid::build(&tree, |p| point_inside_by_ray(&tree, p));
         tree
     }
@@ -131,6 +133,18 @@ impl ObbTree {
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.triangles.is_empty()
+    }
+
+    /// Eq. 3's EqN of node `node`, normalised, when it is a reliable normal
+    /// (`|EqN| ≥` [`EQN_EPSILON`]: the node's triangles face mostly one way);
+    /// `None` otherwise (or for a node out of range). See also
+    /// [`ObbTree::eqn_direction`].
+    #[must_use]
+    #[inline]
+    pub fn eqn_unit(&self, node: u32) -> Option<Vec3> {
+        let n = self.nodes.get(node as usize)?;
+        let len = n.eqn.length();
+        (len >= EQN_EPSILON && len.is_finite()).then(|| n.eqn / len)
     }
 
     /// The unit direction in which node `node` pushes a blade whose segment

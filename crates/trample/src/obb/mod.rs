@@ -2,11 +2,13 @@
 //! oriented bounding boxes, built once per mesh (paper §3.2 off-line stage,
 //! §4.2; DESIGN §3). One operation per file, parry-style: [`fit`] (one box
 //! around triangles), [`build`] (the tree, Eq. 3, EqN direction),
-//! [`validation`] (invariants); the types are in [`node`].
+//! [`reach`] (the pruning boxes of the contact walk), [`validation`]
+//! (invariants); the types are in [`node`].
 
 pub mod build;
 pub mod fit;
 pub mod node;
+pub mod reach;
 pub mod validation;
 
 pub use build::{DEFAULT_MAX_DEPTH, EQN_EPSILON, MAX_TREE_DEPTH, equivalent_normal};

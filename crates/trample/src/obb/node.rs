@@ -92,4 +92,10 @@ pub struct ObbTree {
     /// Voxel classification that answers most inside tests of a closed mesh
     /// without a ray cast (`None` for open meshes).
     pub inside: Option<crate::collision::inside_grid::InsideGrid>,
+    /// Per node, the box with the node's axes that holds its own box and
+    /// every descendant's ([`super::reach::reach_boxes`]): what the
+    /// simulation's contact walk prunes with, so that it reaches every
+    /// final-depth node whose box a segment meets even where a child's box
+    /// sticks out of its parent's.
+    pub reach: Vec<Obb>,
 }

@@ -45,6 +45,75 @@ pub struct ObjectParams {
     /// Default 0.
     #[serde(default)]
     pub start_s: f32,
+    /// How the object marks the grass: how hard it presses and how long its
+    /// track lasts (ours, DESIGN §6). Default: presses as Eq. 2 says, track
+    /// as `[sim]` says.
+    #[serde(default)]
+    pub track: TrackParams,
+}
+
+/// How an object marks the grass (ours, DESIGN §6 "each object may set its
+/// own trail"): a tractor leaves a lasting track, a walker a short one. In a
+/// scene file: `track = { recovery_s = 30.0, trail = 4.0, press = 1.5 }`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TrackParams {
+    /// Recovery time constant of the blades this object pressed last,
+    /// seconds (see `sim.recovery_s`); `inf` = they stay down. Default: none,
+    /// `sim.recovery_s` applies.
+    pub recovery_s: Option<f32>,
+    /// How much more slowly the blades it flattened recover (see
+    /// `sim.trail`), ≥ 0. Default: none, `sim.trail` applies.
+    pub trail: Option<f32>,
+    /// Factor on the force of Eq. 2 for this object, ≥ 0 (dimensionless): a
+    /// heavy object pushes the grass farther per metre it travels. 0 leaves
+    /// only the contact response. Default 1: the paper's force.
+    pub press: f32,
+}
+
+impl Default for TrackParams {
+    fn default() -> Self {
+        Self {
+            recovery_s: None,
+            trail: None,
+            press: 1.0,
+        }
+    }
+}
+
+impl TrackParams {
+    /// Checks the values; the error names the key under `track`.
+    ///
+    /// # Errors
+    /// [`ObjectErrorKind::BadParameter`] for the first bad value.
+    pub fn validate(&self) -> Result<(), ObjectErrorKind> {
+        if let Some(r) = self.recovery_s
+            && (r.is_nan() || r <= 0.0)
+        {
+            return Err(bad(
+                "track.recovery_s",
+                r.to_string(),
+                "must be > 0 seconds, or inf for a lasting track",
+            ));
+        }
+        if let Some(t) = self.trail
+            && !(t.is_finite() && t >= 0.0)
+        {
+            return Err(bad(
+                "track.trail",
+                t.to_string(),
+                "must be a finite number >= 0",
+            ));
+        }
+        if !(self.press.is_finite() && self.press >= 0.0) {
+            return Err(bad(
+                "track.press",
+                self.press.to_string(),
+                "must be a finite number >= 0",
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// A uniform scale or one per axis.
@@ -157,6 +226,8 @@ pub struct Object {
     pub report: SanitizeReport,
     /// Whether the mesh is closed ([`TriMesh::is_closed`]).
     pub closed: bool,
+    /// How it marks the grass (from [`ObjectParams::track`]).
+    pub track: TrackParams,
 }
 
 /// Why an object of a scene was refused: `objects[INDEX] (NAME): ` and what
@@ -249,6 +320,7 @@ impl Object {
                 value,
             })));
         }
+        params.track.validate().map_err(error)?;
         let scale = scale_factors(params.scale).map_err(error)?;
         if params.rotation_deg.iter().any(|d| !d.is_finite()) {
             return Err(error(bad(
@@ -282,6 +354,7 @@ impl Object {
             motion,
             report,
             closed,
+            track: params.track,
         })
     }
 

@@ -22,7 +22,7 @@ pub mod sanitize;
 pub mod shapes;
 pub mod spline;
 
-pub use body::{Object, ObjectError, ObjectErrorKind, ObjectParams, ShapeParams};
+pub use body::{Object, ObjectError, ObjectErrorKind, ObjectParams, ShapeParams, TrackParams};
 pub use error::MeshError;
 pub use mesh::TriMesh;
 pub use motion::{Motion, MotionError};

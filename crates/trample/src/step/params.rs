@@ -48,6 +48,29 @@ pub struct SimParams {
     /// comes back gets its blades as they were (the renderer's no-popping
     /// test measures the difference).
     pub transitions: bool,
+    /// The contact response (ours, DESIGN §5 "Contact"): every blade vertex
+    /// found inside an object is moved to its surface, whatever the object's
+    /// speed, and a blade an object holds does not recover. Default `true`.
+    /// `false` is the paper: Eq. 2 alone, so an object that stands still
+    /// leaves the grass through it.
+    pub contact: bool,
+    /// Thickness of the contact shell, metres (ours, DESIGN §5 "a continuous
+    /// response"): the OBB-tree boxes are grown by it for the simulation's
+    /// narrow phase, and a segment's contact weight rises from 0 at the
+    /// grown box's surface to 1 at this depth into it, so a grazing contact
+    /// bends a blade a little instead of fully. Default 0.005: about half a
+    /// blade's width (a blade's centre line touches an object this far
+    /// before its surface). In (0, 0.5].
+    pub contact_shell_m: f32,
+    /// Where an object leaves a track (ours, DESIGN §2 "Simulation is not
+    /// drawing"). Default `true`: every blade an object touches is simulated
+    /// whatever the level of detail of its cell; billboards take their slope
+    /// from their cell's blades (Eq. 11–12) and ground-texture cells a
+    /// flatness, so a track made far away is there, as made, when the
+    /// camera comes close. `false` is the paper: only geometric cells are
+    /// simulated, billboards are bent by Eq. 8 and a cell coming back to
+    /// geometry gets its billboard's offset on its last segment (Eq. 13).
+    pub track_everywhere: bool,
 }
 
 impl Default for SimParams {
@@ -65,6 +88,9 @@ impl Default for SimParams {
             max_substeps: 16,
             memory_limit_gib: 8.0,
             transitions: true,
+            contact: true,
+            contact_shell_m: 0.005,
+            track_everywhere: true,
         }
     }
 }
@@ -153,6 +179,13 @@ impl SimParams {
                 "max_substeps",
                 f64::from(self.max_substeps),
                 "must be 1..=1024",
+            );
+        }
+        if !(self.contact_shell_m > 0.0 && self.contact_shell_m <= 0.5) {
+            return err(
+                "contact_shell_m",
+                f64::from(self.contact_shell_m),
+                "must be in (0, 0.5] metres",
             );
         }
         if !(self.memory_limit_gib.is_finite() && self.memory_limit_gib > 0.0) {

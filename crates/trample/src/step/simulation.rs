@@ -79,9 +79,15 @@ impl Body {
 pub(crate) struct Scratch {
     /// Force on each blade this sub-step (world, m/s); ZERO outside `touched`.
     pub force: Vec<Vec3>,
-    /// Number of segments of each blade hit this sub-step.
-    pub num: Vec<u8>,
-    /// Blades whose `force`/`num`/`generation` were set in the latest sub-step.
+    /// Contact weight of each blade this sub-step: the sum over objects and
+    /// segments of the segments' weights ([`crate::collision::contact_blade`]);
+    /// Eq. 5's `num` (DESIGN §6) and how firmly an object holds the blade
+    /// (recovery waits while it is ≥ 1). 0 outside `touched`.
+    pub weight: Vec<f32>,
+    /// The largest weight of one object on each blade this sub-step (which
+    /// object's track settings the blade follows); 0 outside `touched`.
+    pub owner_weight: Vec<f32>,
+    /// Blades whose `force`/`weight`/`generation` were set in the latest sub-step.
     pub touched: Vec<u32>,
     /// Blades away from rest, ascending (recovered each step).
     pub displaced: Vec<u32>,
@@ -130,6 +136,12 @@ pub struct Simulation {
     /// Wind drawn over the grass by renderers (DESIGN §6): not part of the
     /// simulation state, which shows the interaction alone. Default: calm.
     pub wind: crate::wind::WindParams,
+    /// Per blade: whose track settings its recovery follows (ours, DESIGN
+    /// §6): 1 + the index of the body that last pressed it firmly (a contact
+    /// weight of at least [`super::stages::DBG_WEIGHT`]; blades reached by
+    /// propagation inherit from the blade that pushed them), or 0 for
+    /// `[sim]`'s `recovery_s` and `trail` (also for bodies past index 254).
+    pub track_owner: Vec<u8>,
     pub(crate) scratch: Scratch,
 }
 
@@ -195,9 +207,11 @@ impl Simulation {
             substep_clamps: 0,
             first_substep_clamp: None,
             wind: crate::wind::WindParams::default(),
+            track_owner: vec![0; blades],
             scratch: Scratch {
                 force: vec![Vec3::ZERO; blades],
-                num: vec![0; blades],
+                weight: vec![0.0; blades],
+                owner_weight: vec![0.0; blades],
                 displaced_flag: vec![false; blades],
                 bent_flag: vec![false; cells],
                 ..Scratch::default()
@@ -294,10 +308,35 @@ impl Simulation {
         out
     }
 
-    /// Number of blades currently hit directly (last sub-step of last step).
+    /// Number of blades not at their rest shape (bit for bit) now.
+    ///
+    /// Counts the displaced set ([`Simulation::rescan_displaced`] rebuilds
+    /// it from the field): only blades the step really moved enter it, and
+    /// recovery removes them once they are exactly at rest again.
     #[must_use]
     pub fn blades_away_from_rest(&self) -> usize {
-        self.scratch.displaced.len()
+        let bl = &self.field.blades;
+        self.scratch
+            .displaced
+            .iter()
+            .filter(|&&b| !bl.is_at_rest(b as usize))
+            .count()
+    }
+
+    /// The recovery parameters of a blade whose [`Simulation::track_owner`]
+    /// is `owner` (DESIGN §6): the body's `track` settings where it has them,
+    /// `[sim]`'s otherwise.
+    #[must_use]
+    pub fn recovery_params(&self, owner: u8) -> crate::recovery::RecoveryParams {
+        let track = (owner as usize)
+            .checked_sub(1)
+            .and_then(|i| self.bodies.get(i))
+            .map(|b| b.object.track)
+            .unwrap_or_default();
+        crate::recovery::RecoveryParams {
+            recovery_s: track.recovery_s.unwrap_or(self.params.recovery_s),
+            trail: track.trail.unwrap_or(self.params.trail),
+        }
     }
 }
 

@@ -1,25 +1,43 @@
 //! The stages of one sub-step, in DESIGN §7 order. Each stage is a plain
 //! function over the simulation's slices; the equations live in the stage
-//! modules (`collision`, `force`, `deform`, `recovery`) and are only called here.
+//! modules (`collision`, `force`, `deform`, `recovery`) and are only called
+//! here and in the step modules beside this one (`collide.rs`: narrow phase
+//! and forces; `deform.rs`: bending, contact, billboards, transitions;
+//! `recover.rs`: recovery).
 
+use super::collide::{accumulate_contacts, narrow_phase};
+use super::deform::{
+    apply_transitions, bend_billboards, bend_blades, cells_from_blades, resolve_contacts,
+};
+use super::recover::recover;
 use super::simulation::{BladeClass, Simulation, ms};
 use super::timings::StepTimings;
 use crate::collision::broad_phase::patches_hit;
-use crate::collision::narrow_phase::{BladeContacts, collide_blade};
-use crate::collision::segment_obb::segment_hits_obb;
-use crate::deform::bend::{bend_blade, weights};
-use crate::deform::billboard::{billboard_slope, billboard_top, deflect_billboard};
-use crate::deform::transition::{
-    bend_last_segment, blade_offset, mean_offset, offset_from_slope, slope_from_offset,
+use crate::field::classify_cells;
+use crate::force::propagation::{
+    NO_GENERATION, PropagationParams, THRESHOLD_FADE, propagate_forces,
 };
-use crate::field::generate::GROUND_CLEARANCE_M;
-use crate::field::{Lod, LodChange, MAX_SEGMENTS, classify_cells};
-use crate::force::eqf::eqf;
-use crate::force::propagation::{NO_GENERATION, PropagationParams, propagate_forces};
-use crate::recovery::{RecoveryParams, recover_blade, recover_slope};
-use glam::{Vec3, Vec3A};
-use rayon::prelude::*;
+use glam::Vec3;
 use std::time::Instant;
+
+/// Contact weight from which a blade counts as hit directly (DBG) in a
+/// sub-step (ours): its class becomes [`BladeClass::Direct`], it counts in
+/// the DBG figures and it follows the touching object's track settings.
+///
+/// Why not 0: a segment that grazes a box on an exact float tie has weight
+/// 0 on one machine and a few ulp on another, and the class of a blade
+/// must not depend on that. A tie at 0.01, a generic value, is as rare as
+/// any other; and it decides a class, never a position.
+pub const DBG_WEIGHT: f32 = 0.01;
+
+/// Contact weight from which a touched blade is wholly an ancestor of
+/// propagation (Definition 4: never changed by a neighbour's push); a blade
+/// touched more lightly is an ancestor in part and still takes part of a
+/// neighbour's push ([`propagate_forces`]), so that the contact weight,
+/// which rises continuously from 0, never switches a blade between
+/// ancestor and child at once (a jump of `att` times a neighbour's push:
+/// centimetres).
+pub const HOLD_WEIGHT: f32 = 0.1;
 
 /// How a step of `dt` is split (DESIGN §9, ours): no object may move
 /// farther than its own thickness (or one cell, if it is thinner) in one
@@ -106,35 +124,37 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     for &b in &sim.scratch.touched {
         let b = b as usize;
         sim.scratch.force[b] = Vec3::ZERO;
-        sim.scratch.num[b] = 0;
+        sim.scratch.weight[b] = 0.0;
+        sim.scratch.owner_weight[b] = 0.0;
         sim.generation[b] = NO_GENERATION;
     }
     sim.scratch.touched.clear();
 
-    // Narrow phase and EqF per geometric blade (Eq. 2), object by object.
-    for (body, hits) in sim.bodies.iter().zip(&patch_hits) {
+    // Narrow phase and EqF per blade (Eq. 2), object by object.
+    let mut contacts = Vec::with_capacity(sim.bodies.len());
+    for (i, hits) in patch_hits.iter().enumerate() {
         let clock = Instant::now();
-        let contacts = narrow_phase(sim, body, hits, tm);
+        let found = narrow_phase(sim, &sim.bodies[i], hits, h, tm);
         tm.narrow_ms += ms(clock);
         let clock = Instant::now();
-        for (b, force, num) in contacts {
-            let bi = b as usize;
-            if sim.scratch.num[bi] == 0 {
-                sim.scratch.touched.push(b);
-            }
-            sim.scratch.force[bi] += force;
-            sim.scratch.num[bi] = sim.scratch.num[bi].saturating_add(num);
-        }
+        accumulate_contacts(sim, i, &found);
+        contacts.push(found);
         tm.forces_ms += ms(clock);
     }
     let clock = Instant::now();
     sim.scratch.touched.sort_unstable();
+    // Every blade touched is an ancestor of propagation, held by its contact
+    // weight (see `propagate_forces`); DBG in the paper's sense (class,
+    // counts) from DBG_WEIGHT on.
     let dbg = sim.scratch.touched.clone();
+    let mut direct = 0;
     for &b in &dbg {
-        sim.generation[b as usize] = 0;
-        sim.class[b as usize] = BladeClass::Direct as u8;
+        if sim.scratch.weight[b as usize] >= DBG_WEIGHT {
+            sim.class[b as usize] = BladeClass::Direct as u8;
+            direct += 1;
+        }
     }
-    tm.dbg_blades = dbg.len() as u32;
+    tm.dbg_blades = direct;
     tm.forces_ms += ms(clock);
 
     // Propagation to neighbouring blades (Eq. 4).
@@ -144,27 +164,48 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
         &sim.field.layout.neighbours,
         &mut sim.scratch.force,
         &mut sim.generation,
+        &sim.scratch.weight,
         &PropagationParams {
             att: sim.params.att,
             threshold: sim.params.threshold,
             max_generations: sim.params.max_generations,
+            threshold_fade: THRESHOLD_FADE,
+            hold_weight: HOLD_WEIGHT,
         },
     );
-    for &b in &prop.pbg {
+    for (&b, &source) in prop.pbg.iter().zip(&prop.sources) {
         if sim.class[b as usize] == BladeClass::Untouched as u8 {
             sim.class[b as usize] = BladeClass::Propagated as u8;
         }
+        if let Some(&owner) = sim.track_owner.get(source as usize) {
+            sim.track_owner[b as usize] = owner;
+        }
     }
-    sim.scratch.touched.extend_from_slice(&prop.pbg);
     tm.pbg_blades = prop.pbg.len() as u32;
     tm.generations = prop.generations;
     tm.propagation_ms += ms(clock);
 
-    // Deformation: blades (Eq. 5–7) and billboards (Eq. 8).
+    // Deformation: blades (Eq. 5–7), the contact response (ours) and, in the
+    // paper's mode, billboards (Eq. 8).
     let clock = Instant::now();
-    let forced: Vec<u32> = dbg.iter().chain(&prop.pbg).copied().collect();
-    bend_blades(sim, &forced, h);
-    tm.bbg_cells += bend_billboards(sim, &patch_hits);
+    let mut forced: Vec<u32> = sim.scratch.touched.clone();
+    forced.extend_from_slice(&prop.pbg);
+    forced.sort_unstable();
+    forced.dedup();
+    sim.scratch.touched.extend_from_slice(&prop.pbg);
+    let mut changed = bend_blades(sim, &forced, h);
+    tm.deformation_ms += ms(clock);
+    let clock = Instant::now();
+    if sim.params.contact {
+        let moved = resolve_contacts(sim, &contacts);
+        tm.contact_blades += moved.len() as u32;
+        changed.extend(moved);
+    }
+    tm.contact_ms += ms(clock);
+    let clock = Instant::now();
+    if !sim.params.track_everywhere {
+        tm.bbg_cells += bend_billboards(sim, &patch_hits);
+    }
     tm.deformation_ms += ms(clock);
 
     // Transitions between levels of detail (Eq. 9–13).
@@ -175,266 +216,30 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     }
     tm.transitions_ms += ms(clock);
 
-    // Recovery towards rest.
+    // Recovery towards rest; then (ours) the billboards and the flatness of
+    // every cell whose blades moved follow its blades (Eq. 9–12).
     let clock = Instant::now();
-    recover(sim, h);
+    changed.extend(recover(sim, h));
     tm.recovery_ms += ms(clock);
-}
-
-/// Narrow phase for one body: every geometric blade in the patches its root
-/// box overlaps, segments moved into the body's frame once and tested down
-/// to the precision; returns (blade, Σ EqF over hit segments, hit count).
-fn narrow_phase(
-    sim: &Simulation,
-    body: &super::simulation::Body,
-    patches: &[u32],
-    tm: &mut StepTimings,
-) -> Vec<(u32, Vec3, u8)> {
-    let layout = &sim.field.layout;
-    let bpc = layout.blades_per_cell as usize;
-    let (min, max) = reach_rect(&body.world_root, sim.field.max_blade_length);
-    let candidates: Vec<u32> = patches
-        .iter()
-        .flat_map(|&p| layout.patch_cells_overlapping(p as usize, min, max))
-        .filter(|&c| sim.field.cells.lod[c] == Lod::Geometry)
-        .flat_map(|c| (c * bpc) as u32..((c + 1) * bpc) as u32)
-        .collect();
-    tm.narrow_candidates += candidates.len() as u32;
-    let blades = &sim.field.blades;
-    let n = blades.segments;
-    let pose = body.pose;
-    let precision = sim.params.precision;
-    candidates
-        .par_iter()
-        .map_init(BladeContacts::default, |contacts, &b| {
-            let mut local = [Vec3::ZERO; MAX_SEGMENTS + 1];
-            for (k, v) in local.iter_mut().enumerate().take(n + 1) {
-                *v = pose.to_local(Vec3::from(blades.vertex(b as usize, k)));
-            }
-            collide_blade(&local[..=n], &body.tree, precision, contacts);
-            if contacts.mask == 0 {
-                return None;
-            }
-            let mut force = Vec3::ZERO;
-            for k in 0..n {
-                if contacts.mask & (1 << k) != 0 {
-                    let c = contacts.contacts[k];
-                    let speed = pose.point_velocity(pose.to_world(c.point)).length();
-                    force += eqf(speed, pose.rotation * c.dir);
-                }
-            }
-            Some((b, force, contacts.mask.count_ones() as u8))
-        })
-        .flatten()
-        .collect()
-}
-
-/// Bends every blade with a force (Eq. 5–7) by the displacement `F · h`
-/// (frame-rate independence, DESIGN §6); DBG divide by their hit count, PBG by 1.
-fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) {
-    let blades = &sim.field.blades;
-    let n = blades.segments;
-    let w = weights(n, sim.params.weight_a, sim.params.weight_b);
-    let terrain = &sim.field.terrain;
-    let (force, num) = (&sim.scratch.force, &sim.scratch.num);
-    // One work slot of n + 1 vertices per forced blade (not MAX_SEGMENTS + 1:
-    // with the whole field under an object this list is as large as the
-    // field's vertices).
-    let mut work = vec![Vec3A::ZERO; forced.len() * (n + 1)];
-    work.par_chunks_mut(n + 1)
-        .zip(forced.par_iter())
-        .for_each(|(v, &b)| {
-            let bi = b as usize;
-            blades.load(bi, v);
-            let count = u32::from(num[bi].max(1));
-            bend_blade(
-                v,
-                blades.seg_len[bi],
-                force[bi] * h,
-                count,
-                &w[..n],
-                terrain,
-                GROUND_CLEARANCE_M,
-            );
-        });
-    for (v, &b) in work.chunks_exact(n + 1).zip(forced) {
-        sim.field.blades.store(b as usize, v);
-        mark_displaced(sim, b);
+    if sim.params.track_everywhere {
+        let clock = Instant::now();
+        tm.bbg_cells += cells_from_blades(sim, changed);
+        tm.deformation_ms += ms(clock);
     }
-}
-
-/// Eq. 8 for billboard cells whose skeleton line (base centre → top) meets
-/// an object's root box; returns how many were deflected. The cells tested
-/// are those within a blade's length of the box (a billboard as tall as
-/// its blades can lean into the box from a cell beside it).
-fn bend_billboards(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> u32 {
-    let mut deflected = 0;
-    let reach = sim.field.max_blade_length;
-    for (body, patches) in sim.bodies.iter().zip(patch_hits) {
-        let obb = body.world_root;
-        let r = obb.half_diagonal();
-        let (min, max) = reach_rect(&obb, reach);
-        for &p in patches {
-            for c in sim
-                .field
-                .layout
-                .patch_cells_overlapping(p as usize, min, max)
-            {
-                let cells = &mut sim.field.cells;
-                if cells.lod[c] != Lod::Billboard {
-                    continue;
-                }
-                let (base, height) = (cells.base[c], cells.height[c]);
-                let top = billboard_top(
-                    base,
-                    cells.slope[c],
-                    height,
-                    &sim.field.terrain,
-                    GROUND_CLEARANCE_M,
-                );
-                if !segment_hits_obb(base, top, &obb) {
-                    continue;
-                }
-                let centre = 0.5 * (base + top);
-                let candidate = billboard_slope(cells.slope_origin[c], centre - obb.center, r);
-                cells.slope[c] =
-                    deflect_billboard(cells.slope[c], cells.slope_origin[c], candidate);
-                if !sim.scratch.bent_flag[c] {
-                    sim.scratch.bent_flag[c] = true;
-                    sim.scratch.bent_cells.push(c as u32);
-                }
-                deflected += 1;
-            }
-        }
-    }
-    sim.scratch.bent_cells.sort_unstable();
-    deflected
-}
-
-/// Per-cell transitions (DESIGN §6). Geometry → billboard/texture: the
-/// billboard takes its blades' mean offset (Eq. 9–12). Billboard/texture →
-/// geometry: the part of the billboard's offset (Eq. 13) that the blades do
-/// not already show acts on their last segment through Eq. 5.
-fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
-    let bpc = sim.field.layout.blades_per_cell as usize;
-    let n = sim.field.blades.segments;
-    for ch in changes {
-        let c = ch.cell as usize;
-        let blades_of_cell = c * bpc..(c + 1) * bpc;
-        let off_g = {
-            let bl = &sim.field.blades;
-            mean_offset(blades_of_cell.clone().map(|b| {
-                let chord = Vec3::from(bl.vertex(b, n) - bl.vertex(b, 0));
-                let rest = Vec3::from(bl.rest[n * bl.count + b] - bl.rest[b]);
-                blade_offset(chord, rest)
-            }))
-        };
-        let cells = &mut sim.field.cells;
-        match (ch.from, ch.to) {
-            (Lod::Geometry, _) => {
-                cells.slope[c] = slope_from_offset(cells.slope_origin[c], off_g);
-                if !cells.slope_at_rest(c) && !sim.scratch.bent_flag[c] {
-                    sim.scratch.bent_flag[c] = true;
-                    sim.scratch.bent_cells.push(ch.cell);
-                }
-            }
-            (_, Lod::Geometry) => {
-                let missing = offset_from_slope(cells.slope[c], cells.slope_origin[c]) - off_g;
-                if missing.length_squared() < 1e-12 {
-                    continue;
-                }
-                for b in blades_of_cell {
-                    let bl = &mut sim.field.blades;
-                    let rest_h = Vec3::from(bl.rest[n * bl.count + b] - bl.rest[b]).length();
-                    let mut v = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-                    bl.load(b, &mut v);
-                    bend_last_segment(
-                        &mut v[..=n],
-                        bl.seg_len[b],
-                        missing * rest_h,
-                        &sim.field.terrain,
-                        GROUND_CLEARANCE_M,
-                    );
-                    bl.store(b, &v[..=n]);
-                    mark_displaced(sim, b as u32);
-                }
-            }
-            _ => {}
-        }
-    }
-    sim.scratch.bent_cells.sort_unstable();
-    sim.scratch.bent_cells.dedup();
-    sim.scratch.displaced.sort_unstable();
-}
-
-/// Relaxes displaced blades and bent billboards towards rest (DESIGN §6).
-fn recover(sim: &mut Simulation, h: f32) {
-    sim.scratch.displaced.sort_unstable();
-    if sim.params.recovery_s.is_infinite() {
-        return;
-    }
-    let p = RecoveryParams {
-        recovery_s: sim.params.recovery_s,
-        trail: sim.params.trail,
-    };
-    let blades = &sim.field.blades;
-    let n = blades.segments;
-    let terrain = &sim.field.terrain;
-    // One work slot of n + 1 vertices per displaced blade (see bend_blades).
-    let displaced = &sim.scratch.displaced;
-    let mut work = vec![Vec3A::ZERO; displaced.len() * (n + 1)];
-    let mut done = vec![false; displaced.len()];
-    work.par_chunks_mut(n + 1)
-        .zip(done.par_iter_mut())
-        .zip(displaced.par_iter())
-        .for_each(|((v, done), &b)| {
-            let bi = b as usize;
-            let mut rest = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-            blades.load(bi, v);
-            blades.load_rest(bi, &mut rest);
-            *done = recover_blade(
-                v,
-                &rest[..=n],
-                blades.seg_len[bi],
-                h,
-                &p,
-                terrain,
-                GROUND_CLEARANCE_M,
-            );
-        });
-    let mut still = Vec::with_capacity(displaced.len());
-    for ((v, &done), &b) in work.chunks_exact(n + 1).zip(&done).zip(displaced) {
-        sim.field.blades.store(b as usize, v);
-        if done {
-            sim.scratch.displaced_flag[b as usize] = false;
-        } else {
-            still.push(b);
-        }
-    }
-    sim.scratch.displaced = still;
-    let cells = &mut sim.field.cells;
-    let flags = &mut sim.scratch.bent_flag;
-    sim.scratch.bent_cells.retain(|&c| {
-        let c = c as usize;
-        let done = recover_slope(&mut cells.slope[c], cells.slope_origin[c], h, &p);
-        if done {
-            flags[c] = false;
-        }
-        !done
-    });
 }
 
 /// The (x, z) rectangle a world box covers, grown by `reach` metres: only
 /// cells in it can hold a blade or a billboard (rooted in the cell, at most
 /// `reach` long) that meets the box.
-fn reach_rect(obb: &crate::obb::Obb, reach: f32) -> ([f32; 2], [f32; 2]) {
+pub(crate) fn reach_rect(obb: &crate::obb::Obb, reach: f32) -> ([f32; 2], [f32; 2]) {
     let corners = obb.corners();
     let lo = corners.iter().fold(Vec3::INFINITY, |a, c| a.min(*c)) - Vec3::splat(reach);
     let hi = corners.iter().fold(Vec3::NEG_INFINITY, |a, c| a.max(*c)) + Vec3::splat(reach);
     ([lo.x, lo.z], [hi.x, hi.z])
 }
 
-fn mark_displaced(sim: &mut Simulation, b: u32) {
+/// Adds blade `b` to the displaced set (recovered each step) if it is not in it.
+pub(crate) fn mark_displaced(sim: &mut Simulation, b: u32) {
     if !sim.scratch.displaced_flag[b as usize] {
         sim.scratch.displaced_flag[b as usize] = true;
         sim.scratch.displaced.push(b);

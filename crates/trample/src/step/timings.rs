@@ -22,6 +22,8 @@ pub struct StepTimings {
     pub propagation_ms: f64,
     /// Blade bending and billboard slopes (Eq. 5–8).
     pub deformation_ms: f64,
+    /// The contact response (ours, DESIGN §5): blades moved out of objects.
+    pub contact_ms: f64,
     /// LOD transitions (Eq. 9–13).
     pub transitions_ms: f64,
     /// Recovery towards rest.
@@ -36,8 +38,12 @@ pub struct StepTimings {
     pub generations: u32,
     /// Blades tested by the narrow phase.
     pub narrow_candidates: u32,
-    /// Billboards deflected by an object (BBG).
+    /// Billboards deflected by an object (BBG, Eq. 8, the paper's mode), or
+    /// cells whose billboard and flatness followed their blades (ours,
+    /// `sim.track_everywhere`).
     pub bbg_cells: u32,
+    /// Blades the contact response moved out of an object (ours, DESIGN §5).
+    pub contact_blades: u32,
     /// Cells that changed level of detail.
     pub transitions: u32,
     /// Blades away from rest (being recovered).
@@ -56,7 +62,7 @@ pub struct StepTimings {
 impl StepTimings {
     /// (name, milliseconds) of each stage, in step order.
     #[must_use]
-    pub fn stages(&self) -> [(&'static str, f64); 9] {
+    pub fn stages(&self) -> [(&'static str, f64); 10] {
         [
             ("poses", self.poses_ms),
             ("lod", self.lod_ms),
@@ -65,6 +71,7 @@ impl StepTimings {
             ("forces", self.forces_ms),
             ("propagation", self.propagation_ms),
             ("deformation", self.deformation_ms),
+            ("contact", self.contact_ms),
             ("transitions", self.transitions_ms),
             ("recovery", self.recovery_ms),
         ]

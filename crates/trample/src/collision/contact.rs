@@ -1,0 +1,146 @@
+//! The position-level contact test (ours, DESIGN §5 "Contact"): is a blade
+//! vertex inside an object, and where on the surface must it go?
+//!
+//! Eq. 2 makes the force on a blade `|v| · EqN`: an object that stands
+//! still pushes nothing, so the paper leaves grass inside anything parked or
+//! stopped. The contact response moves every vertex found inside an object
+//! to the object's surface, whatever the object's speed. It uses the mesh,
+//! not the boxes of the chosen precision:
+//!
+//! - **Closed meshes**: the inside grid (`inside_grid.rs`) answers for a
+//!   vertex in a voxel that meets no triangle; otherwise the closest point of
+//!   the mesh ([`closest_point_on_mesh`]) decides by the side of its
+//!   triangle where it lies on a face's interior (exact: the point projects
+//!   onto the face along its normal), and the exact ray-parity test
+//!   ([`point_inside_by_ray`]) where it lies on an edge or a corner.
+//! - **Open meshes** have no inside: a vertex counts as inside when it lies
+//!   behind the surface (against the normal of its closest triangle) and
+//!   within `open_depth` of it (a blade cannot be deeper than that behind a
+//!   thin sheet it crossed; farther, "behind" means nothing).
+//!
+//! The target is continuous in the vertex (ours, DESIGN §5 "continuous"):
+//! a vertex `d` deep goes to depth [`CONTACT_TOLERANCE_M`] along the way to
+//! its closest surface point, i.e. it moves by `d − tolerance`, and not at
+//! all when `d ≤ tolerance`. A vertex a few ulp deeper moves a few ulp more.
+//! (The closest point itself jumps where two surface points are equally
+//! near — the medial axis, deep inside an object — which no continuous rule
+//! can avoid: a ball cannot be retracted onto its sphere.)
+
+use glam::Vec3;
+
+use super::closest_point::{Feature, closest_point_on_mesh};
+use super::exact::point_inside_by_ray;
+use crate::obb::ObbTree;
+
+/// How deep, metres, the contact response leaves a vertex inside an object:
+/// 3 mm. It must exceed the ground clearance of the ground guard
+/// ([`crate::field::generate::GROUND_CLEARANCE_M`], 2 mm), or a vertex under
+/// an object resting on the ground would be pushed into the ground and
+/// lifted back for ever; at 3 mm it is below a blade's half width.
+pub const CONTACT_TOLERANCE_M: f32 = 0.003;
+
+/// How deep vertex `p` (object-local frame) lies inside the object of
+/// `tree`, and the surface point it is closest to: `Some((point, depth))`
+/// when it is inside (`depth` metres ≥ 0 to `point`), `None` when it is
+/// outside (see the module docs for what "inside" means for closed and open
+/// meshes; `open_depth`, metres: how far behind an open mesh a vertex still
+/// counts as inside). Non-finite `p` gives `None`. No allocation.
+#[must_use]
+pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f32)> {
+    if tree.is_empty() || !p.is_finite() {
+        return None;
+    }
+    let surface = if tree.closed {
+        let known = tree.inside.as_ref().and_then(|g| g.classify(p));
+        if known == Some(false) {
+            return None;
+        }
+        let s = closest_point_on_mesh(tree, p, f32::INFINITY)?;
+        let inside = match (known, s.feature) {
+            (Some(true), _) => true,
+            (_, Feature::Face) => (p - s.point).dot(s.normal) < 0.0,
+            (_, Feature::EdgeOrVertex) => point_inside_by_ray(tree, p),
+        };
+        if !inside {
+            return None;
+        }
+        s
+    } else {
+        let s = closest_point_on_mesh(tree, p, open_depth)?;
+        if (p - s.point).dot(s.normal) >= 0.0 {
+            return None;
+        }
+        s
+    };
+    Some((surface.point, surface.distance_sq.sqrt()))
+}
+
+/// Where vertex `p` (object-local frame) must go so that it lies no deeper
+/// than [`CONTACT_TOLERANCE_M`] inside the object of `tree`: `Some(target)`
+/// on the way to its closest surface point when it is deeper, `None` when
+/// it is outside or shallower ([`penetration`]). No allocation.
+#[must_use]
+pub fn push_out(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<Vec3> {
+    let (surface, depth) = penetration(tree, p, open_depth)?;
+    (depth > CONTACT_TOLERANCE_M).then(|| surface + (p - surface) * (CONTACT_TOLERANCE_M / depth))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collision::exact::point_inside;
+    use crate::object::shapes::{cuboid, knot, sphere};
+
+    #[test]
+    fn pushed_points_end_on_the_surface_and_outside_points_stay() {
+        let mut s = 0x5851_f42d_4c95_7f2du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+        };
+        for mesh in [sphere(1.0, 3), knot(2.4), cuboid(Vec3::new(0.6, 0.3, 0.9))] {
+            let tree = ObbTree::build(&mesh, 32);
+            let (mut pushed, mut kept) = (0, 0);
+            for _ in 0..2000 {
+                let p = Vec3::new(next(), next(), next()) * 1.3;
+                let inside = point_inside(&tree, p);
+                match push_out(&tree, p, 0.1) {
+                    Some(q) => {
+                        assert!(inside, "{p} pushed but outside");
+                        let s = closest_point_on_mesh(&tree, q, f32::INFINITY).unwrap();
+                        assert!(
+                            (s.distance_sq.sqrt() - CONTACT_TOLERANCE_M).abs() < 1e-4,
+                            "{p} -> {q}: {} from the surface",
+                            s.distance_sq.sqrt()
+                        );
+                        pushed += 1;
+                    }
+                    None => {
+                        if inside {
+                            let s = closest_point_on_mesh(&tree, p, f32::INFINITY).unwrap();
+                            assert!(s.distance_sq.sqrt() <= CONTACT_TOLERANCE_M + 1e-6, "{p}");
+                        }
+                        kept += 1;
+                    }
+                }
+            }
+            assert!(pushed > 50 && kept > 50, "{pushed} {kept}");
+        }
+    }
+
+    #[test]
+    fn open_sheet_pushes_only_what_lies_just_behind_it() {
+        let mut mesh = cuboid(Vec3::ONE);
+        // Keep the top face only (+y): an open sheet facing up.
+        mesh.indices
+            .retain(|t| t.iter().all(|&i| mesh.positions[i as usize].y > 0.5));
+        let tree = ObbTree::build(&mesh, 8);
+        assert!(!tree.closed);
+        let q = push_out(&tree, Vec3::new(0.2, 0.95, 0.1), 0.2).unwrap();
+        assert!((q.y - (1.0 - CONTACT_TOLERANCE_M)).abs() < 1e-5, "{q}");
+        assert!(push_out(&tree, Vec3::new(0.2, 1.05, 0.1), 0.2).is_none());
+        assert!(push_out(&tree, Vec3::new(0.2, 0.5, 0.1), 0.2).is_none());
+    }
+}

@@ -1,0 +1,246 @@
+//! Stages 7–8 of a sub-step (DESIGN §7): bending of the blades with a force
+//! (Eq. 5–7), the contact response (ours), the billboards (Eq. 8 in the
+//! paper's mode; from their blades, Eq. 9–12, otherwise) and the
+//! transitions between levels of detail (Eq. 9–13).
+
+use super::collide::BladeHit;
+use super::simulation::Simulation;
+use super::stages::{mark_displaced, reach_rect};
+use crate::collision::segment_obb::segment_hits_obb;
+use crate::deform::bend::{bend_blade, weights};
+use crate::deform::billboard::{billboard_slope, billboard_top, deflect_billboard};
+use crate::deform::contact::resolve_contact;
+use crate::deform::transition::{
+    bend_last_segment, cell_offset_and_flatness, offset_from_slope, slope_from_offset,
+};
+use crate::field::generate::GROUND_CLEARANCE_M;
+use crate::field::{Lod, LodChange, MAX_SEGMENTS};
+use glam::{Vec3, Vec3A};
+use rayon::prelude::*;
+
+/// Bends every blade with a force (Eq. 5–7) by the displacement `F · h`
+/// (frame-rate independence, DESIGN §6), dividing by the blade's contact
+/// weight where it is above 1 (Eq. 5's `num`, each segment counted by its
+/// weight; PBG count 1). Returns the blades that moved (ascending) and
+/// marks them displaced.
+pub(crate) fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) -> Vec<u32> {
+    let blades = &sim.field.blades;
+    let n = blades.segments;
+    let w = weights(n, sim.params.weight_a, sim.params.weight_b);
+    let terrain = &sim.field.terrain;
+    let (force, weight) = (&sim.scratch.force, &sim.scratch.weight);
+    // One work slot of n + 1 vertices per forced blade (not MAX_SEGMENTS + 1:
+    // with the whole field under an object this list is as large as the
+    // field's vertices).
+    let mut work = vec![Vec3A::ZERO; forced.len() * (n + 1)];
+    let mut moved = vec![false; forced.len()];
+    work.par_chunks_mut(n + 1)
+        .zip(moved.par_iter_mut())
+        .zip(forced.par_iter())
+        .for_each(|((v, moved), &b)| {
+            let bi = b as usize;
+            blades.load(bi, v);
+            let mut before = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+            before[..=n].copy_from_slice(v);
+            bend_blade(
+                v,
+                blades.seg_len[bi],
+                force[bi] * h,
+                weight[bi],
+                &w[..n],
+                terrain,
+                GROUND_CLEARANCE_M,
+            );
+            *moved = v != &before[..=n];
+        });
+    let mut out = Vec::new();
+    for ((v, &b), &m) in work.chunks_exact(n + 1).zip(forced).zip(&moved) {
+        if m {
+            sim.field.blades.store(b as usize, v);
+            mark_displaced(sim, b);
+            out.push(b);
+        }
+    }
+    out
+}
+
+/// The contact response (ours, DESIGN §5): for each object in order, every
+/// blade it touched this sub-step ([`BladeHit`], from the narrow phase) is
+/// moved out of it ([`resolve_contact`]). Returns the blades that moved
+/// (ascending per object) and marks them displaced.
+pub(crate) fn resolve_contacts(sim: &mut Simulation, hits: &[Vec<BladeHit>]) -> Vec<u32> {
+    let n = sim.field.blades.segments;
+    let mut out = Vec::new();
+    for (i, hits) in hits.iter().enumerate() {
+        if hits.is_empty() {
+            continue;
+        }
+        let body = &sim.bodies[i];
+        let blades = &sim.field.blades;
+        let terrain = &sim.field.terrain;
+        let mut work = vec![Vec3A::ZERO; hits.len() * (n + 1)];
+        let mut moved = vec![false; hits.len()];
+        work.par_chunks_mut(n + 1)
+            .zip(moved.par_iter_mut())
+            .zip(hits.par_iter())
+            .for_each(|((v, moved), hit)| {
+                let b = hit.blade as usize;
+                blades.load(b, v);
+                *moved = resolve_contact(
+                    v,
+                    blades.seg_len[b],
+                    usize::from(hit.first_vertex),
+                    &body.pose,
+                    &body.tree,
+                    terrain,
+                    GROUND_CLEARANCE_M,
+                    blades.seg_len[b],
+                );
+            });
+        for ((v, hit), &m) in work.chunks_exact(n + 1).zip(hits).zip(&moved) {
+            if m {
+                sim.field.blades.store(hit.blade as usize, v);
+                mark_displaced(sim, hit.blade);
+                out.push(hit.blade);
+            }
+        }
+    }
+    out
+}
+
+/// Eq. 8 for billboard cells whose skeleton line (base centre → top) meets
+/// an object's root box; returns how many were deflected. The cells tested
+/// are those within a blade's length of the box (a billboard as tall as
+/// its blades can lean into the box from a cell beside it). The paper's
+/// mode only (`sim.track_everywhere = false`): otherwise billboards follow
+/// their blades ([`cells_from_blades`]).
+pub(crate) fn bend_billboards(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> u32 {
+    let mut deflected = 0;
+    let reach = sim.field.max_blade_length;
+    for (body, patches) in sim.bodies.iter().zip(patch_hits) {
+        let obb = body.world_root;
+        let r = obb.half_diagonal();
+        let (min, max) = reach_rect(&obb, reach);
+        for &p in patches {
+            for c in sim
+                .field
+                .layout
+                .patch_cells_overlapping(p as usize, min, max)
+            {
+                let cells = &mut sim.field.cells;
+                if cells.lod[c] != Lod::Billboard {
+                    continue;
+                }
+                let (base, height) = (cells.base[c], cells.height[c]);
+                let top = billboard_top(
+                    base,
+                    cells.slope[c],
+                    height,
+                    &sim.field.terrain,
+                    GROUND_CLEARANCE_M,
+                );
+                if !segment_hits_obb(base, top, &obb) {
+                    continue;
+                }
+                let centre = 0.5 * (base + top);
+                let candidate = billboard_slope(cells.slope_origin[c], centre - obb.center, r);
+                cells.slope[c] =
+                    deflect_billboard(cells.slope[c], cells.slope_origin[c], candidate);
+                if !sim.scratch.bent_flag[c] {
+                    sim.scratch.bent_flag[c] = true;
+                    sim.scratch.bent_cells.push(c as u32);
+                }
+                deflected += 1;
+            }
+        }
+    }
+    sim.scratch.bent_cells.sort_unstable();
+    deflected
+}
+
+/// Per-cell transitions (DESIGN §6). Geometry → billboard/texture: the
+/// billboard takes its blades' mean offset (Eq. 9–12). Billboard/texture →
+/// geometry: the part of the billboard's offset (Eq. 13) that the blades do
+/// not already show acts on their last segment through Eq. 5 — nothing
+/// when the billboard follows its blades (`sim.track_everywhere`).
+pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
+    let bpc = sim.field.layout.blades_per_cell as usize;
+    let n = sim.field.blades.segments;
+    for ch in changes {
+        let c = ch.cell as usize;
+        let blades_of_cell = c * bpc..(c + 1) * bpc;
+        let (off_g, _) = cell_offset_and_flatness(&sim.field.blades, blades_of_cell.clone());
+        let cells = &mut sim.field.cells;
+        match (ch.from, ch.to) {
+            (Lod::Geometry, _) => {
+                cells.slope[c] = slope_from_offset(cells.slope_origin[c], off_g);
+                if !cells.slope_at_rest(c) && !sim.scratch.bent_flag[c] {
+                    sim.scratch.bent_flag[c] = true;
+                    sim.scratch.bent_cells.push(ch.cell);
+                }
+            }
+            // Track everywhere: the blades hold the track already (and the
+            // billboard follows them), no guess from the slope (DESIGN §6).
+            (_, Lod::Geometry) if sim.params.track_everywhere => {}
+            (_, Lod::Geometry) => {
+                let missing = offset_from_slope(cells.slope[c], cells.slope_origin[c]) - off_g;
+                if missing.length_squared() < 1e-12 {
+                    continue;
+                }
+                for b in blades_of_cell {
+                    let bl = &mut sim.field.blades;
+                    let rest_h = Vec3::from(bl.rest[n * bl.count + b] - bl.rest[b]).length();
+                    let mut v = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+                    bl.load(b, &mut v);
+                    bend_last_segment(
+                        &mut v[..=n],
+                        bl.seg_len[b],
+                        missing * rest_h,
+                        &sim.field.terrain,
+                        GROUND_CLEARANCE_M,
+                    );
+                    bl.store(b, &v[..=n]);
+                    mark_displaced(sim, b as u32);
+                }
+            }
+            _ => {}
+        }
+    }
+    sim.scratch.bent_cells.sort_unstable();
+    sim.scratch.bent_cells.dedup();
+    sim.scratch.displaced.sort_unstable();
+}
+
+/// Track everywhere (ours, DESIGN §2): every cell holding a blade of
+/// `changed` takes its billboard slope from its blades (Eq. 9–12, whatever
+/// its level of detail) and its flatness; the set of bent billboards
+/// follows. Returns how many cells were updated.
+pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 {
+    let bpc = sim.field.layout.blades_per_cell;
+    let mut cells: Vec<u32> = changed.into_iter().map(|b| b / bpc).collect();
+    cells.sort_unstable();
+    cells.dedup();
+    let bpc = bpc as usize;
+    let blades = &sim.field.blades;
+    let state: Vec<(Vec3, f32)> = cells
+        .par_iter()
+        .map(|&c| cell_offset_and_flatness(blades, c as usize * bpc..(c as usize + 1) * bpc))
+        .collect();
+    let f = &mut sim.field.cells;
+    let s = &mut sim.scratch;
+    for (&c, &(off, flat)) in cells.iter().zip(&state) {
+        let c = c as usize;
+        f.slope[c] = slope_from_offset(f.slope_origin[c], off);
+        f.flatness[c] = flat;
+        let bent = !f.slope_at_rest(c);
+        if bent != s.bent_flag[c] {
+            s.bent_flag[c] = bent;
+            if bent {
+                s.bent_cells.push(c as u32);
+            }
+        }
+    }
+    s.bent_cells.retain(|&c| s.bent_flag[c as usize]);
+    s.bent_cells.sort_unstable();
+    cells.len() as u32
+}

@@ -1,0 +1,83 @@
+//! Stage 9 of a sub-step (DESIGN §7): recovery of displaced blades and, in
+//! the paper's mode, of bent billboards (ours; the paper's future work).
+
+use super::simulation::Simulation;
+use crate::field::MAX_SEGMENTS;
+use crate::field::generate::GROUND_CLEARANCE_M;
+use crate::recovery::{recover_blade, recover_slope};
+use glam::Vec3A;
+use rayon::prelude::*;
+
+/// Relaxes displaced blades towards rest (DESIGN §6), each with the track
+/// settings of its [`Simulation::track_owner`], for `h` seconds times how
+/// free it is: `1 − min(1, contact weight)` — a blade an object holds does
+/// not recover (ours), one it barely grazes nearly fully (a continuous
+/// rule). In the paper's mode (`sim.track_everywhere = false`) bent
+/// billboards recover too, with `[sim]`'s settings. Returns the blades that
+/// moved (ascending); blades back at rest leave the displaced set.
+pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
+    sim.scratch.displaced.sort_unstable();
+    let owners = 1 + sim.bodies.len().min(usize::from(u8::MAX));
+    let params: Vec<_> = (0..owners).map(|o| sim.recovery_params(o as u8)).collect();
+    if params.iter().all(|p| p.recovery_s.is_infinite()) {
+        return Vec::new();
+    }
+    let blades = &sim.field.blades;
+    let n = blades.segments;
+    let terrain = &sim.field.terrain;
+    let (weight, owner) = (&sim.scratch.weight, &sim.track_owner);
+    // One work slot of n + 1 vertices per displaced blade (see bend_blades).
+    let displaced = &sim.scratch.displaced;
+    let mut work = vec![Vec3A::ZERO; displaced.len() * (n + 1)];
+    let mut state = vec![(false, false); displaced.len()];
+    work.par_chunks_mut(n + 1)
+        .zip(state.par_iter_mut())
+        .zip(displaced.par_iter())
+        .for_each(|((v, state), &b)| {
+            let bi = b as usize;
+            let mut rest = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+            blades.load(bi, v);
+            blades.load_rest(bi, &mut rest);
+            let mut before = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+            before[..=n].copy_from_slice(v);
+            let free = 1.0 - weight[bi].min(1.0);
+            let p = params.get(usize::from(owner[bi])).unwrap_or(&params[0]);
+            let done = recover_blade(
+                v,
+                &rest[..=n],
+                blades.seg_len[bi],
+                h * free,
+                p,
+                terrain,
+                GROUND_CLEARANCE_M,
+            );
+            *state = (done, v != &before[..=n]);
+        });
+    let mut still = Vec::with_capacity(displaced.len());
+    let mut moved = Vec::new();
+    for ((v, &(done, changed)), &b) in work.chunks_exact(n + 1).zip(&state).zip(displaced) {
+        if changed {
+            sim.field.blades.store(b as usize, v);
+            moved.push(b);
+        }
+        if done {
+            sim.scratch.displaced_flag[b as usize] = false;
+        } else {
+            still.push(b);
+        }
+    }
+    sim.scratch.displaced = still;
+    if !sim.params.track_everywhere {
+        let cells = &mut sim.field.cells;
+        let flags = &mut sim.scratch.bent_flag;
+        sim.scratch.bent_cells.retain(|&c| {
+            let c = c as usize;
+            let done = recover_slope(&mut cells.slope[c], cells.slope_origin[c], h, &params[0]);
+            if done {
+                flags[c] = false;
+            }
+            !done
+        });
+    }
+    moved
+}
