@@ -8,8 +8,9 @@
 //! where it was planted, no vertex below the terrain. Over the run: the
 //! scene stays busy (DBG blades in most steps, LOD transitions, blade tips
 //! lowered by 5 cm or more) and memory does not grow after a warm-up
-//! (resident set size from `/proc/self/status`). The scene has no wind
-//! (`[wind]` is off by default): wind's own tests are in the render crate.
+//! (resident set size from `/proc/self/status`). The scene has no wind:
+//! wind bends blades at draw time only (`trample::wind`), it never changes
+//! the simulation state checked here (its tests are in the render crate).
 //!
 //! `soak_smoke_5000_steps` runs in CI; `soak_100000_steps` is `#[ignore]`d
 //! (`cargo test -p trample --test soak -- --ignored --nocapture`); its
