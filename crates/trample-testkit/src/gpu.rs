@@ -6,6 +6,11 @@
 //! above wgpu's default binding size on some adapters) and for those of the
 //! optional features the adapter has (e.g. `trample_gpu::TIMESTAMP_FEATURES`
 //! for per-stage GPU times).
+//!
+//! `trample_render::headless::create_device_with` asks wgpu for a device
+//! the same way; it is not reused because the GPU path's tests must not
+//! depend on the renderer (issue 18), and the GPU library itself creates no
+//! device (STYLE rule 3: tests, tools and hosts bring their own).
 
 use crate::adapter::check_adapter_name;
 
