@@ -8,7 +8,7 @@
 //! - [`adapter`]: the `TRAMPLE_TEST_ADAPTER` check that pins a GPU test to
 //!   one driver (CI runs the GPU tests on llvmpipe through GL and on
 //!   lavapipe through Vulkan).
-//! - [`gpu`] (feature `gpu`): a wgpu device for the GPU path's tests and
+//! - `gpu` (feature `gpu`): a wgpu device for the GPU path's tests and
 //!   examples, so that `trample-gpu` never depends on the renderer, not
 //!   even for its tests. Off for the core's tests, which must not build
 //!   wgpu.
