@@ -37,14 +37,7 @@ fn check_adapter(summary: &serde_json::Value) {
     let name = summary["adapter"]
         .as_str()
         .expect("a GPU summary names its adapter");
-    if let Ok(wanted) = std::env::var("TRAMPLE_TEST_ADAPTER") {
-        for word in wanted.split(',').map(str::trim).filter(|w| !w.is_empty()) {
-            assert!(
-                name.contains(word),
-                "adapter {name}, TRAMPLE_TEST_ADAPTER={wanted}"
-            );
-        }
-    }
+    trample_testkit::adapter::check_adapter_name(name);
 }
 
 #[test]

@@ -6,8 +6,9 @@
 //! WGPU_BACKEND=vulkan cargo run -p trample-gpu --example stage_times -- [FRAMES] [SCENE.toml]
 //! ```
 //!
-//! Default: 100 frames of a 4,096-blade field with a rolling ball
-//! (`tests/step_parity.rs`'s first scene), in profiling mode
+//! Default: 100 frames of a 4,096-blade field with a rolling ball (the test
+//! kit's rolling-ball scene, `crates/trample-testkit/scenes/rolling_ball.toml`,
+//! which `tests/step_parity.rs` runs too), in profiling mode
 //! (`GpuSimulation::set_profiling`). Prints each frame's stage times and the
 //! median narrow phase from the third frame on (the first dispatches
 //! include the driver's compilation). Stage times come from timestamp
@@ -17,34 +18,14 @@
 
 use trample::scene::Scene;
 use trample_gpu::GpuSimulation;
-
-const SCENE: &str = r#"
-name = "gpu-stage-times"
-[field]
-patches = [4, 4]
-cells_per_patch = 16             # 4,096 blades
-[lod]
-geometry_m = 500.0
-billboard_m = 600.0
-[sim]
-precision = 5
-recovery_s = 1.5
-[camera]
-path = { kind = "line", from = [-4.0, 2.0, 3.0], to = [4.0, 2.0, 3.0], duration_s = 5.0 }
-look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
-[[objects]]
-name = "ball"
-shape = { kind = "sphere", radius_m = 0.5 }
-orientation = "rolling"
-path = { kind = "line", from = [-3.5, 0.5, 0.2], to = [3.5, 0.5, -0.3], duration_s = 5.0 }
-"#;
+use trample_testkit::scenes;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let frames: u32 = args.next().map_or(Ok(100), |s| s.parse())?;
     let text = match args.next() {
         Some(path) => std::fs::read_to_string(path)?,
-        None => SCENE.to_string(),
+        None => scenes::ROLLING_BALL.to_string(),
     };
     // Timestamp queries where the adapter has them, unless told otherwise.
     let wall = std::env::var("TRAMPLE_STAGE_TIMING").is_ok_and(|v| v == "wall");
@@ -53,7 +34,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     } else {
         trample_gpu::TIMESTAMP_FEATURES
     };
-    let gpu = trample_render::headless::create_device_with(features)?;
+    // The test kit's device (no TRAMPLE_TEST_ADAPTER check: a measurement
+    // runs on whatever adapter WGPU_BACKEND picks).
+    let gpu = trample_testkit::gpu::create_device(features)?;
     let (device, queue) = (&gpu.device, &gpu.queue);
     println!("adapter: {}", gpu.adapter_name());
     let ts = trample_gpu::wgpu::Features::TIMESTAMP_QUERY

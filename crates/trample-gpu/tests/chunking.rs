@@ -2,52 +2,19 @@
 //! same scene stepped on the GPU as one chunk and as five chunks of whole
 //! patches (a chunk limit far below the binding size), compared bit for bit
 //! every 50 frames: vertices, blade classes and generations, cell levels,
-//! billboard slopes and the step counters. The scene has two objects
-//! crossing chunk borders, propagation across them, billboards and level
-//! changes (a moving camera), so every chunked stage runs on both sides of
-//! a border.
+//! billboard slopes and the step counters. The scene (the test kit's LOD
+//! scene) has two objects crossing chunk borders, propagation across them,
+//! billboards and level changes (a moving camera), so every chunked stage
+//! runs on both sides of a border.
 
 mod common;
 
-use trample::Simulation;
-use trample::scene::Scene;
 use trample_gpu::GpuSimulation;
 use trample_gpu::chunk::plan_chunks;
-
-const SCENE: &str = r#"
-name = "gpu-chunks"
-[field]
-patches = [6, 6]
-cells_per_patch = 16             # 9.6 m square, 9,216 blades, 256 a patch
-[lod]
-geometry_m = 2.5                 # the camera's moves change levels: transitions
-billboard_m = 5.0
-[sim]
-precision = 5
-recovery_s = 3.0
-[camera]
-path = { kind = "line", from = [-5.0, 1.5, 1.0], to = [5.0, 1.5, 1.0], duration_s = 5.0 }
-look_at = { kind = "object", name = "ball" }
-[[objects]]
-name = "ball"
-shape = { kind = "sphere", radius_m = 0.5 }
-orientation = "rolling"
-path = { kind = "line", from = [-4.5, 0.5, -4.0], to = [4.5, 0.5, 4.0], duration_s = 5.0 }
-[[objects]]
-name = "crate"
-shape = { kind = "box", half_extents_m = [0.3, 0.25, 0.45] }
-orientation = "face_motion"
-path = { kind = "line", from = [0.5, 0.2, -4.5], to = [-0.5, 0.2, 4.5], duration_s = 5.0 }
-"#;
+use trample_testkit::scenes;
 
 /// Eight patches of 256 blades × 5 vertices × 16 bytes: chunks of 8, 8, 8, 8, 4 patches.
 const CHUNK_BYTES: u64 = 8 * 256 * 5 * 16;
-
-fn build() -> Simulation {
-    Scene::parse(SCENE, "chunks.toml", std::path::Path::new("."))
-        .and_then(|s| s.build())
-        .expect("scene builds")
-}
 
 /// Everything a step leaves on the GPU, read back.
 #[derive(PartialEq, Debug)]
@@ -77,7 +44,7 @@ fn snapshot(g: &GpuSimulation, device: &wgpu::Device, queue: &wgpu::Queue) -> Sn
 fn chunked_field_steps_bit_for_bit_like_one_chunk() {
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
-    let sim = build();
+    let sim = scenes::simulation(scenes::LOD);
     let count = sim.field.blades.count as u32;
     assert_eq!(count, 9_216);
     let plan = plan_chunks(count, 5, 256, CHUNK_BYTES).unwrap();

@@ -29,6 +29,8 @@ fn generations_and_forces_match_the_cpu() {
         att: 0.5,
         threshold: 0.25,
         max_generations: 32,
+        threshold_fade: 0.0,
+        hold_weight: 0.0,
     };
     // Deterministic DBG blades with horizontal-ish forces of 0.3–6 m/s.
     let mut seed = 0x1234_5678_9abc_def0u64;
@@ -104,6 +106,7 @@ fn generations_and_forces_match_the_cpu() {
         &field.layout.neighbours,
         &mut force,
         &mut generation,
+        &[],
         &prop,
     );
     let gpu_gen = g.read_u32(device, queue, &g.generation).unwrap();

@@ -9,30 +9,11 @@ mod common;
 
 use std::time::Instant;
 
+use common::TestGpu;
+use trample::object::PathParams;
 use trample::scene::Scene;
 use trample_gpu::{GpuSimulation, StageTiming, TIMESTAMP_FEATURES};
-use trample_render::headless::Gpu;
-
-/// A ball resting in the middle of a 4,096-blade field: it touches blades
-/// in every step.
-const RESTING_BALL: &str = r#"
-name = "gpu-stage-timing"
-[field]
-patches = [4, 4]
-cells_per_patch = 16
-[lod]
-geometry_m = 500.0
-billboard_m = 600.0
-[sim]
-precision = 5
-[camera]
-path = { kind = "line", from = [-4.0, 2.0, 3.0], to = [4.0, 2.0, 3.0], duration_s = 5.0 }
-look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
-[[objects]]
-name = "ball"
-shape = { kind = "sphere", radius_m = 0.5 }
-path = { kind = "static", position = [0.0, 0.45, 0.0] }
-"#;
+use trample_testkit::scenes;
 
 /// A ball crossing 60 m a step (3.6 km/s at 60 steps/s) far from a small
 /// field: 600 sub-steps of at most 0.1 m (the cell size), 4,200
@@ -58,16 +39,23 @@ shape = { kind = "sphere", radius_m = 0.05 }
 path = { kind = "line", from = [-1800.0, 5.0, 0.0], to = [1800.0, 5.0, 0.0], duration_s = 1.0 }
 "#;
 
-fn build(gpu: &Gpu, text: &str) -> GpuSimulation {
-    let sim = Scene::parse(text, "stage-timing.toml", std::path::Path::new("."))
-        .and_then(|s| s.build())
-        .expect("scene builds");
-    GpuSimulation::new(&gpu.device, &gpu.queue, sim).expect("GPU simulation")
+/// The test kit's rolling ball, resting in the middle of its 4,096-blade
+/// field: it touches blades in every step.
+fn resting_ball() -> Scene {
+    let mut scene = scenes::scene(scenes::ROLLING_BALL);
+    scene.file.objects[0].path = PathParams::Static {
+        position: [0.0, 0.45, 0.0],
+    };
+    scene
+}
+
+fn build(gpu: &TestGpu, scene: &Scene) -> GpuSimulation {
+    GpuSimulation::new(&gpu.device, &gpu.queue, scenes::build(scene)).expect("GPU simulation")
 }
 
 /// Steps `g` `frames` times in profiling mode and checks each step's stage
 /// times; returns the largest number of sub-steps seen.
-fn check_steps(gpu: &Gpu, g: &mut GpuSimulation, frames: u32, touching: bool) -> u32 {
+fn check_steps(gpu: &TestGpu, g: &mut GpuSimulation, frames: u32, touching: bool) -> u32 {
     let (device, queue) = (&gpu.device, &gpu.queue);
     g.set_profiling(true);
     let dt = g.sim.params.dt_s;
@@ -129,7 +117,7 @@ fn profiling_times_each_stage_with_timestamps_where_the_device_has_them() {
         offered,
         "the test device must enable the timestamp features the adapter offers"
     );
-    let mut g = build(&gpu, RESTING_BALL);
+    let mut g = build(&gpu, &resting_ball());
     let expected = if offered {
         StageTiming::Timestamp
     } else {
@@ -156,7 +144,7 @@ fn profiling_times_each_stage_with_timestamps_where_the_device_has_them() {
 #[test]
 fn without_the_timestamp_features_profiling_falls_back_to_wall_time() {
     let gpu = common::gpu_without_timestamps();
-    let mut g = build(&gpu, RESTING_BALL);
+    let mut g = build(&gpu, &resting_ball());
     assert_eq!(g.stage_timing(), StageTiming::Wall);
     assert_eq!(g.stage_timing().name(), "wall");
     check_steps(&gpu, &mut g, 3, true);
@@ -165,7 +153,7 @@ fn without_the_timestamp_features_profiling_falls_back_to_wall_time() {
 #[test]
 fn a_step_with_more_timestamps_than_one_query_set_holds_is_read_back_in_parts() {
     let gpu = common::gpu();
-    let mut g = build(&gpu, BULLET);
+    let mut g = build(&gpu, &scenes::scene(BULLET));
     let most = check_steps(&gpu, &mut g, 1, false);
     assert!(
         most * 7 > trample_gpu::profile::MAX_QUERIES,

@@ -1,27 +1,36 @@
 //! Whole-run parity: `GpuSimulation::step` against `Simulation::step` on
-//! the same scene for 300 frames (a four-object scene for 200; a scene with
-//! a moving camera, so that cells change level, billboards bend and
-//! transitions run, for 300); the rolling ball over value-noise hills and
-//! over a height map (200 each: the ground guard on terrain).
-//! Reports the worst vertex and billboard-slope differences and the DBG/PBG
-//! and LOD differences; asserts them within the stated tolerances.
+//! the test kit's scenes: the rolling ball for 300 frames (every cell
+//! geometric); the busy scene for 200 (four objects on noise terrain, a
+//! circling camera: level changes in every step); the LOD scene for 300 (a
+//! moving camera, so that cells change level, billboards bend and
+//! transitions run); the rolling ball over value-noise hills and over a
+//! height map (200 each: the ground guard on terrain); and a simulation
+//! handed to the GPU mid-run. Reports the worst vertex and billboard-slope
+//! differences and the DBG/PBG and LOD differences; asserts them within
+//! the stated tolerances.
 
 mod common;
 
-use trample::Simulation;
+use std::path::Path;
+use trample::field::TerrainParams;
+use trample::object::PathParams;
 use trample::scene::Scene;
 use trample_gpu::GpuSimulation;
+use trample_testkit::scenes;
 
 /// Worst vertex distance allowed after the run, metres. The two paths take
 /// the same steps in f32, but the GPU may fuse multiply-adds and rounds
 /// `sqrt`, `exp` and quaternion rotations its own way; a blade whose hit
 /// flag then flips at a tie bends one step more or less (a few mm); the
 /// bends stack over the run. Measured on llvmpipe (GL), 2026-11-21:
-/// 1.3e-5 m (rolling ball, 300 frames), 4.0e-6 m (four objects, 200),
-/// 4.8e-6 m (moving camera with billboards and transitions, 300); 4.7e-6 m
-/// over noise hills and 6.0e-6 m over a height map (200 each; with the
-/// GPU's guard on flat ground instead, 0.25 m and 0.48 m: the tests see
-/// the terrain).
+/// 1.3e-5 m (rolling ball, 300 frames), 4.0e-6 m (four objects on flat
+/// ground, every cell geometric, 200), 4.8e-6 m (moving camera with
+/// billboards and transitions, 300); 4.7e-6 m over noise hills and 6.0e-6 m
+/// over a height map (200 each; with the GPU's guard on flat ground
+/// instead, 0.25 m and 0.48 m: the tests see the terrain). 2026-11-23, the
+/// test kit's scenes: the same figures, and 1.2e-6 m for the busy scene
+/// (the four objects on noise terrain with level changes, 200 frames,
+/// 670 bent billboards), which replaced the flat four-object scene.
 const VERTEX_TOLERANCE_M: f32 = 1e-3;
 
 /// Blades whose class (untouched / DBG / PBG) may differ at the end, as a
@@ -29,112 +38,20 @@ const VERTEX_TOLERANCE_M: f32 = 1e-3;
 /// on llvmpipe: 0 in both runs, and the DBG/PBG counts equal in every frame.
 const CLASS_TOLERANCE: f64 = 0.002;
 
-const ROLLING_BALL: &str = r#"
-name = "gpu-parity"
-[field]
-patches = [4, 4]
-cells_per_patch = 16             # 4 * 16 * 0.1 = 6.4 m square, 4,096 blades
-[lod]
-geometry_m = 500.0               # every cell geometric: LOD is not on the GPU yet
-billboard_m = 600.0
-[sim]
-precision = 5
-recovery_s = 1.5
-[camera]
-path = { kind = "line", from = [-4.0, 2.0, 3.0], to = [4.0, 2.0, 3.0], duration_s = 5.0 }
-look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
-[[objects]]
-name = "ball"
-shape = { kind = "sphere", radius_m = 0.5 }
-orientation = "rolling"
-path = { kind = "line", from = [-3.5, 0.5, 0.2], to = [3.5, 0.5, -0.3], duration_s = 5.0 }
-"#;
-
-const FOUR_OBJECTS: &str = r#"
-name = "gpu-parity-busy"
-[field]
-patches = [3, 3]
-cells_per_patch = 16
-[lod]
-geometry_m = 500.0
-billboard_m = 600.0
-[sim]
-precision = 7
-recovery_s = 2.0
-[camera]
-path = { kind = "circle", center = [0.0, 2.0, 0.0], radius_m = 3.2, period_s = 9.0 }
-look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
-[[objects]]
-name = "ball"
-shape = { kind = "sphere", radius_m = 0.4 }
-orientation = "rolling"
-path = { kind = "circle", center = [0.0, 0.4, 0.0], radius_m = 1.2, period_s = 4.0 }
-[[objects]]
-name = "crate"
-shape = { kind = "box", half_extents_m = [0.3, 0.25, 0.45] }
-orientation = "face_motion"
-path = { kind = "circle", center = [0.3, 0.2, -0.3], radius_m = 1.6, period_s = 7.0, phase_rad = 2.0 }
-[[objects]]
-name = "knot"
-shape = { kind = "knot", size_m = 0.8 }
-path = { kind = "circle", center = [-0.7, 0.35, 0.6], radius_m = 0.8, period_s = 5.5, phase_rad = 4.0 }
-[[objects]]
-name = "pill"
-shape = { kind = "capsule", radius_m = 0.2, length_m = 0.6 }
-rotation_deg = [0.0, 0.0, 90.0]
-orientation = "face_motion"
-path = { kind = "circle", center = [0.2, 0.2, 0.2], radius_m = 1.9, period_s = 3.0, phase_rad = 1.0 }
-"#;
-
-const LOD_SCENE: &str = r#"
-name = "gpu-parity-lod"
-[field]
-patches = [6, 6]
-cells_per_patch = 16             # 9.6 m square, 9,216 blades
-[lod]
-geometry_m = 2.5                 # the camera's moves change levels: transitions
-billboard_m = 5.0
-[sim]
-precision = 3
-recovery_s = 3.0
-[camera]
-path = { kind = "line", from = [-5.0, 1.5, 1.0], to = [5.0, 1.5, 1.0], duration_s = 5.0 }
-look_at = { kind = "object", name = "ball" }
-[[objects]]
-name = "ball"
-shape = { kind = "sphere", radius_m = 0.5 }
-orientation = "rolling"
-path = { kind = "line", from = [-4.5, 0.5, -1.0], to = [4.5, 0.5, 0.5], duration_s = 5.0 }
-[[objects]]
-name = "crate"
-shape = { kind = "box", half_extents_m = [0.3, 0.25, 0.45] }
-orientation = "face_motion"
-path = { kind = "line", from = [4.0, 0.2, -3.0], to = [-4.0, 0.2, 3.5], duration_s = 5.0 }
-"#;
-
 /// Worst billboard-slope difference allowed (dimensionless; slopes are
 /// directions of length ≈ 1). Measured on llvmpipe (GL), 2026-11-21:
-/// 3.5e-6 (LOD scene, 300 frames, 1,389 bent billboards).
+/// 3.5e-6 (LOD scene, 300 frames, 1,389 bent billboards); 2026-11-23:
+/// 1.6e-6 (busy scene, 200 frames, 670 bent billboards).
 const SLOPE_TOLERANCE: f32 = 1e-3;
 
-/// The scene of `text` with relative paths (a height map) in `dir`.
-fn build_in(text: &str, dir: &std::path::Path) -> Simulation {
-    Scene::parse(text, "parity.toml", dir)
-        .and_then(|s| s.build())
-        .expect("scene builds")
-}
-
-/// Runs both paths for `frames`; returns (worst vertex distance, class
-/// differences, frames whose DBG count differs, frames whose PBG count differs).
-fn run_both(text: &str, frames: u32) -> (f32, usize, u32, u32) {
-    run_both_in(text, std::path::Path::new("."), frames)
-}
-
-/// [`run_both`] with the scene's relative paths in `dir`.
-fn run_both_in(text: &str, dir: &std::path::Path, frames: u32) -> (f32, usize, u32, u32) {
+/// Runs `scene` on both paths for `frames` and checks the end state: levels
+/// of detail identical, billboard slopes within [`SLOPE_TOLERANCE`],
+/// vertices within [`VERTEX_TOLERANCE_M`], classes within
+/// [`CLASS_TOLERANCE`] of the field, and the object touching grass.
+fn check_parity(scene: &Scene, frames: u32) {
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
-    let mut cpu = build_in(text, dir);
+    let mut cpu = scenes::build(scene);
     let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
     let dt = cpu.params.dt_s;
     let (mut dbg_frames, mut pbg_frames, mut touched) = (0, 0, 0u64);
@@ -199,76 +116,51 @@ fn run_both_in(text: &str, dir: &std::path::Path, frames: u32) -> (f32, usize, u
         worst_slope <= SLOPE_TOLERANCE,
         "worst slope difference {worst_slope}"
     );
-    (worst, class_diff, dbg_frames, pbg_frames)
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+    assert!(
+        class_diff as f64 <= CLASS_TOLERANCE * bl.count as f64,
+        "{class_diff} class differences"
+    );
 }
 
 #[test]
 fn rolling_ball_300_frames_matches_the_cpu() {
-    let (worst, class_diff, _, _) = run_both(ROLLING_BALL, 300);
-    assert!(
-        worst <= VERTEX_TOLERANCE_M,
-        "worst vertex difference {worst} m"
-    );
-    assert!(
-        class_diff as f64 <= CLASS_TOLERANCE * 4096.0,
-        "{class_diff} class differences"
-    );
+    check_parity(&scenes::scene(scenes::ROLLING_BALL), 300);
 }
 
 #[test]
-fn four_objects_200_frames_match_the_cpu() {
-    let (worst, class_diff, _, _) = run_both(FOUR_OBJECTS, 200);
-    assert!(
-        worst <= VERTEX_TOLERANCE_M,
-        "worst vertex difference {worst} m"
-    );
-    assert!(
-        class_diff as f64 <= CLASS_TOLERANCE * 2304.0,
-        "{class_diff} class differences"
-    );
+fn busy_scene_200_frames_matches_the_cpu() {
+    check_parity(&scenes::scene(scenes::BUSY), 200);
 }
 
 #[test]
 fn moving_camera_with_billboards_and_transitions_300_frames_matches_the_cpu() {
-    let (worst, class_diff, _, _) = run_both(LOD_SCENE, 300);
-    assert!(
-        worst <= VERTEX_TOLERANCE_M,
-        "worst vertex difference {worst} m"
-    );
-    assert!(
-        class_diff as f64 <= CLASS_TOLERANCE * 9216.0,
-        "{class_diff} class differences"
-    );
+    check_parity(&scenes::scene(scenes::LOD), 300);
 }
 
-/// The rolling ball's scene with `terrain` (a TOML inline table) under the
-/// field, the ball's path lifted by `lift` metres over the hills.
-fn on_terrain(terrain: &str) -> String {
-    ROLLING_BALL
-        .replace(
-            "cells_per_patch = 16             # 4 * 16 * 0.1 = 6.4 m square, 4,096 blades",
-            &format!("cells_per_patch = 16\nterrain = {terrain}"),
-        )
-        .replace(
-            "from = [-3.5, 0.5, 0.2], to = [3.5, 0.5, -0.3]",
-            "from = [-3.5, 0.55, 0.2], to = [3.5, 0.55, -0.3]",
-        )
+/// The rolling ball's scene with `terrain` under the field (relative paths
+/// in `dir`), the ball's path lifted to 0.55 m over the hills.
+fn on_terrain(terrain: TerrainParams, dir: &Path) -> Scene {
+    let mut scene = scenes::scene_in(scenes::ROLLING_BALL, dir);
+    scene.file.field.terrain = terrain;
+    let PathParams::Line { from, to, .. } = &mut scene.file.objects[0].path else {
+        panic!("the rolling ball's path is a line");
+    };
+    (from[1], to[1]) = (0.55, 0.55);
+    scene
 }
 
 #[test]
 fn rolling_ball_over_noise_hills_matches_the_cpu() {
-    let text =
-        on_terrain(r#"{ kind = "noise", amplitude_m = 0.25, wavelength_m = 1.3, seed = 7 }"#);
-    assert!(text.contains("noise"));
-    let (worst, class_diff, _, _) = run_both(&text, 200);
-    assert!(
-        worst <= VERTEX_TOLERANCE_M,
-        "worst vertex difference {worst} m"
-    );
-    assert!(
-        class_diff as f64 <= CLASS_TOLERANCE * 4096.0,
-        "{class_diff} class differences"
-    );
+    let hills = TerrainParams::Noise {
+        amplitude_m: 0.25,
+        wavelength_m: 1.3,
+        seed: 7,
+    };
+    check_parity(&on_terrain(hills, Path::new(".")), 200);
 }
 
 #[test]
@@ -282,17 +174,13 @@ fn rolling_ball_over_a_height_map_matches_the_cpu() {
         image::Luma([(v * 65535.0) as u16])
     });
     img.save(dir.join("hills.png")).unwrap();
-    let text = on_terrain(r#"{ kind = "heightmap", path = "hills.png", height_scale_m = 0.3 }"#);
-    let (worst, class_diff, _, _) = run_both_in(&text, &dir, 200);
+    let map = TerrainParams::Heightmap {
+        path: "hills.png".into(),
+        height_scale_m: 0.3,
+    };
+    let scene = on_terrain(map, &dir);
+    check_parity(&scene, 200);
     std::fs::remove_dir_all(&dir).unwrap();
-    assert!(
-        worst <= VERTEX_TOLERANCE_M,
-        "worst vertex difference {worst} m"
-    );
-    assert!(
-        class_diff as f64 <= CLASS_TOLERANCE * 4096.0,
-        "{class_diff} class differences"
-    );
 }
 
 /// A simulation handed to the GPU mid-run (as the viewer's backend switch
@@ -303,7 +191,7 @@ fn rolling_ball_over_a_height_map_matches_the_cpu() {
 fn a_simulation_handed_over_mid_run_goes_on_like_the_cpu() {
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
-    let mut cpu = build_in(ROLLING_BALL, std::path::Path::new("."));
+    let mut cpu = scenes::simulation(scenes::ROLLING_BALL);
     let dt = cpu.params.dt_s;
     for _ in 0..120 {
         cpu.step(dt).unwrap();

@@ -275,7 +275,7 @@ fn bad_input_leaves_blade_unchanged() {
 /// Thousands of seeded random bends (random blades, forces, num, weights,
 /// clearance) on four terrains: every segment keeps its length (1e-5
 /// relative), the root never moves, no vertex goes below the guard, all
-/// finite. Roots lie within 1 m of the origin so that f32 rounding of the
+/// finite — and at least 99 % of the bends move the tip. Roots lie within 1 m of the origin so that f32 rounding of the
 /// world coordinates stays below the tolerance.
 #[test]
 fn random_bends_preserve_lengths_root_and_ground() {
@@ -290,7 +290,7 @@ fn random_bends_preserve_lengths_root_and_ground() {
         },
     ];
     let mut rng = Rng(7);
-    let mut bends = 0;
+    let (mut bends, mut moved) = (0, 0);
     for terrain in &terrains {
         let mut on_guard = 0;
         for _ in 0..600 {
@@ -306,8 +306,10 @@ fn random_bends_preserve_lengths_root_and_ground() {
             for _ in 0..3 {
                 let v1 = rng.vec(1.0) * rng.f32(0.0, 1.0);
                 let num = (rng.next() % 5) as u32;
+                let before = v[n];
                 bend_blade(&mut v, seg_len, v1, num as f32, &w, terrain, clearance);
                 bends += 1;
+                moved += usize::from(v[n].distance(before) > 1e-4);
                 assert_eq!(
                     v[0].to_array().map(f32::to_bits),
                     root.to_array().map(f32::to_bits),
@@ -335,5 +337,11 @@ fn random_bends_preserve_lengths_root_and_ground() {
             "ground guard exercised on {terrain:?}: {on_guard}"
         );
     }
-    assert_eq!(bends, 4 * 600 * 3);
+    // The invariants hold because the blades bent, not because they stood
+    // still: nearly every bend moves the tip by more than 0.1 mm
+    // (measured 2026-11-23: 7,197 of 7,200).
+    assert!(
+        moved * 100 >= bends * 99,
+        "only {moved} of {bends} bends moved the tip"
+    );
 }

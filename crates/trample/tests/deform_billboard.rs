@@ -161,56 +161,73 @@ fn eq12_13_slope_and_offset_are_inverse() {
     assert_eq!(offset_from_slope(origin, origin), Vec3::ZERO);
 }
 
-/// Geometry → billboard → geometry: a cell of bent blades gives a billboard
-/// slope whose direction is the blades' mean tip direction, and its Eq. 13
-/// offset equals the blades' mean offset, so the billboard → geometry rule
-/// applies nothing more (v1 = 0).
+/// Geometry → billboard → geometry, by hand. A track bent into a cell of
+/// four blades (rest: vertical, 4 segments of 0.1 m, height h = 0.4): two
+/// blades in the track lie straight along (0.6, 0.8, 0) and (0, 0.8, 0.6),
+/// two at its edge are untouched.
+///
+/// - Eq. 9–10 (per unit rest height): offsets (0.24, −0.08, 0)/0.4 =
+///   (0.6, −0.2, 0), (0, −0.2, 0.6), 0, 0.
+/// - Eq. 11: their mean `off^b` = (0.15, −0.1, 0.15).
+/// - Eq. 12: `slope^b` = (0, 1, 0) + off^b = (0.15, 0.9, 0.15), which
+///   points along the blades' mean tip (0.06, 0.36, 0.06).
+/// - Back to geometry after the blades recovered under the billboard
+///   (mean blade offset 0): Eq. 13 gives `off^b` again, the force
+///   v1 = off^b · h = (0.06, −0.04, 0.06) on the last segment.
+/// - Eq. 5 (num = 1) with AB = (0, 0.4, 0): base = v1 less its part along
+///   AB = (0.06, 0, 0.06); the tip (0, 0.4, 0) + base, brought back to
+///   0.1 m from V3 = (0, 0.3, 0) (Fig. 7): V3 + 0.1 · (0.06, 0.1, 0.06) /
+///   |(0.06, 0.1, 0.06)| = (0.0457496, 0.3762493, 0.0457496).
 #[test]
-fn transition_round_trip_is_consistent() {
-    let h = 0.4;
-    let rest: Vec<Vec<Vec3A>> = (0..4)
-        .map(|i| {
-            (0..=4)
-                .map(|k| Vec3A::new(i as f32 * 0.1, k as f32 * h / 4.0, 0.0))
-                .collect()
-        })
-        .collect();
-    let mut bent = rest.clone();
-    for (i, b) in bent.iter_mut().enumerate() {
-        let push = Vec3::new(0.05, 0.0, 0.02 * i as f32);
-        bend_blade(
-            b,
-            h / 4.0,
-            push,
-            1.0,
-            &weights(4, 1.0, 2.0),
-            &Terrain::Flat(0.0),
-            0.0,
-        );
-    }
+fn transition_round_trip_matches_eq5_by_hand() {
+    let (h, seg) = (0.4, 0.1);
+    let root = |i: usize| Vec3A::new(i as f32 * 0.1, 0.0, 0.0);
+    let straight = |i: usize, dir: Vec3A| -> Vec<Vec3A> {
+        (0..=4).map(|k| root(i) + dir * (k as f32 * seg)).collect()
+    };
+    let rest: Vec<Vec<Vec3A>> = (0..4).map(|i| straight(i, Vec3A::Y)).collect();
+    let track = [
+        straight(0, Vec3A::new(0.6, 0.8, 0.0)),
+        straight(1, Vec3A::new(0.0, 0.8, 0.6)),
+        rest[2].clone(),
+        rest[3].clone(),
+    ];
     let tip = |b: &[Vec3A]| Vec3::from(b[4] - b[0]);
-    let off_b = mean_offset(
-        bent.iter()
-            .zip(&rest)
-            .map(|(b, r)| blade_offset(tip(b), tip(r))),
-    );
+    let offsets: Vec<Vec3> = track
+        .iter()
+        .zip(&rest)
+        .map(|(b, r)| blade_offset(tip(b), tip(r)))
+        .collect();
+    assert!(close(offsets[0], Vec3::new(0.6, -0.2, 0.0), 1e-6));
+    assert!(close(offsets[1], Vec3::new(0.0, -0.2, 0.6), 1e-6));
+    let off_b = mean_offset(offsets.iter().copied());
+    assert!(close(off_b, Vec3::new(0.15, -0.1, 0.15), 1e-6), "{off_b}");
     let origin = Vec3::Y; // mean rest (V_n − V_0) / mean rest height
     let slope = slope_from_offset(origin, off_b);
-    let mean_tip = bent.iter().map(|b| tip(b)).sum::<Vec3>() / 4.0;
+    assert!(close(slope, Vec3::new(0.15, 0.9, 0.15), 1e-6), "{slope}");
+    let mean_tip = track.iter().map(|b| tip(b)).sum::<Vec3>() / 4.0;
     assert!(
         close(slope.normalize(), mean_tip.normalize(), 1e-6),
-        "billboard leans like its blades"
+        "the billboard leans like its blades: {slope} vs {mean_tip}"
     );
-    let v1 = (offset_from_slope(slope, origin) - off_b) * h;
-    assert!(v1.length() < 1e-6);
-    let mut again = bent[2].clone();
-    bend_last_segment(&mut again, h / 4.0, v1, &Terrain::Flat(0.0), 0.0);
-    assert!(
-        again
-            .iter()
-            .zip(&bent[2])
-            .all(|(a, b)| (*a - *b).length() < 1e-6)
-    );
+
+    // The blades recovered while the cell was a billboard: the whole
+    // offset of Eq. 13 acts on their last segment.
+    let back = offset_from_slope(slope, origin);
+    assert!(close(back, off_b, 1e-6), "Eq. 13 undoes Eq. 12: {back}");
+    let blades_offset = Vec3::ZERO;
+    let v1 = (back - blades_offset) * h;
+    for (i, r) in rest.iter().enumerate() {
+        let mut blade = r.clone();
+        bend_last_segment(&mut blade, seg, v1, &Terrain::Flat(0.0), 0.0);
+        assert_eq!(blade[..4], r[..4], "blade {i}: only the tip moves");
+        let expected = root(i) + Vec3A::new(0.045_749_57, 0.376_249_3, 0.045_749_57);
+        assert!(
+            (blade[4] - expected).length() < 1e-6,
+            "blade {i}: tip {} where Eq. 5 by hand gives {expected}",
+            blade[4]
+        );
+    }
 }
 
 /// Billboard → geometry: only the last segment turns (Eq. 5 with num = 1 on

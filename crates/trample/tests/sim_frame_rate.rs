@@ -2,8 +2,9 @@
 //! 30 and at 144 steps per second leaves nearly the same field.
 //!
 //! Tolerance: the mean distance between the two runs' tips, over blades that
-//! either run moved, is below 10 % of the mean tip displacement (measured: 4.2 %), and 90 % of
-//! the blades bent in one run are bent in the other.
+//! either run moved, is below 15 % of the mean tip displacement (measured
+//! 2026-11-23: 4.2 %), and of the blades bent (tip more than 5 cm from
+//! rest) in either run at least 90 % are bent in both (measured: 346 of 350).
 
 mod common;
 use common::*;

@@ -65,6 +65,27 @@ impl Blades {
         self.pos[k * self.count + b]
     }
 
+    /// How far blade `b`'s tip is below its rest tip, metres (negative when
+    /// above): what a bend visibly does to a blade. Tests state "tips
+    /// lowered by at least d" with it, which, unlike a count of blades hit,
+    /// holds only when blades really moved.
+    ///
+    /// See also [`Blades::tips_lowered_by`].
+    #[must_use]
+    pub fn tip_lowering(&self, b: usize) -> f32 {
+        let tip = self.segments * self.count + b;
+        self.rest[tip].y - self.pos[tip].y
+    }
+
+    /// Number of blades whose tip is at least `d` metres below its rest tip
+    /// ([`Blades::tip_lowering`] `>= d`).
+    #[must_use]
+    pub fn tips_lowered_by(&self, d: f32) -> usize {
+        (0..self.count)
+            .filter(|&b| self.tip_lowering(b) >= d)
+            .count()
+    }
+
     /// True when blade `b` is bit-for-bit at its rest shape.
     #[must_use]
     pub fn is_at_rest(&self, b: usize) -> bool {
