@@ -1,0 +1,406 @@
+//! Refitting an OBB tree to a deformed mesh (ours, DESIGN §3 "Deforming
+//! meshes"): same triangles, new vertex positions (skinning, morphs, a
+//! host's animated mesh); the tree keeps its topology and only its boxes and
+//! equivalent normals (Eq. 3) are recomputed, bottom-up, never rebuilt.
+//!
+//! Bottom-up as in G. van den Bergen, *Efficient collision detection of
+//! complex deformable models using AABB trees* (JGT 1997), with oriented
+//! boxes: a leaf's box is fitted to its triangles, a parent's box to the
+//! sixteen corners of its children's boxes, so **every parent box contains
+//! its children's boxes** and, through them, every triangle below it. The
+//! node order of [`ObbTree::build`] (children after their parent) makes one
+//! reverse sweep over the nodes bottom-up.
+//!
+//! How the orientations follow the deformation is [`AxisRule`]:
+//! - [`AxisRule::Fixed`] keeps every box's build axes and recomputes centre
+//!   and extents only: cheapest, but a box whose triangles turn (a shin
+//!   swinging 60°) grows to the turned shape's extents along the old axes.
+//! - [`AxisRule::Follow`] (the default) refits the leaves' axes from their
+//!   triangles and gives each parent the axes, among its own previous ones,
+//!   its children's and the world's, that make its box smallest (surface
+//!   area: by Cauchy–Crofton the box fewer blade segments meet), so the
+//!   orientation travels up from the leaves as a limb turns.
+//!
+//! Eq. 3 is kept as two sums per node, `Σ S·N` and `Σ S` (f64): a leaf's
+//! from its triangles, a parent's as the sum of its children's; `eqn` is
+//! their ratio, as [`super::build::equivalent_normal`] computes it from
+//! scratch.
+//!
+//! The inside grid ([`crate::collision::inside_grid::InsideGrid`]) of a
+//! closed mesh is dropped by a refit (see [`ObbTree::refit`] for why):
+//! [`crate::collision::point_inside`] then answers every query with the
+//! exact ray-parity test through the refitted tree. Same answers.
+
+use std::collections::HashMap;
+
+use glam::{DVec3, Vec3};
+
+use super::fit::{fit_obb, padding};
+use super::node::{Obb, ObbTree};
+use crate::object::TriMesh;
+
+/// How node orientations follow a deformation; see the module documentation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AxisRule {
+    /// Internal nodes keep the axes they were built with (centres and
+    /// extents are recomputed exactly); leaves take the smallest of the
+    /// boxes along their old axes, their first triangle's own frame and the
+    /// world axes (a few triangles: cheap). At the bind pose this gives the
+    /// built tree back, box for box.
+    #[default]
+    Fixed,
+    /// Every node is fitted again as [`super::fit::fit_obb`] fits it
+    /// (covariance axes of its triangles, or the world axes): the boxes a
+    /// build would give these triangles, for about the cost of a build's
+    /// fitting (no sorting).
+    Fit,
+}
+
+/// Whether a parent's box must contain its children's boxes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Nesting {
+    /// Every box is fitted to its own triangles (as [`ObbTree::build`]
+    /// fits them): tight; a child's box may stick out of its parent's.
+    #[default]
+    Tight,
+    /// Every box also contains its children's boxes, so a segment that
+    /// meets a child's box meets its parent's. Boxes of boxes turned
+    /// against one another compound level by level: see BENCHMARKS.md.
+    Contain,
+}
+
+/// Why a refit was refused. The tree is left as it was.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RefitError {
+    /// A tree triangle uses a vertex the given positions do not have.
+    #[error(
+        "refit: triangle {triangle} uses vertex {vertex} but {count} positions were given; allowed: the mesh's vertex count"
+    )]
+    VertexOutOfRange {
+        /// Tree triangle (index into [`ObbTree::triangles`]).
+        triangle: usize,
+        /// The vertex index it uses.
+        vertex: u32,
+        /// How many positions were given.
+        count: usize,
+    },
+    /// A position used by the tree is NaN or infinite.
+    #[error("refit: vertex {vertex} is not finite ({position}); allowed: finite coordinates")]
+    NonFiniteVertex {
+        /// The vertex index.
+        vertex: u32,
+        /// Its position.
+        position: Vec3,
+    },
+    /// The map was made for another tree.
+    #[error(
+        "refit: the map covers {map} triangles but the tree holds {tree}; make the map from this tree"
+    )]
+    MapMismatch {
+        /// Triangles in the map.
+        map: usize,
+        /// Triangles in the tree.
+        tree: usize,
+    },
+    /// [`RefitMap::new`]: a tree triangle is not a triangle of the mesh.
+    #[error(
+        "refit map: tree triangle {triangle} ({corners:?}) is not a triangle of the mesh; allowed: the mesh the tree was built from (same positions, same corner order)"
+    )]
+    TriangleNotInMesh {
+        /// Tree triangle index.
+        triangle: usize,
+        /// Its corners.
+        corners: [Vec3; 3],
+    },
+}
+
+/// Which mesh vertices make each tree triangle: the link between the tree's
+/// reordered triangles ([`ObbTree::triangles`]) and the vertex array a
+/// deformation writes. Made once, at bind time.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RefitMap {
+    /// Per tree triangle, the mesh vertex index of each corner, in the
+    /// tree triangle's corner order.
+    pub corners: Vec<[u32; 3]>,
+}
+
+impl RefitMap {
+    /// Matches every triangle of `tree` with a triangle of `mesh` that has
+    /// the same three corner positions, bit for bit, in the same order
+    /// (what [`ObbTree::build`] keeps of a triangle; [`crate::object::sanitize`]
+    /// keeps positions and corner order too, so `mesh` may be the mesh
+    /// before sanitising, whose vertices a skin deforms). Each mesh triangle
+    /// is used at most once; mesh triangles the tree does not hold (dropped
+    /// as degenerate or duplicate) are ignored. O(triangles).
+    ///
+    /// # Errors
+    /// [`RefitError::TriangleNotInMesh`] for the first tree triangle with no
+    /// unused match.
+    pub fn new(tree: &ObbTree, mesh: &TriMesh) -> Result<Self, RefitError> {
+        let key = |t: [Vec3; 3]| t.map(|p| p.to_array().map(f32::to_bits));
+        let mut by_corners: HashMap<[[u32; 3]; 3], Vec<[u32; 3]>> =
+            HashMap::with_capacity(mesh.indices.len());
+        // Reverse, so that popping gives duplicates back in mesh order.
+        for idx in mesh.indices.iter().rev() {
+            let corners = idx.map(|i| mesh.positions.get(i as usize).copied());
+            if let [Some(a), Some(b), Some(c)] = corners {
+                by_corners.entry(key([a, b, c])).or_default().push(*idx);
+            }
+        }
+        let corners = tree
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(triangle, t)| {
+                by_corners.get_mut(&key(*t)).and_then(Vec::pop).ok_or(
+                    RefitError::TriangleNotInMesh {
+                        triangle,
+                        corners: *t,
+                    },
+                )
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(Self { corners })
+    }
+}
+
+/// Scratch memory of [`ObbTree::refit`], reused across frames (no
+/// allocation per refit once it has grown to the tree).
+#[derive(Clone, Debug, Default)]
+pub struct RefitScratch {
+    /// `Σ S·N` per node (Eq. 3 numerator), f64.
+    area_normal: Vec<DVec3>,
+    /// `Σ S` per node, square metres, f64.
+    area: Vec<f64>,
+}
+
+impl ObbTree {
+    /// Refits the tree to new vertex `positions` of the mesh it was built
+    /// from (same triangles; `map` from [`RefitMap::new`]), bottom-up: the
+    /// triangles are rewritten, each leaf's box is fitted to its triangles,
+    /// each parent's box to its children's boxes (so it contains them), and
+    /// every node's `eqn` (Eq. 3) is recomputed. Orientations follow `rule`.
+    /// The boxes are padded as [`super::fit::fit_obb`] pads them, so
+    /// [`ObbTree::validate`] holds afterwards; topology, triangle ranges,
+    /// depths and `closed` are unchanged.
+    ///
+    /// The inside grid is dropped (`inside = None`): rebuilding it casts one
+    /// ray per empty voxel (≈ 14 k rays, milliseconds: a whole step's
+    /// budget; see BENCHMARKS.md), while without it
+    /// [`crate::collision::point_inside`] casts one ray per query, and only
+    /// segments that meet the root box but no final-depth box ask. The
+    /// answers are the same either way (the grid only caches the ray test).
+    ///
+    /// Cost: O(nodes), no allocation after the first call with `scratch`.
+    /// Measured in `benches/obb_refit.rs`.
+    ///
+    /// # Errors
+    /// [`RefitError`] when the map is not this tree's, a corner index is out
+    /// of range of `positions` or a used position is not finite; the tree
+    /// is then unchanged.
+    pub fn refit(
+        &mut self,
+        map: &RefitMap,
+        positions: &[Vec3],
+        rule: AxisRule,
+        nesting: Nesting,
+        scratch: &mut RefitScratch,
+    ) -> Result<(), RefitError> {
+        if map.corners.len() != self.triangles.len() {
+            return Err(RefitError::MapMismatch {
+                map: map.corners.len(),
+                tree: self.triangles.len(),
+            });
+        }
+        for (triangle, idx) in map.corners.iter().enumerate() {
+            for &vertex in idx {
+                let position =
+                    *positions
+                        .get(vertex as usize)
+                        .ok_or(RefitError::VertexOutOfRange {
+                            triangle,
+                            vertex,
+                            count: positions.len(),
+                        })?;
+                if !position.is_finite() {
+                    return Err(RefitError::NonFiniteVertex { vertex, position });
+                }
+            }
+        }
+        for (tri, idx) in self.triangles.iter_mut().zip(&map.corners) {
+            *tri = idx.map(|i| positions[i as usize]);
+        }
+        self.inside = None;
+        if self.triangles.is_empty() {
+            return Ok(());
+        }
+        let n = self.nodes.len();
+        scratch.area_normal.clear();
+        scratch.area_normal.resize(n, DVec3::ZERO);
+        scratch.area.clear();
+        scratch.area.resize(n, 0.0);
+        // Children come after their parent: a reverse sweep is bottom-up.
+        for i in (0..n).rev() {
+            let node = self.nodes[i];
+            if node.is_leaf() {
+                let first = node.first_tri as usize;
+                let tris = &self.triangles[first..first + node.tri_count as usize];
+                let (sn, s) = area_sums(tris);
+                scratch.area_normal[i] = sn;
+                scratch.area[i] = s;
+                self.nodes[i].obb = leaf_box(tris, &node.obb, rule);
+            } else {
+                let [l, r] = node.children.map(|c| c as usize);
+                scratch.area_normal[i] = scratch.area_normal[l] + scratch.area_normal[r];
+                scratch.area[i] = scratch.area[l] + scratch.area[r];
+                let (left, right) = (self.nodes[l].obb, self.nodes[r].obb);
+                let first = node.first_tri as usize;
+                let tris = &self.triangles[first..first + node.tri_count as usize];
+                self.nodes[i].obb = parent_box(tris, (&left, &right), &node.obb, rule, nesting);
+            }
+            self.nodes[i].eqn = eqn_from_sums(scratch.area_normal[i], scratch.area[i]);
+        }
+        Ok(())
+    }
+}
+
+/// Eq. 3's two sums over `tris`: `Σ S_i N_i` and `Σ S_i` (f64), with
+/// `S_i N_i = ½ (b − a) × (c − a)`.
+fn area_sums(tris: &[[Vec3; 3]]) -> (DVec3, f64) {
+    let mut weighted = DVec3::ZERO;
+    let mut area = 0.0;
+    for tri in tris {
+        let [a, b, c] = tri.map(Vec3::as_dvec3);
+        let n = 0.5 * (b - a).cross(c - a);
+        weighted += n;
+        area += n.length();
+    }
+    (weighted, area)
+}
+
+/// Eq. 3 from its sums: `Σ S N / Σ S`, zero when the area is zero or the
+/// ratio is not finite (as [`super::build::equivalent_normal`]).
+fn eqn_from_sums(area_normal: DVec3, area: f64) -> Vec3 {
+    let eqn = area_normal / area;
+    if area > 0.0 && eqn.is_finite() {
+        eqn.as_vec3()
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// The world axes x, y, z.
+const WORLD_AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
+
+/// A leaf's new box around `tris`. `Fixed`: the smallest of the boxes
+/// along `old`'s axes, the first triangle's frame (longest edge, normal)
+/// and the world axes. `Fit`: [`fit_obb`].
+fn leaf_box(tris: &[[Vec3; 3]], old: &Obb, rule: AxisRule) -> Obb {
+    if rule == AxisRule::Fit {
+        return fit_obb(tris);
+    }
+    let corners = || tris.iter().flatten().copied();
+    let mut best = Extents::along(corners(), old.axes);
+    let own = tris.first().and_then(triangle_frame);
+    for axes in own.into_iter().chain([WORLD_AXES]) {
+        best = best.smaller(Extents::along(corners(), axes));
+    }
+    best.padded()
+}
+
+/// A parent's new box: the exact extents of its triangles `tris` along
+/// `old`'s axes (`Fixed`) or [`fit_obb`] of them (`Fit`); with
+/// [`Nesting::Contain`], grown to the corners of its children's boxes
+/// `left` and `right` too.
+fn parent_box(
+    tris: &[[Vec3; 3]],
+    (left, right): (&Obb, &Obb),
+    old: &Obb,
+    rule: AxisRule,
+    nesting: Nesting,
+) -> Obb {
+    let axes = match (rule, nesting) {
+        (AxisRule::Fit, Nesting::Tight) => return fit_obb(tris),
+        (AxisRule::Fit, Nesting::Contain) => fit_obb(tris).axes,
+        (AxisRule::Fixed, _) => old.axes,
+    };
+    let corners = tris.iter().flatten().copied();
+    match nesting {
+        Nesting::Contain => {
+            let (lc, rc) = (left.corners(), right.corners());
+            Extents::along(lc.into_iter().chain(rc).chain(corners), axes).padded()
+        }
+        Nesting::Tight => Extents::along(corners, axes).padded(),
+    }
+}
+
+/// An orthonormal right-handed frame of a triangle: u along its longest
+/// edge, w its normal, v = w × u. `None` for a degenerate triangle.
+fn triangle_frame(tri: &[Vec3; 3]) -> Option<[Vec3; 3]> {
+    let [a, b, c] = *tri;
+    let edges = [b - a, c - b, a - c];
+    let longest = edges
+        .into_iter()
+        .max_by(|x, y| x.length_squared().total_cmp(&y.length_squared()))?;
+    let u = longest.try_normalize()?;
+    let w = (b - a).cross(c - a).try_normalize()?;
+    let v = w.cross(u).try_normalize()?;
+    // Re-derive w so the frame is orthogonal to f32 precision.
+    let w = u.cross(v);
+    Some([u, v, w])
+}
+
+/// A box before padding: axes, centre and exact half extents of a point set.
+#[derive(Clone, Copy)]
+struct Extents {
+    axes: [Vec3; 3],
+    center: Vec3,
+    half: Vec3,
+}
+
+impl Extents {
+    /// Exact extents of `points` along orthonormal `axes` (projections
+    /// relative to the first point, to keep the numbers small).
+    fn along(points: impl Iterator<Item = Vec3> + Clone, axes: [Vec3; 3]) -> Self {
+        let origin = points.clone().next().unwrap_or(Vec3::ZERO);
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for p in points {
+            let d = p - origin;
+            let q = Vec3::new(d.dot(axes[0]), d.dot(axes[1]), d.dot(axes[2]));
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
+        let mid = (lo + hi) * 0.5;
+        Self {
+            axes,
+            center: origin + axes[0] * mid.x + axes[1] * mid.y + axes[2] * mid.z,
+            half: (hi - lo) * 0.5,
+        }
+    }
+
+    /// Surface area over 8 (`hu hv + hv hw + hw hu`), enough to compare.
+    fn surface(&self) -> f32 {
+        let h = self.half;
+        h.x * h.y + h.y * h.z + h.z * h.x
+    }
+
+    /// `self`, or `other` when its surface is strictly smaller.
+    fn smaller(self, other: Self) -> Self {
+        if other.surface() < self.surface() {
+            other
+        } else {
+            self
+        }
+    }
+
+    /// The box with [`padding`] added to every half extent, as the fit pads.
+    fn padded(self) -> Obb {
+        let pad = padding(self.half.max_element(), self.center);
+        Obb {
+            center: self.center,
+            axes: self.axes,
+            half: self.half + Vec3::splat(pad),
+        }
+    }
+}
