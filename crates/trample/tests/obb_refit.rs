@@ -3,7 +3,8 @@
 //! tree is well formed, every parent box contains its children's boxes,
 //! Eq. 3 is recomputed, no segment the exact reference reports (against a
 //! tree built from scratch on the deformed mesh) is missed at any depth, and
-//! hits at depth d+1 ⊆ hits at depth d. Run with `--nocapture` for the
+//! hits at depth d+1 ⊆ hits at depth d; the same for the walker skinned
+//! through its walk (scenes/meshes/walker.glb). Run with `--nocapture` for the
 //! false-positive rates of both axis rules against a rebuilt tree.
 
 mod collision_meshes;
@@ -15,7 +16,8 @@ use trample::obb::refit::Nesting;
 use trample::obb::{
     AxisRule, DEFAULT_MAX_DEPTH, ObbTree, RefitError, RefitMap, RefitScratch, equivalent_normal,
 };
-use trample::object::{TriMesh, load_mesh_file, sanitize, shapes};
+use trample::object::skin::SkinScratch;
+use trample::object::{SkinnedMesh, TriMesh, load_mesh_file, sanitize, shapes};
 
 const SEGMENTS: usize = 1500;
 
@@ -220,6 +222,53 @@ fn refit_after_random_motions_is_well_formed_and_misses_no_exact_hit() {
             }
             println!("  {label:<22}{line}; {:>5.1}%", 100.0 * rebuilt);
         }
+    }
+}
+
+#[test]
+fn refit_follows_the_skinned_walker_through_its_walk() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/meshes/walker.glb"
+    );
+    let walker = SkinnedMesh::load(std::path::Path::new(path)).expect("walker.glb loads");
+    let walk = walker.animation("walk").expect("walk");
+    // The tree is built from the sanitised mesh, as an object's is; the map
+    // points into the skin's own (unsanitised) vertices.
+    let (clean, _) = sanitize(walker.bind.clone(), "walker.glb").expect("valid");
+    let built = ObbTree::build(&clean, DEFAULT_MAX_DEPTH);
+    let map = RefitMap::new(&built, &walker.bind).expect("same triangles");
+    let mut scratch = SkinScratch::default();
+    let mut posed = Vec::new();
+    println!(
+        "\nwalker, false positives at depth 7: refit Fixed/Fit Tight, Fixed/Fit Contain; rebuilt"
+    );
+    for (k, t) in [0.1f32, 0.35, 0.6, 0.85].into_iter().enumerate() {
+        walker.pose_into(Some(walk), t, &mut scratch, &mut posed);
+        let mut tree = built.clone();
+        tree.refit(
+            &map,
+            &posed,
+            AxisRule::Fixed,
+            Nesting::Tight,
+            &mut RefitScratch::default(),
+        )
+        .expect("valid");
+        tree.assert_well_formed();
+        let mut line = String::new();
+        let mut rebuilt = 0.0;
+        for variant in VARIANTS {
+            let (fp, fp_rebuilt) = check(
+                &format!("walker t = {t}"),
+                &walker.bind,
+                &posed,
+                variant,
+                77 + k as u64,
+            );
+            line += &format!(" {:>5.1}%", 100.0 * fp);
+            rebuilt = fp_rebuilt;
+        }
+        println!("  t = {t:<4} s {line}; {:>5.1}%", 100.0 * rebuilt);
     }
 }
 

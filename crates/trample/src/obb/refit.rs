@@ -5,21 +5,29 @@
 //!
 //! Bottom-up as in G. van den Bergen, *Efficient collision detection of
 //! complex deformable models using AABB trees* (JGT 1997), with oriented
-//! boxes: a leaf's box is fitted to its triangles, a parent's box to the
-//! sixteen corners of its children's boxes, so **every parent box contains
-//! its children's boxes** and, through them, every triangle below it. The
-//! node order of [`ObbTree::build`] (children after their parent) makes one
-//! reverse sweep over the nodes bottom-up.
+//! boxes. The node order of [`ObbTree::build`] (children after their
+//! parent) makes one reverse sweep over the nodes bottom-up. Every box is
+//! fitted to the exact extents of its own triangles' corners (plus the fit's
+//! padding), so every triangle lies in its node's box and every ancestor's
+//! ([`ObbTree::validate`]) and no segment crossing a triangle is missed.
 //!
 //! How the orientations follow the deformation is [`AxisRule`]:
-//! - [`AxisRule::Fixed`] keeps every box's build axes and recomputes centre
-//!   and extents only: cheapest, but a box whose triangles turn (a shin
-//!   swinging 60°) grows to the turned shape's extents along the old axes.
-//! - [`AxisRule::Follow`] (the default) refits the leaves' axes from their
-//!   triangles and gives each parent the axes, among its own previous ones,
-//!   its children's and the world's, that make its box smallest (surface
-//!   area: by Cauchy–Crofton the box fewer blade segments meet), so the
-//!   orientation travels up from the leaves as a limb turns.
+//! - [`AxisRule::Fixed`] (the default) keeps the internal nodes' build axes
+//!   and recomputes centres and extents; leaves take the best of their old
+//!   axes, their triangle's own frame and the world axes. At the bind pose
+//!   it gives the built boxes back; where a limb turns, boxes along the old
+//!   axes grow.
+//! - [`AxisRule::Fit`] fits every node again as the build does
+//!   ([`fit_obb`]: covariance axes or world axes): boxes as tight as a
+//!   rebuilt tree's, with the old topology, at the cost of the fits.
+//!
+//! Whether a parent must also contain its children's boxes is [`Nesting`].
+//! Measured (`tests/obb_refit.rs`, BENCHMARKS.md), `Contain` compounds: a
+//! box that holds the corners of its children's boxes, turned against it,
+//! is larger than their triangles need, its parent larger again, and on a
+//! 1,280-triangle sphere at its bind pose the root's surface came out 18×
+//! the built root's (3.9× at depth 7), 97 % false positives at depth 7
+//! against 24 % for `Tight`. `Tight` is the default.
 //!
 //! Eq. 3 is kept as two sums per node, `Σ S·N` and `Σ S` (f64): a leaf's
 //! from its triangles, a parent's as the sum of its children's; `eqn` is
@@ -177,9 +185,9 @@ pub struct RefitScratch {
 impl ObbTree {
     /// Refits the tree to new vertex `positions` of the mesh it was built
     /// from (same triangles; `map` from [`RefitMap::new`]), bottom-up: the
-    /// triangles are rewritten, each leaf's box is fitted to its triangles,
-    /// each parent's box to its children's boxes (so it contains them), and
-    /// every node's `eqn` (Eq. 3) is recomputed. Orientations follow `rule`.
+    /// triangles are rewritten, each node's box is fitted to its triangles
+    /// (and, with [`Nesting::Contain`], to its children's boxes), and every
+    /// node's `eqn` (Eq. 3) is recomputed. Orientations follow `rule`.
     /// The boxes are padded as [`super::fit::fit_obb`] pads them, so
     /// [`ObbTree::validate`] holds afterwards; topology, triangle ranges,
     /// depths and `closed` are unchanged.
@@ -191,8 +199,10 @@ impl ObbTree {
     /// segments that meet the root box but no final-depth box ask. The
     /// answers are the same either way (the grid only caches the ray test).
     ///
-    /// Cost: O(nodes), no allocation after the first call with `scratch`.
-    /// Measured in `benches/obb_refit.rs`.
+    /// Cost: every triangle's corners are projected once per level
+    /// (O(triangles × depth)), plus, with [`AxisRule::Fit`], a covariance
+    /// fit per node; no allocation after the first call with `scratch`.
+    /// Measured in `benches/obb_refit.rs` (BENCHMARKS.md).
     ///
     /// # Errors
     /// [`RefitError`] when the map is not this tree's, a corner index is out
