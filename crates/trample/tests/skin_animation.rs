@@ -314,3 +314,81 @@ fn bad_rigs_give_one_line_errors_naming_the_file_and_the_item() {
         "rig.glb: mesh 0 primitive 0 is skinned (its node has skin 0) but has no WEIGHTS_0; allowed: JOINTS_0 and WEIGHTS_0 on every primitive of a skinned mesh"
     );
 }
+
+/// Groups the triangles of `mesh` by connected vertices (union-find).
+fn components(mesh: &trample::object::TriMesh) -> Vec<Vec<[u32; 3]>> {
+    let mut parent: Vec<usize> = (0..mesh.positions.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for t in &mesh.indices {
+        for k in 1..3 {
+            let (a, b) = (
+                root(&mut parent, t[0] as usize),
+                root(&mut parent, t[k] as usize),
+            );
+            parent[a] = b;
+        }
+    }
+    let mut groups: std::collections::BTreeMap<usize, Vec<[u32; 3]>> = Default::default();
+    for t in &mesh.indices {
+        groups
+            .entry(root(&mut parent, t[0] as usize))
+            .or_default()
+            .push(*t);
+    }
+    groups.into_values().collect()
+}
+
+#[test]
+fn the_walkers_six_closed_parts_never_touch_through_the_walk() {
+    // Parity decides "inside" (DESIGN §4): overlapping closed parts would
+    // make their overlap count as outside. Every edge of every part is
+    // tested against every other part, exactly (crossing or inside).
+    use trample::collision::segment_hits_exact;
+    use trample::obb::{DEFAULT_MAX_DEPTH, ObbTree};
+    use trample::object::TriMesh;
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/meshes/walker.glb"
+    );
+    let walker = SkinnedMesh::load(std::path::Path::new(path)).expect("walker.glb loads");
+    let parts = components(&walker.bind);
+    assert_eq!(parts.len(), 6, "torso, head, two legs, two arms");
+    for k in 0..10 {
+        let t = k as f32 / 10.0;
+        let posed = pose(&walker, Some("walk"), t);
+        let meshes: Vec<TriMesh> = parts
+            .iter()
+            .map(|tris| TriMesh {
+                positions: posed.clone(),
+                indices: tris.clone(),
+            })
+            .collect();
+        let trees: Vec<ObbTree> = meshes
+            .iter()
+            .map(|m| ObbTree::build(m, DEFAULT_MAX_DEPTH))
+            .collect();
+        for (i, tree) in trees.iter().enumerate() {
+            assert!(tree.closed, "part {i} is closed");
+            for (j, other) in parts.iter().enumerate() {
+                if i == j {
+                    continue;
+                }
+                for tri in other {
+                    for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+                        let (p, q) = (posed[tri[a] as usize], posed[tri[b] as usize]);
+                        assert!(
+                            !segment_hits_exact(tree, p, q),
+                            "t = {t}: an edge of part {j} ({p} {q}) touches part {i}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
