@@ -31,8 +31,7 @@
 //!
 //! Eq. 3 is kept as two sums per node, `Σ S·N` and `Σ S` (f64): a leaf's
 //! from its triangles, a parent's as the sum of its children's; `eqn` is
-//! their ratio, as [`super::build::equivalent_normal`] computes it from
-//! scratch.
+//! their ratio ([`super::build::equivalent_normal`]'s own sums).
 //!
 //! The inside grid ([`crate::collision::inside_grid::InsideGrid`]) of a
 //! closed mesh is dropped by a refit (see [`ObbTree::refit`] for why):
@@ -43,6 +42,7 @@ use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
 
+use super::build::{equivalent_normal_from_sums, equivalent_normal_sums};
 use super::fit::{fit_obb, padding};
 use super::node::{Obb, ObbTree};
 use crate::object::TriMesh;
@@ -255,7 +255,7 @@ impl ObbTree {
             if node.is_leaf() {
                 let first = node.first_tri as usize;
                 let tris = &self.triangles[first..first + node.tri_count as usize];
-                let (sn, s) = area_sums(tris);
+                let (sn, s) = equivalent_normal_sums(tris);
                 scratch.area_normal[i] = sn;
                 scratch.area[i] = s;
                 self.nodes[i].obb = leaf_box(tris, &node.obb, rule);
@@ -268,34 +268,10 @@ impl ObbTree {
                 let tris = &self.triangles[first..first + node.tri_count as usize];
                 self.nodes[i].obb = parent_box(tris, (&left, &right), &node.obb, rule, nesting);
             }
-            self.nodes[i].eqn = eqn_from_sums(scratch.area_normal[i], scratch.area[i]);
+            self.nodes[i].eqn =
+                equivalent_normal_from_sums(scratch.area_normal[i], scratch.area[i]);
         }
         Ok(())
-    }
-}
-
-/// Eq. 3's two sums over `tris`: `Σ S_i N_i` and `Σ S_i` (f64), with
-/// `S_i N_i = ½ (b − a) × (c − a)`.
-fn area_sums(tris: &[[Vec3; 3]]) -> (DVec3, f64) {
-    let mut weighted = DVec3::ZERO;
-    let mut area = 0.0;
-    for tri in tris {
-        let [a, b, c] = tri.map(Vec3::as_dvec3);
-        let n = 0.5 * (b - a).cross(c - a);
-        weighted += n;
-        area += n.length();
-    }
-    (weighted, area)
-}
-
-/// Eq. 3 from its sums: `Σ S N / Σ S`, zero when the area is zero or the
-/// ratio is not finite (as [`super::build::equivalent_normal`]).
-fn eqn_from_sums(area_normal: DVec3, area: f64) -> Vec3 {
-    let eqn = area_normal / area;
-    if area > 0.0 && eqn.is_finite() {
-        eqn.as_vec3()
-    } else {
-        Vec3::ZERO
     }
 }
 
