@@ -135,7 +135,7 @@ pub struct RefitMap {
 impl RefitMap {
     /// Matches every triangle of `tree` with a triangle of `mesh` that has
     /// the same three corner positions, bit for bit, in the same order
-    /// (what [`ObbTree::build`] keeps of a triangle; [`crate::object::sanitize`]
+    /// (what [`ObbTree::build`] keeps of a triangle; [`crate::object::sanitize::sanitize`]
     /// keeps positions and corner order too, so `mesh` may be the mesh
     /// before sanitising, whose vertices a skin deforms). Each mesh triangle
     /// is used at most once; mesh triangles the tree does not hold (dropped
