@@ -3,8 +3,10 @@
 //! rules), and of the walker (`scenes/meshes/walker.glb`, 7,880 triangles)
 //! skinned at successive frames of its walk; the CPU skinning alone; and,
 //! for comparison with the refit, rebuilding the tree and rebuilding the
-//! inside grid (what the refit avoids). Throughput: triangles (vertices for
-//! skinning). Small mode: one frame pair, fewer samples.
+//! inside grid (what the refit avoids), and 1,000 inside queries with the
+//! grid and by the ray alone (what dropping it costs). Throughput:
+//! triangles (vertices for skinning, points for queries). Small mode: two
+//! frames, fewer samples.
 
 mod common;
 
@@ -12,7 +14,7 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use glam::{Quat, Vec3};
 use std::f32::consts::TAU;
 use std::hint::black_box;
-use trample::collision::exact::point_inside_by_ray;
+use trample::collision::exact::{point_inside, point_inside_by_ray};
 use trample::collision::inside_grid::InsideGrid;
 use trample::obb::refit::Nesting;
 use trample::obb::{AxisRule, DEFAULT_MAX_DEPTH, ObbTree, RefitMap, RefitScratch};
@@ -122,6 +124,32 @@ fn bench(c: &mut Criterion) {
         let tree = ObbTree::build(&deformed, DEFAULT_MAX_DEPTH);
         group.bench_function(BenchmarkId::new("inside_grid", name), |b| {
             b.iter(|| InsideGrid::build(black_box(&tree), |p| point_inside_by_ray(&tree, p)));
+        });
+        // What dropping the grid costs a query: 1,000 seeded points in the
+        // root box, answered with the grid and by the ray alone.
+        let root = tree.nodes[0].obb;
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let points: Vec<Vec3> = (0..1000)
+            .map(|_| {
+                let mut unit = || {
+                    seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                    (seed >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+                };
+                let q = Vec3::new(unit(), unit(), unit()) * root.half;
+                root.center + root.axes[0] * q.x + root.axes[1] * q.y + root.axes[2] * q.z
+            })
+            .collect();
+        group.throughput(Throughput::Elements(points.len() as u64));
+        group.bench_function(BenchmarkId::new("inside_1000_grid", name), |b| {
+            b.iter(|| points.iter().filter(|&&p| point_inside(&tree, p)).count());
+        });
+        group.bench_function(BenchmarkId::new("inside_1000_ray", name), |b| {
+            b.iter(|| {
+                points
+                    .iter()
+                    .filter(|&&p| point_inside_by_ray(&tree, p))
+                    .count()
+            });
         });
     }
     group.throughput(Throughput::Elements(walker.bind.positions.len() as u64));
