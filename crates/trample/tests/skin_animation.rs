@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::gltf::glb;
+use common::gltf::{TRIANGLE, buffer_bytes, document, glb};
 use glam::Vec3;
 use std::f32::consts::FRAC_1_SQRT_2;
 use trample::object::skin::SkinScratch;
@@ -391,4 +391,25 @@ fn the_walkers_six_closed_parts_never_touch_through_the_walk() {
             }
         }
     }
+}
+
+#[test]
+fn a_rigid_node_without_a_skin_moves_with_its_node() {
+    // A triangle under a translated, rotated node and no skin: the bind mesh
+    // is what the plain loader gives, the rest pose reproduces it, and the
+    // file has no animation to ask for.
+    let nodes = r#"[{ "children": [1], "rotation": [0, 0.38268343, 0, 0.9238795] },
+                    { "mesh": 0, "translation": [1, 2, 3] }]"#;
+    let bin = buffer_bytes(&TRIANGLE, &[0, 1, 2]);
+    let bytes = glb(&document(None, bin.len(), 3, 3, 4, nodes), Some(&bin));
+    let plain = trample::object::gltf::parse_gltf(&bytes, None, "rigid.glb").expect("valid");
+    let rig = SkinnedMesh::parse(&bytes, None, "rigid.glb").expect("valid");
+    assert_eq!(rig.bind, plain);
+    assert_eq!(rig.joints.len(), 1, "one joint for the rigid node");
+    assert_close(&pose(&rig, None, 0.0), &plain.positions, 1e-6, "rigid");
+    let e = rig.animation("walk").expect_err("none").to_string();
+    assert_eq!(
+        e,
+        r#"rigid.glb: no animation named "walk"; the file has none"#
+    );
 }
