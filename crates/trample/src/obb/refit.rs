@@ -5,8 +5,9 @@
 //!
 //! Bottom-up as in G. van den Bergen, *Efficient collision detection of
 //! complex deformable models using AABB trees* (JGT 1997), with oriented
-//! boxes. The node order of [`ObbTree::build`] (children after their
-//! parent) makes one reverse sweep over the nodes bottom-up. Every box is
+//! boxes: level by level from the deepest (children before parents), the
+//! nodes of a level in parallel (rayon; each writes only itself, so the
+//! result does not depend on the thread count). Every box is
 //! fitted to the exact extents of its own triangles' corners (plus the fit's
 //! padding), so every triangle lies in its node's box and every ancestor's
 //! ([`ObbTree::validate`]) and no segment crossing a triangle is missed.
@@ -41,6 +42,7 @@
 use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::build::{equivalent_normal_from_sums, equivalent_normal_sums};
 use super::fit::{fit_obb, padding};
@@ -130,6 +132,15 @@ pub struct RefitMap {
     /// Per tree triangle, the mesh vertex index of each corner, in the
     /// tree triangle's corner order.
     pub corners: Vec<[u32; 3]>,
+    /// Per node, its distinct vertices: `node_vertices[i]` is a range of
+    /// `vertices`. A closed mesh has about half as many vertices as
+    /// triangles, so projecting each distinct vertex once instead of three
+    /// corners per triangle does a sixth of the work.
+    node_vertices: Vec<(u32, u32)>,
+    /// The distinct vertices of every node, node after node.
+    vertices: Vec<u32>,
+    /// Node indices by depth: `levels[d]` holds the nodes of depth `d + 1`.
+    levels: Vec<Vec<u32>>,
 }
 
 impl RefitMap {
@@ -155,7 +166,7 @@ impl RefitMap {
                 by_corners.entry(key([a, b, c])).or_default().push(*idx);
             }
         }
-        let corners = tree
+        let corners: Vec<[u32; 3]> = tree
             .triangles
             .iter()
             .enumerate()
@@ -168,18 +179,72 @@ impl RefitMap {
                 )
             })
             .collect::<Result<_, _>>()?;
-        Ok(Self { corners })
+        let (node_vertices, vertices) = distinct_vertices(tree, &corners);
+        let mut levels: Vec<Vec<u32>> = Vec::new();
+        for (i, node) in tree.nodes.iter().enumerate() {
+            let d = node.depth.max(1) as usize - 1;
+            if levels.len() <= d {
+                levels.resize(d + 1, Vec::new());
+            }
+            levels[d].push(i as u32);
+        }
+        Ok(Self {
+            corners,
+            node_vertices,
+            vertices,
+            levels,
+        })
     }
+}
+
+impl RefitMap {
+    /// The positions of node `i`'s distinct vertices.
+    fn node_points<'a>(
+        &'a self,
+        i: usize,
+        positions: &'a [Vec3],
+    ) -> impl Iterator<Item = Vec3> + Clone + 'a {
+        let (start, len) = self.node_vertices[i];
+        self.vertices[start as usize..(start + len) as usize]
+            .iter()
+            .map(move |&v| positions[v as usize])
+    }
+}
+
+/// Each node's distinct vertices (in first-use order), as ranges into one
+/// array. O(triangles × depth), once.
+fn distinct_vertices(tree: &ObbTree, corners: &[[u32; 3]]) -> (Vec<(u32, u32)>, Vec<u32>) {
+    let count = corners
+        .iter()
+        .flatten()
+        .max()
+        .map_or(0, |&v| v as usize + 1);
+    let mut stamp = vec![u32::MAX; count];
+    let mut ranges = Vec::with_capacity(tree.nodes.len());
+    let mut vertices = Vec::new();
+    for (i, node) in tree.nodes.iter().enumerate() {
+        let start = vertices.len() as u32;
+        let first = node.first_tri as usize;
+        let last = (first + node.tri_count as usize).min(corners.len());
+        for &v in corners[first.min(last)..last].iter().flatten() {
+            if stamp[v as usize] != i as u32 {
+                stamp[v as usize] = i as u32;
+                vertices.push(v);
+            }
+        }
+        ranges.push((start, vertices.len() as u32 - start));
+    }
+    (ranges, vertices)
 }
 
 /// Scratch memory of [`ObbTree::refit`], reused across frames (no
 /// allocation per refit once it has grown to the tree).
 #[derive(Clone, Debug, Default)]
 pub struct RefitScratch {
-    /// `Σ S·N` per node (Eq. 3 numerator), f64.
-    area_normal: Vec<DVec3>,
-    /// `Σ S` per node, square metres, f64.
-    area: Vec<f64>,
+    /// Eq. 3's `Σ S·N` and `Σ S` (square metres) per node, f64.
+    sums: Vec<(DVec3, f64)>,
+    /// One level's new boxes and sums, in the level's node order.
+    level: Vec<(Obb, (DVec3, f64))>,
 }
 
 impl ObbTree {
@@ -199,8 +264,8 @@ impl ObbTree {
     /// segments that meet the root box but no final-depth box ask. The
     /// answers are the same either way (the grid only caches the ray test).
     ///
-    /// Cost: every triangle's corners are projected once per level
-    /// (O(triangles × depth)), plus, with [`AxisRule::Fit`], a covariance
+    /// Cost: every node's distinct vertices are projected once
+    /// (O(vertices × depth)), plus, with [`AxisRule::Fit`], a covariance
     /// fit per node; no allocation after the first call with `scratch`.
     /// Measured in `benches/obb_refit.rs` (BENCHMARKS.md).
     ///
@@ -216,7 +281,8 @@ impl ObbTree {
         nesting: Nesting,
         scratch: &mut RefitScratch,
     ) -> Result<(), RefitError> {
-        if map.corners.len() != self.triangles.len() {
+        if map.corners.len() != self.triangles.len() || map.node_vertices.len() != self.nodes.len()
+        {
             return Err(RefitError::MapMismatch {
                 map: map.corners.len(),
                 tree: self.triangles.len(),
@@ -245,31 +311,41 @@ impl ObbTree {
             return Ok(());
         }
         let n = self.nodes.len();
-        scratch.area_normal.clear();
-        scratch.area_normal.resize(n, DVec3::ZERO);
-        scratch.area.clear();
-        scratch.area.resize(n, 0.0);
-        // Children come after their parent: a reverse sweep is bottom-up.
-        for i in (0..n).rev() {
-            let node = self.nodes[i];
-            if node.is_leaf() {
-                let first = node.first_tri as usize;
-                let tris = &self.triangles[first..first + node.tri_count as usize];
-                let (sn, s) = equivalent_normal_sums(tris);
-                scratch.area_normal[i] = sn;
-                scratch.area[i] = s;
-                self.nodes[i].obb = leaf_box(tris, &node.obb, rule);
-            } else {
-                let [l, r] = node.children.map(|c| c as usize);
-                scratch.area_normal[i] = scratch.area_normal[l] + scratch.area_normal[r];
-                scratch.area[i] = scratch.area[l] + scratch.area[r];
-                let (left, right) = (self.nodes[l].obb, self.nodes[r].obb);
-                let first = node.first_tri as usize;
-                let tris = &self.triangles[first..first + node.tri_count as usize];
-                self.nodes[i].obb = parent_box(tris, (&left, &right), &node.obb, rule, nesting);
+        scratch.sums.clear();
+        scratch.sums.resize(n, (DVec3::ZERO, 0.0));
+        // Level by level from the deepest: a node's children are final
+        // before it is refitted; the nodes of one level are independent and
+        // refitted in parallel (each writes only itself: the same bits on
+        // any thread count).
+        for level in map.levels.iter().rev() {
+            let tree = &*self;
+            let sums = &scratch.sums;
+            level
+                .par_iter()
+                .map(|&i| {
+                    let i = i as usize;
+                    let node = &tree.nodes[i];
+                    let first = node.first_tri as usize;
+                    let tris = &tree.triangles[first..first + node.tri_count as usize];
+                    let points = map.node_points(i, positions);
+                    if node.is_leaf() {
+                        let sum = equivalent_normal_sums(tris);
+                        (leaf_box(tris, points, &node.obb, rule), sum)
+                    } else {
+                        let [l, r] = node.children.map(|c| c as usize);
+                        let sum = (sums[l].0 + sums[r].0, sums[l].1 + sums[r].1);
+                        let children = (&tree.nodes[l].obb, &tree.nodes[r].obb);
+                        let obb = parent_box(tris, points, children, &node.obb, rule, nesting);
+                        (obb, sum)
+                    }
+                })
+                .collect_into_vec(&mut scratch.level);
+            for (&i, &(obb, sum)) in level.iter().zip(&scratch.level) {
+                let node = &mut self.nodes[i as usize];
+                node.obb = obb;
+                node.eqn = equivalent_normal_from_sums(sum.0, sum.1);
+                scratch.sums[i as usize] = sum;
             }
-            self.nodes[i].eqn =
-                equivalent_normal_from_sums(scratch.area_normal[i], scratch.area[i]);
         }
         Ok(())
     }
@@ -278,28 +354,35 @@ impl ObbTree {
 /// The world axes x, y, z.
 const WORLD_AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
 
-/// A leaf's new box around `tris`. `Fixed`: the smallest of the boxes
+/// A leaf's new box around `tris`, whose vertices are `points`. `Fixed`:
+/// the smallest of the boxes
 /// along `old`'s axes, the first triangle's frame (longest edge, normal)
 /// and the world axes. `Fit`: [`fit_obb`].
-fn leaf_box(tris: &[[Vec3; 3]], old: &Obb, rule: AxisRule) -> Obb {
+fn leaf_box(
+    tris: &[[Vec3; 3]],
+    points: impl Iterator<Item = Vec3> + Clone,
+    old: &Obb,
+    rule: AxisRule,
+) -> Obb {
     if rule == AxisRule::Fit {
         return fit_obb(tris);
     }
-    let corners = || tris.iter().flatten().copied();
-    let mut best = Extents::along(corners(), old.axes);
+    let mut best = Extents::along(points.clone(), old.axes);
     let own = tris.first().and_then(triangle_frame);
     for axes in own.into_iter().chain([WORLD_AXES]) {
-        best = best.smaller(Extents::along(corners(), axes));
+        best = best.smaller(Extents::along(points.clone(), axes));
     }
     best.padded()
 }
 
-/// A parent's new box: the exact extents of its triangles `tris` along
-/// `old`'s axes (`Fixed`) or [`fit_obb`] of them (`Fit`); with
+/// A parent's new box: the exact extents of its vertices `points` (those of
+/// its triangles `tris`) along `old`'s axes (`Fixed`) or [`fit_obb`] of
+/// `tris` (`Fit`); with
 /// [`Nesting::Contain`], grown to the corners of its children's boxes
 /// `left` and `right` too.
 fn parent_box(
     tris: &[[Vec3; 3]],
+    points: impl Iterator<Item = Vec3> + Clone,
     (left, right): (&Obb, &Obb),
     old: &Obb,
     rule: AxisRule,
@@ -310,13 +393,12 @@ fn parent_box(
         (AxisRule::Fit, Nesting::Contain) => fit_obb(tris).axes,
         (AxisRule::Fixed, _) => old.axes,
     };
-    let corners = tris.iter().flatten().copied();
     match nesting {
         Nesting::Contain => {
             let (lc, rc) = (left.corners(), right.corners());
-            Extents::along(lc.into_iter().chain(rc).chain(corners), axes).padded()
+            Extents::along(lc.into_iter().chain(rc).chain(points), axes).padded()
         }
-        Nesting::Tight => Extents::along(corners, axes).padded(),
+        Nesting::Tight => Extents::along(points, axes).padded(),
     }
 }
 
