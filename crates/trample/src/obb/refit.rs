@@ -355,7 +355,7 @@ impl ObbTree {
 const WORLD_AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
 
 /// A leaf's new box around `tris`, whose vertices are `points`. `Fixed`:
-/// the smallest of the boxes
+/// one triangle: the box in its own frame; several: the smallest of the boxes
 /// along `old`'s axes, the first triangle's frame (longest edge, normal)
 /// and the world axes. `Fit`: [`fit_obb`].
 fn leaf_box(
@@ -367,8 +367,13 @@ fn leaf_box(
     if rule == AxisRule::Fit {
         return fit_obb(tris);
     }
-    let mut best = Extents::along(points.clone(), old.axes);
     let own = tris.first().and_then(triangle_frame);
+    if let (Some(axes), 1) = (own, tris.len()) {
+        // One triangle: its own frame gives a box of zero thickness, the
+        // smallest there is.
+        return Extents::along(points, axes).padded();
+    }
+    let mut best = Extents::along(points.clone(), old.axes);
     for axes in own.into_iter().chain([WORLD_AXES]) {
         best = best.smaller(Extents::along(points.clone(), axes));
     }
