@@ -411,3 +411,32 @@ fn bad_refit_input_is_an_error_and_leaves_the_tree_unchanged() {
     );
     println!("{}", e.unwrap_err());
 }
+
+#[test]
+fn refit_gives_the_same_bits_on_one_thread_and_on_four() {
+    let mesh = shapes::knot(2.4);
+    let moved = bend(&mesh, 45.0, 9);
+    let built = ObbTree::build(&mesh, DEFAULT_MAX_DEPTH);
+    let map = RefitMap::new(&built, &mesh).expect("own mesh");
+    let refit_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
+        let mut tree = built.clone();
+        pool.install(|| {
+            tree.refit(
+                &map,
+                &moved,
+                AxisRule::Fixed,
+                Nesting::Tight,
+                &mut RefitScratch::default(),
+            )
+        })
+        .expect("valid");
+        tree
+    };
+    let (one, four) = (refit_on(1), refit_on(4));
+    assert_eq!(one.nodes, four.nodes);
+    assert_eq!(one.triangles, four.triangles);
+}
