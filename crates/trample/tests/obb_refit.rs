@@ -440,3 +440,68 @@ fn refit_gives_the_same_bits_on_one_thread_and_on_four() {
     assert_eq!(one.nodes, four.nodes);
     assert_eq!(one.triangles, four.triangles);
 }
+
+/// CPU seconds this process has used (user + system, all threads), from
+/// `/proc/self/stat` (Linux; clock ticks of 10 ms).
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let fields: Vec<&str> = stat.rsplit(')').next()?.split_whitespace().collect();
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// A measurement, not a check (it asserts nothing about speed): CPU time
+/// per refit of a 10,000-triangle closed tube bending, on one thread, which
+/// the machine's load inflates far less than wall time. Run with
+/// `cargo test --release -p trample --test obb_refit -- --ignored --nocapture`.
+#[test]
+#[ignore = "a measurement; run by hand"]
+fn refit_cpu_time_per_frame() {
+    // The tube of benches/obb_refit.rs: 100 × 50 quads.
+    let (n, m) = (100u32, 50u32);
+    let mut mesh = TriMesh::default();
+    for i in 0..n {
+        let a = std::f32::consts::TAU * i as f32 / n as f32;
+        let centre = Vec3::new(0.5 * a.cos(), 0.5 * a.sin(), 0.0);
+        for j in 0..m {
+            let b = std::f32::consts::TAU * j as f32 / m as f32;
+            mesh.positions
+                .push(centre * (1.0 + 0.24 * b.cos()) + Vec3::Z * 0.12 * b.sin());
+        }
+    }
+    let id = |i: u32, j: u32| (i % n) * m + j % m;
+    for i in 0..n {
+        for j in 0..m {
+            mesh.indices
+                .push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            mesh.indices
+                .push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let frames: Vec<Vec<Vec3>> = (0..16).map(|f| bend(&mesh, 4.0 * f as f32, f)).collect();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    for (rule, nesting) in VARIANTS {
+        let mut tree = ObbTree::build(&mesh, DEFAULT_MAX_DEPTH);
+        let map = RefitMap::new(&tree, &mesh).expect("own mesh");
+        let mut scratch = RefitScratch::default();
+        let runs = if rule == AxisRule::Fixed { 400 } else { 60 };
+        let (cpu0, wall0) = (cpu_seconds(), std::time::Instant::now());
+        pool.install(|| {
+            for k in 0..runs {
+                tree.refit(&map, &frames[k % frames.len()], rule, nesting, &mut scratch)
+                    .expect("valid");
+            }
+        });
+        let wall = wall0.elapsed().as_secs_f64();
+        let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+        println!(
+            "{} triangles, {rule:?} {nesting:?}: {:.2} ms CPU, {:.2} ms wall per refit ({runs} runs, one thread)",
+            mesh.triangle_count(),
+            cpu.map_or(f64::NAN, |c| 1e3 * c / runs as f64),
+            1e3 * wall / runs as f64
+        );
+    }
+}
