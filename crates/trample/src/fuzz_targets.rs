@@ -91,10 +91,21 @@ pub fn obj(data: &[u8]) {
 }
 
 /// glTF or GLB bytes → [`crate::object::gltf::parse_gltf`] (no folder:
-/// external buffers are refused) → [`mesh`]'s checks on the result.
+/// external buffers are refused) → [`mesh`]'s checks on the result; and
+/// [`crate::object::SkinnedMesh::parse`], posed at a few times.
 pub fn gltf(data: &[u8]) {
     if let Ok(m) = crate::object::gltf::parse_gltf(data, None, "fuzz.gltf") {
         check_mesh(m);
+    }
+    // The same bytes as a rig: skin, skeleton, animations, posed at a few
+    // times (object/skin.rs, object/animation.rs).
+    if let Ok(rig) = crate::object::SkinnedMesh::parse(data, None, "fuzz.gltf") {
+        let mut scratch = crate::object::skin::SkinScratch::default();
+        let mut out = Vec::new();
+        for t in [0.0, 0.37, -1.0, f32::NAN] {
+            rig.pose_into(rig.animations.first(), t, &mut scratch, &mut out);
+            assert_eq!(out.len(), rig.bind.positions.len());
+        }
     }
 }
 

@@ -243,6 +243,15 @@ fn make_node(triangles: &[[Vec3; 3]], first: usize, count: usize) -> ObbNode {
 /// in `f64`.
 #[must_use]
 pub fn equivalent_normal(triangles: &[[Vec3; 3]]) -> Vec3 {
+    let (weighted, area) = equivalent_normal_sums(triangles);
+    equivalent_normal_from_sums(weighted, area)
+}
+
+/// Eq. 3's two sums over `triangles`: `Σ S_i N_i` and `Σ S_i` (f64). A
+/// node's sums are its children's added, which is how
+/// [`ObbTree::refit`] recomputes EqN bottom-up.
+#[must_use]
+pub(crate) fn equivalent_normal_sums(triangles: &[[Vec3; 3]]) -> (DVec3, f64) {
     let mut weighted = DVec3::ZERO;
     let mut area = 0.0f64;
     for tri in triangles {
@@ -251,6 +260,13 @@ pub fn equivalent_normal(triangles: &[[Vec3; 3]]) -> Vec3 {
         weighted += n;
         area += n.length();
     }
+    (weighted, area)
+}
+
+/// Eq. 3 from its sums ([`equivalent_normal_sums`]): `Σ S N / Σ S`, zero
+/// when the area is zero or the ratio is not finite.
+#[must_use]
+pub(crate) fn equivalent_normal_from_sums(weighted: DVec3, area: f64) -> Vec3 {
     let eqn = weighted / area;
     if area > 0.0 && eqn.is_finite() {
         eqn.as_vec3()

@@ -174,6 +174,13 @@ pub enum ShapeParams {
         /// Length of the cylindrical part, metres (≥ 0).
         length_m: f32,
     },
+    /// A closed cylinder along y (a wheel, once turned by `rotation_deg`).
+    Cylinder {
+        /// Radius, metres (> 0).
+        radius_m: f32,
+        /// Length along y, metres (> 0).
+        length_m: f32,
+    },
     /// The built-in complex shape: a (3, 2) torus knot tube of several
     /// thousand triangles, `size_m` across.
     Knot {
@@ -301,48 +308,9 @@ impl Object {
             name: params.name.clone(),
             kind,
         };
-        let (raw, source) = build_shape(&params.shape, base_dir).map_err(error)?;
-        // Before scale and rotation turn an infinite coordinate into NaN.
-        if let Some((vertex, p)) = raw
-            .positions
-            .iter()
-            .enumerate()
-            .find(|(_, p)| !p.is_finite())
-        {
-            let value = p
-                .to_array()
-                .into_iter()
-                .find(|c| !c.is_finite())
-                .unwrap_or(f32::NAN);
-            return Err(error(ObjectErrorKind::Mesh(MeshError::NonFiniteVertex {
-                source_name: source,
-                vertex,
-                value,
-            })));
-        }
+        let (mesh, report) = baked_mesh(&params.shape, params.scale, params.rotation_deg, base_dir)
+            .map_err(error)?;
         params.track.validate().map_err(error)?;
-        let scale = scale_factors(params.scale).map_err(error)?;
-        if params.rotation_deg.iter().any(|d| !d.is_finite()) {
-            return Err(error(bad(
-                "rotation_deg",
-                format3(params.rotation_deg),
-                "every angle must be finite",
-            )));
-        }
-        let rotation = rotation_from_euler_deg(params.rotation_deg);
-        let baked = TriMesh {
-            positions: raw
-                .positions
-                .iter()
-                .map(|&p| rotation * (p * scale))
-                .collect(),
-            indices: raw.indices,
-        };
-        let (mut mesh, report) =
-            sanitize(baked, &source).map_err(|e| error(ObjectErrorKind::Mesh(e)))?;
-        if let ShapeParams::Mesh { anchor, .. } = &params.shape {
-            apply_anchor(&mut mesh, *anchor);
-        }
         let path = Path::new(params.path.clone()).map_err(|e| error(ObjectErrorKind::Path(e)))?;
         let roll_radius = mesh.bounds().map_or(0.0, |(lo, _)| 0.0 - lo.y); // 0 - y: never -0
         let motion = Motion::new(path, params.orientation, params.start_s, roll_radius)
@@ -363,6 +331,59 @@ impl Object {
     pub fn pose_at(&self, t: f32) -> Pose {
         self.motion.pose_at(t)
     }
+}
+
+/// The mesh of `shape` in its local frame: made (built-in shape) or loaded
+/// (relative to `base_dir`), scaled by `scale`, rotated by `rotation_deg`,
+/// sanitised, then anchored (mesh files only). Shared by objects and by the
+/// parts of articulated objects ([`super::parts`]).
+pub(crate) fn baked_mesh(
+    shape: &ShapeParams,
+    scale: Scale,
+    rotation_deg: [f32; 3],
+    base_dir: &std::path::Path,
+) -> Result<(TriMesh, SanitizeReport), ObjectErrorKind> {
+    let (raw, source) = build_shape(shape, base_dir)?;
+    // Before scale and rotation turn an infinite coordinate into NaN.
+    if let Some((vertex, p)) = raw
+        .positions
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !p.is_finite())
+    {
+        let value = p
+            .to_array()
+            .into_iter()
+            .find(|c| !c.is_finite())
+            .unwrap_or(f32::NAN);
+        return Err(ObjectErrorKind::Mesh(MeshError::NonFiniteVertex {
+            source_name: source,
+            vertex,
+            value,
+        }));
+    }
+    let scale = scale_factors(scale)?;
+    if rotation_deg.iter().any(|d| !d.is_finite()) {
+        return Err(bad(
+            "rotation_deg",
+            format3(rotation_deg),
+            "every angle must be finite",
+        ));
+    }
+    let rotation = rotation_from_euler_deg(rotation_deg);
+    let baked = TriMesh {
+        positions: raw
+            .positions
+            .iter()
+            .map(|&p| rotation * (p * scale))
+            .collect(),
+        indices: raw.indices,
+    };
+    let (mut mesh, report) = sanitize(baked, &source).map_err(ObjectErrorKind::Mesh)?;
+    if let ShapeParams::Mesh { anchor, .. } = shape {
+        apply_anchor(&mut mesh, *anchor);
+    }
+    Ok((mesh, report))
 }
 
 /// The unscaled mesh of a shape and its name for messages (the file path,
@@ -414,6 +435,13 @@ fn build_shape(
                 "built-in capsule".into(),
             )
         }
+        &ShapeParams::Cylinder { radius_m, length_m } => (
+            shapes::cylinder(
+                positive("shape.radius_m", radius_m)?,
+                positive("shape.length_m", length_m)?,
+            ),
+            "built-in cylinder".into(),
+        ),
         &ShapeParams::Knot { size_m } => (
             shapes::knot(positive("shape.size_m", size_m)?),
             "built-in knot".into(),

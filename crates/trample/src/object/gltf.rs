@@ -65,6 +65,42 @@ pub fn parse_gltf(
     name: &str,
 ) -> Result<TriMesh, MeshError> {
     let name = name.to_owned();
+    let (document, buffers) = open_document(bytes, buffer_folder, &name)?;
+    if document.meshes().len() == 0 {
+        return Err(MeshError::GltfNoMeshes { source_name: name });
+    }
+    let instances = mesh_instances(&document, &name)?;
+    if instances.is_empty() {
+        return Err(MeshError::GltfSceneWithoutMeshes {
+            source_name: name,
+            meshes: document.meshes().len(),
+        });
+    }
+    let mut out = TriMesh::default();
+    for (_, mesh, transform) in instances {
+        for primitive in mesh.primitives() {
+            append_primitive(
+                &mut out,
+                &primitive,
+                mesh.index(),
+                transform,
+                &buffers,
+                &name,
+            )?;
+        }
+    }
+    Ok(out)
+}
+
+/// The validated document of a glTF or GLB file and the bytes of its
+/// buffers (see [`parse_gltf`] for `buffer_folder`). Shared with the skin
+/// and animation loaders ([`super::skin`]).
+pub(crate) fn open_document(
+    bytes: &[u8],
+    buffer_folder: Option<&Path>,
+    name: &str,
+) -> Result<(Document, Vec<Vec<u8>>), MeshError> {
+    let name = name.to_owned();
     let parse_error = |e: ::gltf::Error| MeshError::GltfParse {
         source_name: name.clone(),
         reason: e.to_string(),
@@ -81,30 +117,7 @@ pub fn parse_gltf(
         super::catch_parser_panic(&name, "glTF", || Document::from_json(document.into_json()))?
             .map_err(parse_error)?;
     let buffers = load_buffers(&document, buffer_folder, blob, &name)?;
-    if document.meshes().len() == 0 {
-        return Err(MeshError::GltfNoMeshes { source_name: name });
-    }
-    let instances = mesh_instances(&document, &name)?;
-    if instances.is_empty() {
-        return Err(MeshError::GltfSceneWithoutMeshes {
-            source_name: name,
-            meshes: document.meshes().len(),
-        });
-    }
-    let mut out = TriMesh::default();
-    for (mesh, transform) in instances {
-        for primitive in mesh.primitives() {
-            append_primitive(
-                &mut out,
-                &primitive,
-                mesh.index(),
-                transform,
-                &buffers,
-                &name,
-            )?;
-        }
-    }
-    Ok(out)
+    Ok((document, buffers))
 }
 
 /// A GLB's declared total length (bytes 8..12) is at least its 12-byte
@@ -242,12 +255,13 @@ fn percent_decode(uri: &str) -> Option<String> {
     String::from_utf8(out).ok()
 }
 
-/// Every (mesh, world transform) to load, in scene order (see the module
-/// documentation for which nodes are visited).
-fn mesh_instances<'a>(
+/// Every (node, mesh, world transform) to load, in scene order (see the
+/// module documentation for which nodes are visited; `None` for a mesh of a
+/// file without nodes).
+pub(crate) fn mesh_instances<'a>(
     document: &'a Document,
     name: &str,
-) -> Result<Vec<(::gltf::Mesh<'a>, Mat4)>, MeshError> {
+) -> Result<Vec<(Option<Node<'a>>, ::gltf::Mesh<'a>, Mat4)>, MeshError> {
     let roots: Vec<Node<'a>> = match document
         .default_scene()
         .or_else(|| document.scenes().next())
@@ -256,7 +270,7 @@ fn mesh_instances<'a>(
         None if document.nodes().len() == 0 => {
             return Ok(document
                 .meshes()
-                .map(|mesh| (mesh, Mat4::IDENTITY))
+                .map(|mesh| (None, mesh, Mat4::IDENTITY))
                 .collect());
         }
         None => {
@@ -286,7 +300,7 @@ fn mesh_instances<'a>(
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(mesh) = node.mesh() {
-            instances.push((mesh, world));
+            instances.push((Some(node.clone()), mesh, world));
         }
         let children: Vec<Node<'a>> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
@@ -295,7 +309,7 @@ fn mesh_instances<'a>(
 }
 
 /// Appends one primitive's triangles, transformed, to `out`.
-fn append_primitive(
+pub(crate) fn append_primitive(
     out: &mut TriMesh,
     primitive: &Primitive<'_>,
     mesh: usize,
@@ -418,9 +432,84 @@ fn read_indices(accessor: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>
         .collect())
 }
 
+/// An accessor of `dimensions` as floats, `components` per element (VEC4:
+/// 4, MAT4: 16, ...), column-major as stored: `F32`, or a `normalized`
+/// integer type mapped as glTF §3.11 says (unsigned `c / max`, signed
+/// `max(c / max, −1)`). Non-finite values are refused. Used for skins and
+/// animations ([`super::skin`], [`super::animation`]).
+pub(crate) fn read_floats(
+    accessor: &Accessor<'_>,
+    buffers: &[Vec<u8>],
+    dimensions: Dimensions,
+) -> Result<Vec<f32>, String> {
+    let data_type = accessor.data_type();
+    let normalized = accessor.normalized();
+    if accessor.dimensions() != dimensions || !(data_type == DataType::F32 || normalized) {
+        return Err(format!(
+            "accessor {} is {:?} of {:?}{}; allowed: {dimensions:?} of F32 (or of a normalized integer type)",
+            accessor.index(),
+            accessor.dimensions(),
+            data_type,
+            if normalized { " (normalized)" } else { "" },
+        ));
+    }
+    let components = dimensions.multiplicity();
+    let width = data_type.size();
+    let mut out = Vec::with_capacity(accessor.count() * components);
+    for element in elements(accessor, buffers)? {
+        for c in element.chunks_exact(width).take(components) {
+            let value = match data_type {
+                DataType::F32 => f32::from_le_bytes([c[0], c[1], c[2], c[3]]),
+                DataType::U8 => f32::from(c[0]) / 255.0,
+                DataType::I8 => (f32::from(c[0] as i8) / 127.0).max(-1.0),
+                DataType::U16 => f32::from(u16::from_le_bytes([c[0], c[1]])) / 65535.0,
+                DataType::I16 => (f32::from(i16::from_le_bytes([c[0], c[1]])) / 32767.0).max(-1.0),
+                DataType::U32 => {
+                    u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f32 / u32::MAX as f32
+                }
+            };
+            if !value.is_finite() {
+                return Err(format!(
+                    "accessor {} holds a non-finite value ({value}); allowed: finite numbers",
+                    accessor.index()
+                ));
+            }
+            out.push(value);
+        }
+    }
+    Ok(out)
+}
+
+/// An accessor of `VEC4` unsigned integers (`U8` or `U16`, as glTF allows
+/// for `JOINTS_0`), four per element.
+pub(crate) fn read_joint_indices(
+    accessor: &Accessor<'_>,
+    buffers: &[Vec<u8>],
+) -> Result<Vec<[u32; 4]>, String> {
+    let data_type = accessor.data_type();
+    if accessor.dimensions() != Dimensions::Vec4
+        || !matches!(data_type, DataType::U8 | DataType::U16)
+    {
+        return Err(format!(
+            "accessor {} is {:?} of {:?}; allowed: Vec4 of U8 or U16",
+            accessor.index(),
+            accessor.dimensions(),
+            data_type
+        ));
+    }
+    Ok(elements(accessor, buffers)?
+        .map(|b| {
+            std::array::from_fn(|k| match data_type {
+                DataType::U8 => u32::from(b[k]),
+                _ => u32::from(u16::from_le_bytes([b[2 * k], b[2 * k + 1]])),
+            })
+        })
+        .collect())
+}
+
 /// The bytes of each element of a (non-sparse) accessor, every range checked
 /// against its buffer view and buffer.
-fn elements<'b>(
+pub(crate) fn elements<'b>(
     accessor: &Accessor<'_>,
     buffers: &'b [Vec<u8>],
 ) -> Result<impl Iterator<Item = &'b [u8]>, String> {

@@ -7,28 +7,41 @@
 //! - [`path`]: where an object is at time t ([`spline`] for `spline` paths);
 //!   [`motion`]: its whole [`Pose`] at time t ([`rolling`] for rolling ones).
 //! - [`body`]: an [`Object`] made from its scene-file [`ObjectParams`].
+//! - [`skin`]: a skinned glTF mesh ([`SkinnedMesh`]) and linear blend
+//!   skinning; [`animation`]: its keyframed [`Animation`]s;
+//!   [`rig_error`]: [`RigError`].
+//! - [`parts`]: articulated objects, a tree of rigid parts
+//!   ([`Articulation`]) with wheels, keyframed and host-posed joints.
 
+pub mod animation;
 pub mod body;
 pub mod error;
 pub mod gltf;
 pub mod mesh;
 pub mod motion;
 pub mod obj;
+pub mod parts;
 pub mod path;
 mod piecewise;
 pub mod pose;
+pub mod rig_error;
 pub mod rolling;
 pub mod sanitize;
 pub mod shapes;
+pub mod skin;
 pub mod spline;
 
+pub use animation::Animation;
 pub use body::{Object, ObjectError, ObjectErrorKind, ObjectParams, ShapeParams, TrackParams};
 pub use error::MeshError;
 pub use mesh::TriMesh;
 pub use motion::{Motion, MotionError};
+pub use parts::{Articulation, PartError, PartParams};
 pub use path::{Path, PathError, PathParams};
 pub use pose::Pose;
+pub use rig_error::RigError;
 pub use sanitize::{SanitizeReport, sanitize};
+pub use skin::{NodeTransform, Skeleton, SkinnedMesh};
 
 /// Loads a mesh file, choosing the loader by extension (case-insensitive):
 /// `.obj` → [`obj::load_obj`], `.gltf` / `.glb` → [`gltf::load_gltf`]. The

@@ -1,4 +1,5 @@
-//! Built-in shapes (DESIGN §3): sphere, box, capsule and the complex knot.
+//! Built-in shapes (DESIGN §3): sphere, box, capsule, cylinder (wheels of
+//! articulated objects) and the complex knot.
 //!
 //! Every shape is centred at the origin, closed (every edge shared by exactly
 //! two triangles, see [`TriMesh::is_closed`]), has counter-clockwise
@@ -19,6 +20,9 @@ pub const MAX_SPHERE_SUBDIVISIONS: u32 = 7;
 const CAPSULE_SEGMENTS: u32 = 32;
 /// Latitude steps of each capsule hemisphere, pole to equator.
 const CAPSULE_RINGS: u32 = 8;
+
+/// Segments around a cylinder's axis.
+const CYLINDER_SEGMENTS: u32 = 32;
 
 /// Knot centre curve: torus major radius, minor radius of the curve's winding
 /// and tube radius, in units where the knot is 2 (1 + 0.5 + 0.25) = 3.5
@@ -160,6 +164,32 @@ pub fn capsule(radius: f32, length: f32) -> TriMesh {
             CAPSULE_SEGMENTS,
         );
     }
+    TriMesh { positions, indices }
+}
+
+/// A closed cylinder along y, centred at the origin, of `radius` and
+/// `length` metres: 32 segments around, flat caps fanned from their centres,
+/// 128 triangles. A wheel is one turned by 90° about z (axle along x).
+/// See also [`capsule`].
+#[must_use]
+pub fn cylinder(radius: f32, length: f32) -> TriMesh {
+    let half = 0.5 * length;
+    let mut positions = vec![Vec3::new(0.0, half, 0.0)];
+    for y in [half, -half] {
+        positions.extend((0..CYLINDER_SEGMENTS).map(|j| {
+            let alpha = TAU * j as f32 / CYLINDER_SEGMENTS as f32;
+            Vec3::new(radius * alpha.cos(), y, radius * alpha.sin())
+        }));
+    }
+    positions.push(Vec3::new(0.0, -half, 0.0));
+    let (top, lower, bottom) = (1, 1 + CYLINDER_SEGMENTS, 1 + 2 * CYLINDER_SEGMENTS);
+    let mut indices = Vec::with_capacity(4 * CYLINDER_SEGMENTS as usize);
+    for j in 0..CYLINDER_SEGMENTS {
+        let next = (j + 1) % CYLINDER_SEGMENTS;
+        indices.push([0, top + next, top + j]);
+        indices.push([bottom, lower + j, lower + next]);
+    }
+    stitch_rings(&mut indices, top, lower, CYLINDER_SEGMENTS);
     TriMesh { positions, indices }
 }
 
@@ -320,6 +350,21 @@ mod tests {
         let mesh = capsule(1.0, 0.0);
         assert_eq!(mesh.triangle_count(), 960);
         assert_well_formed(&mesh, "capsule");
+    }
+
+    #[test]
+    fn cylinder_is_closed_outward_and_its_volume_within_1_percent() {
+        let (r, l) = (0.6, 0.4);
+        let mesh = cylinder(r, l);
+        assert_eq!(mesh.triangle_count(), 128);
+        assert_well_formed(&mesh, "cylinder");
+        // A 32-gon's area is sin(2π/32)·32/(2π) = 99.4 % of the circle's.
+        let exact = PI * (r * r * l) as f64;
+        let error = relative_error(mesh.signed_volume(), exact);
+        assert!(error < 0.01, "volume error {error}");
+        let (lo, hi) = mesh.bounds().expect("non-empty");
+        assert!((hi.y - 0.2).abs() < 1e-6 && (lo.y + 0.2).abs() < 1e-6);
+        assert!((hi.x - 0.6).abs() < 1e-6);
     }
 
     #[test]
