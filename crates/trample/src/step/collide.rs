@@ -19,9 +19,8 @@ pub(crate) struct BladeHit {
     pub force: Vec3,
     /// Σ over its segments of their contact weights (Eq. 5's `num`).
     pub weight: f32,
-    /// The lowest vertex that may be inside the object: the lower vertex of
-    /// the lowest segment that touched it (the contact response starts there).
-    pub first_vertex: u8,
+    /// Bit `k`: segment `k` touched the object.
+    pub mask: u32,
 }
 
 /// Narrow phase for one body: every blade in the patches its root box
@@ -92,7 +91,7 @@ pub(crate) fn narrow_phase(
                 blade: b,
                 force,
                 weight: contacts.weight_sum(),
-                first_vertex: contacts.mask.trailing_zeros() as u8,
+                mask: contacts.mask,
             })
         })
         .flatten()
@@ -100,7 +99,7 @@ pub(crate) fn narrow_phase(
 }
 
 /// Adds one body's hits (body `index`, in body order) to the sub-step's
-/// per-blade force and weight, lists the blades touched for the first time
+/// per-blade force, weight and segment mask, lists the blades touched for the first time
 /// this sub-step, and moves a blade's track owner to the body whose contact
 /// is the firmest so far (at least [`DBG_WEIGHT`]; the first on ties).
 pub(crate) fn accumulate_contacts(sim: &mut Simulation, index: usize, hits: &[BladeHit]) {
@@ -113,6 +112,7 @@ pub(crate) fn accumulate_contacts(sim: &mut Simulation, index: usize, hits: &[Bl
         }
         s.force[b] += h.force;
         s.weight[b] += h.weight;
+        s.mask[b] |= h.mask;
         if h.weight >= DBG_WEIGHT && h.weight > s.owner_weight[b] {
             s.owner_weight[b] = h.weight;
             sim.track_owner[b] = owner;

@@ -3,7 +3,6 @@
 //! paper's mode; from their blades, Eq. 9–12, otherwise) and the
 //! transitions between levels of detail (Eq. 9–13).
 
-use super::collide::BladeHit;
 use super::simulation::Simulation;
 use super::stages::{mark_displaced, reach_rect};
 use crate::collision::segment_obb::segment_hits_obb;
@@ -65,31 +64,52 @@ pub(crate) fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) -> Vec<u
 }
 
 /// The contact response (ours, DESIGN §5): for each object in order, every
-/// blade it touched this sub-step ([`BladeHit`], from the narrow phase) is
-/// moved out of it ([`resolve_contact`]). Returns the blades that moved
-/// (ascending per object) and marks them displaced.
-pub(crate) fn resolve_contacts(sim: &mut Simulation, hits: &[Vec<BladeHit>]) -> Vec<u32> {
+/// blade some object touched this sub-step (a segment mask, from the narrow
+/// phase) in the patches the broad phase listed for it is moved out of it
+/// ([`resolve_contact`], from the lowest vertex touched). The GPU path runs
+/// the same sets: one dispatch per object over its listed patches. Returns
+/// the blades that moved and marks them displaced.
+pub(crate) fn resolve_contacts(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> Vec<u32> {
     let n = sim.field.blades.segments;
+    let per_patch = sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize;
+    let mut touched: Vec<u32> = sim
+        .scratch
+        .touched
+        .iter()
+        .copied()
+        .filter(|&b| sim.scratch.mask[b as usize] != 0)
+        .collect();
+    touched.sort_unstable();
+    touched.dedup();
     let mut out = Vec::new();
-    for (i, hits) in hits.iter().enumerate() {
-        if hits.is_empty() {
+    for (body, patches) in sim.bodies.iter().zip(patch_hits) {
+        let list: Vec<u32> = touched
+            .iter()
+            .copied()
+            .filter(|&b| {
+                patches
+                    .binary_search(&((b as usize / per_patch) as u32))
+                    .is_ok()
+            })
+            .collect();
+        if list.is_empty() {
             continue;
         }
-        let body = &sim.bodies[i];
         let blades = &sim.field.blades;
         let terrain = &sim.field.terrain;
-        let mut work = vec![Vec3A::ZERO; hits.len() * (n + 1)];
-        let mut moved = vec![false; hits.len()];
+        let mask = &sim.scratch.mask;
+        let mut work = vec![Vec3A::ZERO; list.len() * (n + 1)];
+        let mut moved = vec![false; list.len()];
         work.par_chunks_mut(n + 1)
             .zip(moved.par_iter_mut())
-            .zip(hits.par_iter())
-            .for_each(|((v, moved), hit)| {
-                let b = hit.blade as usize;
+            .zip(list.par_iter())
+            .for_each(|((v, moved), &b)| {
+                let b = b as usize;
                 blades.load(b, v);
                 *moved = resolve_contact(
                     v,
                     blades.seg_len[b],
-                    usize::from(hit.first_vertex),
+                    mask[b].trailing_zeros() as usize,
                     &body.pose,
                     &body.tree,
                     terrain,
@@ -97,13 +117,15 @@ pub(crate) fn resolve_contacts(sim: &mut Simulation, hits: &[Vec<BladeHit>]) -> 
                     blades.seg_len[b],
                 );
             });
-        for ((v, hit), &m) in work.chunks_exact(n + 1).zip(hits).zip(&moved) {
+        for ((v, &b), &m) in work.chunks_exact(n + 1).zip(&list).zip(&moved) {
             if m {
-                sim.field.blades.store(hit.blade as usize, v);
-                mark_displaced(sim, hit.blade);
-                out.push(hit.blade);
+                sim.field.blades.store(b as usize, v);
+                out.push(b);
             }
         }
+    }
+    for &b in &out {
+        mark_displaced(sim, b);
     }
     out
 }

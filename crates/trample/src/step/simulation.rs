@@ -87,6 +87,9 @@ pub(crate) struct Scratch {
     /// The largest weight of one object on each blade this sub-step (which
     /// object's track settings the blade follows); 0 outside `touched`.
     pub owner_weight: Vec<f32>,
+    /// Per blade, bit `k`: segment `k` touched some object this sub-step
+    /// (the contact response starts at the lowest); 0 outside `touched`.
+    pub mask: Vec<u32>,
     /// Blades whose `force`/`weight`/`generation` were set in the latest sub-step.
     pub touched: Vec<u32>,
     /// Blades away from rest, ascending (recovered each step).
@@ -212,6 +215,7 @@ impl Simulation {
                 force: vec![Vec3::ZERO; blades],
                 weight: vec![0.0; blades],
                 owner_weight: vec![0.0; blades],
+                mask: vec![0; blades],
                 displaced_flag: vec![false; blades],
                 bent_flag: vec![false; cells],
                 ..Scratch::default()

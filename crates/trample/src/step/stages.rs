@@ -126,19 +126,18 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
         sim.scratch.force[b] = Vec3::ZERO;
         sim.scratch.weight[b] = 0.0;
         sim.scratch.owner_weight[b] = 0.0;
+        sim.scratch.mask[b] = 0;
         sim.generation[b] = NO_GENERATION;
     }
     sim.scratch.touched.clear();
 
     // Narrow phase and EqF per blade (Eq. 2), object by object.
-    let mut contacts = Vec::with_capacity(sim.bodies.len());
     for (i, hits) in patch_hits.iter().enumerate() {
         let clock = Instant::now();
         let found = narrow_phase(sim, &sim.bodies[i], hits, h, tm);
         tm.narrow_ms += ms(clock);
         let clock = Instant::now();
         accumulate_contacts(sim, i, &found);
-        contacts.push(found);
         tm.forces_ms += ms(clock);
     }
     let clock = Instant::now();
@@ -197,7 +196,7 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     tm.deformation_ms += ms(clock);
     let clock = Instant::now();
     if sim.params.contact {
-        let moved = resolve_contacts(sim, &contacts);
+        let moved = resolve_contacts(sim, &patch_hits);
         tm.contact_blades += moved.len() as u32;
         changed.extend(moved);
     }
