@@ -1,7 +1,7 @@
 //! Blade deformation on the GPU (paper §6.1, Eq. 5–7, Fig. 7): dispatches
 //! `bend.wgsl` over every blade; those with a force this sub-step (DBG or
-//! PBG) bend, as `trample::deform::bend::bend_blade` does. Flat terrain
-//! only (the ground guard compares with one height).
+//! PBG) bend, as `trample::deform::bend::bend_blade` does, above the
+//! terrain's ground guard (`guard.wgsl`).
 
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
@@ -34,9 +34,7 @@ impl Bend {
                 device,
                 "trample-gpu bend",
                 &source(),
-                &[
-                    Uniform, ReadWrite, Read, Read, Read, ReadWrite, Uniform, Read,
-                ],
+                &[Uniform, ReadWrite, Read, Read, ReadWrite, Uniform, Read],
                 &["bend"],
             ),
         }
@@ -58,7 +56,6 @@ impl Bend {
                     &chunk.pos,
                     &field.force,
                     &field.generation,
-                    &field.seg_len,
                     &field.displaced,
                     &chunk.uniform,
                     &field.ground,

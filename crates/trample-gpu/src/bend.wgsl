@@ -1,19 +1,20 @@
 // Deformation of every blade with a force (paper §6.1, Eq. 5–7, Fig. 7;
 // DESIGN §6): offset-base vector, weights, length preservation, ground
 // guard. `trample::deform::bend::bend_blade` with `v1 = F · h` (ours:
-// frame-rate independence), `num` = hit count for DBG, 1 for PBG.
+// frame-rate independence), `num` = the blade's contact weight (each
+// segment counted by its weight; 0, taken as 1, for PBG).
 
 @group(0) @binding(0) var<uniform> params: StepParams;
+// The chunk's vertices; vertex 0's w holds the blade's segment length.
 @group(0) @binding(1) var<storage, read_write> pos: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read> force: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> generation: array<u32>;
-@group(0) @binding(4) var<storage, read> seg_len: array<f32>;
-@group(0) @binding(5) var<storage, read_write> displaced: array<u32>;
-@group(0) @binding(6) var<uniform> chunk: Chunk;
-@group(0) @binding(7) var<storage, read> ground: array<f32>;
+@group(0) @binding(4) var<storage, read_write> displaced: array<u32>;
+@group(0) @binding(5) var<uniform> chunk: Chunk;
+@group(0) @binding(6) var<storage, read> ground: array<f32>;
 
 // `bend::offset_base` (Eq. 5): the part of v1 perpendicular to AB, over num.
-fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: u32) -> vec3<f32> {
+fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: f32) -> vec3<f32> {
     let ab_len2 = dot(ab, ab);
     if ab_len2 <= 1.17549435e-38 {
         return vec3<f32>(0.0);
@@ -22,7 +23,7 @@ fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: u32) -> vec3<f32> {
     if dot(perpendicular, perpendicular) <= 1e-12 * dot(v1, v1) {
         return vec3<f32>(0.0);
     }
-    return perpendicular / f32(max(num, 1u));
+    return perpendicular / max(num, 1.0);
 }
 
 @compute @workgroup_size(64)
@@ -37,7 +38,7 @@ fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
         v[k] = pos[vertex_at(k, b)].xyz;
     }
     let f = force[b];
-    let base = offset_base(v[n] - v[0], f.xyz * params.a.x, u32(f.w));
+    let base = offset_base(v[n] - v[0], f.xyz * params.a.x, f.w);
     if all(base == vec3<f32>(0.0)) {
         return;
     }
@@ -45,7 +46,7 @@ fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var i = 1u; i <= n; i++) {
         v[i] += base * weight(i - 1u);
     }
-    preserve_lengths(&v, n, seg_len[b]);
+    preserve_lengths(&v, n, pos[vertex_at(0u, b)].w);
     for (var k = 1u; k <= n; k++) {
         pos[vertex_at(k, b)] = vec4<f32>(v[k], 0.0);
     }

@@ -6,7 +6,9 @@
 struct StepParams {
     // sub-step h (s), att, threshold L (m/s), ground height (m)
     a: vec4<f32>,
-    // ground clearance (m), recovery_s, trail, recovery on (1) / off (0)
+    // ground clearance (m), `[sim]` recovery_s (0 for ∞) and trail (the
+    // paper's billboard recovery; blades recover with their track owner's,
+    // recovery.wgsl), recovery on for some owner (1) / off (0)
     b: vec4<f32>,
     // P(1) .. P(15) (Eq. 7), zero beyond n
     weights: array<vec4<f32>, 4>,
@@ -14,7 +16,8 @@ struct StepParams {
     counts: vec4<u32>,
     // viewpoint (LOD eye) xyz, geometry_m
     eye: vec4<f32>,
-    // billboard_m, unused ×3
+    // billboard_m, propagation's threshold fade-in (fraction of L), hold
+    // weight (`PropagationParams`), unused
     lod: vec4<f32>,
     // cell count, blades per cell, object count, unused
     cells: vec4<u32>,
@@ -33,7 +36,8 @@ struct State {
     transitions: atomic<u32>,
     // cells at each level after `classify`: geometry, billboard, texture
     lod: array<atomic<u32>, 3>,
-    pad: u32,
+    // blades the contact response moved this sub-step
+    contact: atomic<u32>,
 }
 
 const NO_GENERATION: u32 = 255u;
@@ -93,10 +97,10 @@ fn flatness(height: f32, rest_height: f32) -> f32 {
 }
 
 // `recovery::time_constant`: τ = recovery_s · (1 + trail · flatness).
-fn time_constant(flat: f32) -> f32 {
+fn time_constant(recovery_s: f32, trail: f32, flat: f32) -> f32 {
     var extra = 0.0;
-    if params.b.z > 0.0 && flat > 0.0 {
-        extra = params.b.z * flat;
+    if trail > 0.0 && flat > 0.0 {
+        extra = trail * flat;
     }
-    return params.b.y * (1.0 + extra);
+    return recovery_s * (1.0 + extra);
 }

@@ -1,13 +1,18 @@
 //! The per-cell stages on the GPU: level of detail (Fig. 1), billboards
-//! (Eq. 8), transitions (Eq. 9–13) and billboard recovery; dispatches
-//! `cells.wgsl`. `classify` runs first in a sub-step (the narrow phase needs
-//! the levels); the others after the blades bend, as in
-//! `trample::step::stages::substep`.
+//! (Eq. 8) and their recovery (the paper's mode), transitions (Eq. 9–13),
+//! and (ours, track everywhere) billboards and flatness that follow the
+//! blades. One WGSL file per stage (`classify.wgsl`, `billboards.wgsl`,
+//! `slopes.wgsl`, `transitions.wgsl`, `follow.wgsl`), each with the
+//! bindings it uses (at most 8 storage buffers). `classify` runs first in a
+//! sub-step (the narrow phase needs the levels); the others after the
+//! blades bend, as in `trample::step::stages::substep`.
 //!
 //! Differences from the CPU path, by design: every cell is classified (the
-//! CPU skips patches whose cells all keep one level: same result), and
-//! every billboard cell tests every object's root box (the CPU first keeps
-//! the patches under the box: a conservative filter, same result).
+//! CPU skips patches whose cells all keep one level: same result); every
+//! billboard cell tests every object's root box (the CPU first keeps the
+//! patches under the box: a conservative filter, same result); `follow`
+//! computes every cell (the CPU only those whose blades moved: the others
+//! already hold these values).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -17,18 +22,46 @@ use trample::obb::Obb;
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
-/// The WGSL source as compiled (`segment_obb.wgsl`, `blade.wgsl`,
-/// `guard.wgsl`, `billboard.wgsl` and `chunk.wgsl` prepended).
+/// The per-cell stages, one WGSL file each.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// `classify.wgsl`: level of detail per cell.
+    Classify,
+    /// `billboards.wgsl`: Eq. 8 (the paper's mode).
+    Billboards,
+    /// `transitions.wgsl`: Eq. 9–13.
+    Transitions,
+    /// `slopes.wgsl`: recovery of bent billboards (the paper's mode).
+    Slopes,
+    /// `follow.wgsl`: billboards and flatness from the blades (ours).
+    Follow,
+}
+
+/// The WGSL source of `stage` as compiled (`segment_obb.wgsl`,
+/// `blade.wgsl`, `chunk.wgsl` and `cell.wgsl` prepended; `guard.wgsl` and
+/// `billboard.wgsl` too for the stages that move blades or billboards).
 #[must_use]
-pub fn source() -> String {
+pub fn source(stage: Stage) -> String {
+    let (own, guard) = match stage {
+        Stage::Classify => (include_str!("classify.wgsl"), false),
+        Stage::Billboards => (include_str!("billboards.wgsl"), true),
+        Stage::Transitions => (include_str!("transitions.wgsl"), true),
+        Stage::Slopes => (include_str!("slopes.wgsl"), false),
+        Stage::Follow => (include_str!("follow.wgsl"), false),
+    };
+    let guard = if guard {
+        format!("{}\n{}", crate::GUARD_WGSL, crate::BILLBOARD_WGSL)
+    } else {
+        String::new()
+    };
     format!(
         "{}\n{}\n{}\n{}\n{}\n{}",
         crate::SEGMENT_OBB_WGSL,
         crate::BLADE_WGSL,
-        crate::GUARD_WGSL,
-        crate::BILLBOARD_WGSL,
+        guard,
         crate::CHUNK_WGSL,
-        include_str!("cells.wgsl")
+        crate::CELL_WGSL,
+        own
     )
 }
 
@@ -88,8 +121,10 @@ impl GpuWorldObb {
     }
 }
 
-/// Global cell coordinates (gx, gz) of cell `c` packed as `gx + 4096 gz`
-/// in an f32 (exact below 2^24: fields up to 4096 cells a side).
+/// Global cell coordinates (gx, gz) of cell `c` packed as `gx | gz << 16`
+/// in the bits of an f32 (`billboards.wgsl` takes them apart): fields up
+/// to 65,536 cells a side, past any field the memory limit lets through
+/// (2^28 blades).
 #[must_use]
 pub fn packed_cell_coords(layout: &FieldLayout, c: usize) -> f32 {
     let cpp = layout.cells_per_patch as usize;
@@ -97,17 +132,16 @@ pub fn packed_cell_coords(layout: &FieldLayout, c: usize) -> f32 {
     let px = p % layout.patches[0] as usize;
     let pz = p / layout.patches[0] as usize;
     let (gx, gz) = (px * cpp + l % cpp, pz * cpp + l / cpp);
-    (gx + 4096 * gz) as f32
+    f32::from_bits((gx as u32 & 0xffff) | ((gz as u32 & 0xffff) << 16))
 }
-
-const CLASSIFY: usize = 0;
-const BILLBOARDS: usize = 1;
-const TRANSITIONS: usize = 2;
-const RECOVER_SLOPES: usize = 3;
 
 /// The compiled per-cell kernels.
 pub struct Cells {
-    kernel: Kernel,
+    classify: Kernel,
+    billboards: Kernel,
+    transitions: Kernel,
+    slopes: Kernel,
+    follow: Kernel,
 }
 
 impl Cells {
@@ -115,22 +149,49 @@ impl Cells {
     #[must_use]
     pub fn new(device: &wgpu::Device) -> Self {
         use Slot::{Read, ReadWrite, Uniform};
+        let k = |stage, label, slots: &[Slot], entry| {
+            Kernel::new(device, label, &source(stage), slots, &[entry])
+        };
         Self {
-            kernel: Kernel::new(
-                device,
-                "trample-gpu cells",
-                &source(),
+            classify: k(
+                Stage::Classify,
+                "trample-gpu classify",
+                &[Uniform, ReadWrite, ReadWrite, Read, Uniform],
+                "classify",
+            ),
+            billboards: k(
+                Stage::Billboards,
+                "trample-gpu billboards",
+                &[Uniform, ReadWrite, Read, ReadWrite, Read, Uniform, Read],
+                "billboards",
+            ),
+            transitions: k(
+                Stage::Transitions,
+                "trample-gpu transitions",
                 &[
-                    Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Read, ReadWrite, Read,
-                    ReadWrite, Uniform, Read,
+                    Uniform, ReadWrite, Read, ReadWrite, ReadWrite, Read, ReadWrite, Uniform, Read,
                 ],
-                &["classify", "billboards", "transitions", "recover_slopes"],
+                "transitions",
+            ),
+            slopes: k(
+                Stage::Slopes,
+                "trample-gpu billboard recovery",
+                &[Uniform, ReadWrite, Read, ReadWrite, Uniform],
+                "recover_slopes",
+            ),
+            follow: k(
+                Stage::Follow,
+                "trample-gpu follow",
+                &[
+                    Uniform, ReadWrite, Read, ReadWrite, ReadWrite, Read, Read, Uniform,
+                ],
+                "follow",
             ),
         }
     }
 
-    /// The bind groups over `field`, one per chunk, with the step
-    /// uniform, the counters and the objects' world root boxes.
+    /// The bind groups of every stage over `field`, one per chunk, with the
+    /// step uniform, the counters and the objects' world root boxes.
     pub fn bind(
         &self,
         device: &wgpu::Device,
@@ -143,56 +204,120 @@ impl Cells {
             field
                 .chunks
                 .iter()
-                .map(|chunk| {
-                    let group = self.kernel.bind(
+                .map(|chunk| ChunkGroups {
+                    classify: self.classify.bind(
                         device,
                         &[
                             params,
                             state,
                             &field.cell_state,
                             &field.cell_rest,
+                            &chunk.uniform,
+                        ],
+                    ),
+                    billboards: self.billboards.bind(
+                        device,
+                        &[
+                            params,
+                            &field.cell_state,
+                            &field.cell_rest,
                             &field.slope,
                             world_roots,
+                            &chunk.uniform,
+                            &field.ground,
+                        ],
+                    ),
+                    transitions: self.transitions.bind(
+                        device,
+                        &[
+                            params,
+                            &field.cell_state,
+                            &field.cell_rest,
+                            &field.slope,
                             &chunk.pos,
                             &chunk.rest,
                             &field.displaced,
                             &chunk.uniform,
                             &field.ground,
                         ],
-                    );
-                    (group, chunk.cell_groups)
+                    ),
+                    slopes: self.slopes.bind(
+                        device,
+                        &[
+                            params,
+                            &field.cell_state,
+                            &field.cell_rest,
+                            &field.slope,
+                            &chunk.uniform,
+                        ],
+                    ),
+                    follow: self.follow.bind(
+                        device,
+                        &[
+                            params,
+                            &field.cell_state,
+                            &field.cell_rest,
+                            &field.slope,
+                            &field.flatness,
+                            &chunk.pos,
+                            &chunk.rest,
+                            &chunk.uniform,
+                        ],
+                    ),
+                    size: chunk.cell_groups,
                 })
                 .collect(),
         )
     }
 
-    /// Records `entry` over every chunk's cells.
-    fn record(&self, encoder: &mut wgpu::CommandEncoder, entry: usize, groups: &CellGroups) {
-        for (group, size) in &groups.0 {
-            self.kernel.dispatch(encoder, entry, group, *size);
+    /// Records the level of detail of every cell (before the narrow phase).
+    pub fn record_classify(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
+        for g in &groups.0 {
+            self.classify.dispatch(encoder, 0, &g.classify, g.size);
         }
     }
 
-    /// Records the level of detail of every cell (before the narrow phase).
-    pub fn record_classify(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        self.record(encoder, CLASSIFY, groups);
-    }
-
-    /// Records billboards (Eq. 8), after the blades bend.
+    /// Records billboards (Eq. 8), after the blades bend (the paper's mode).
     pub fn record_billboards(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        self.record(encoder, BILLBOARDS, groups);
+        for g in &groups.0 {
+            self.billboards.dispatch(encoder, 0, &g.billboards, g.size);
+        }
     }
 
     /// Records transitions (Eq. 9–13), after the billboards.
     pub fn record_transitions(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        self.record(encoder, TRANSITIONS, groups);
+        for g in &groups.0 {
+            self.transitions
+                .dispatch(encoder, 0, &g.transitions, g.size);
+        }
     }
 
-    /// Records the recovery of bent billboards (after the blades recover).
+    /// Records the recovery of bent billboards (after the blades recover;
+    /// the paper's mode).
     pub fn record_recover_slopes(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        self.record(encoder, RECOVER_SLOPES, groups);
+        for g in &groups.0 {
+            self.slopes.dispatch(encoder, 0, &g.slopes, g.size);
+        }
+    }
+
+    /// Records billboards and flatness that follow the blades (track
+    /// everywhere), last in a sub-step.
+    pub fn record_follow(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
+        for g in &groups.0 {
+            self.follow.dispatch(encoder, 0, &g.follow, g.size);
+        }
     }
 }
 
+/// One chunk's bind groups of every per-cell stage, and its workgroup counts.
+struct ChunkGroups {
+    classify: wgpu::BindGroup,
+    billboards: wgpu::BindGroup,
+    transitions: wgpu::BindGroup,
+    slopes: wgpu::BindGroup,
+    follow: wgpu::BindGroup,
+    size: (u32, u32),
+}
+
 /// The per-chunk bind groups of [`Cells`] and their workgroup counts.
-pub struct CellGroups(Vec<(wgpu::BindGroup, (u32, u32))>);
+pub struct CellGroups(Vec<ChunkGroups>);

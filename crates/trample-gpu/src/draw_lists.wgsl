@@ -62,7 +62,7 @@ fn class_colour(b: u32) -> u32 {
         let fade = max(1.0 - draw.pbg.w * f32(g - 1u), 0.3);
         return pack4x8unorm(vec4<f32>(draw.pbg.xyz * fade, 1.0));
     }
-    let k = blade_class[b];
+    let k = blade_class[b] & 0xffu;
     if k == 1u {
         return draw.palette.y;
     }

@@ -17,14 +17,16 @@ use crate::error::GpuError;
 use crate::readback::read_buffer;
 
 /// Per-blade output of the narrow phase: Σ EqF (Eq. 2) over the blade's hit
-/// segments and all objects in xyz, `num` (hit count, saturating at 255) in
-/// w. Layout-compatible with `force` in `narrow_phase.wgsl`.
+/// segments and all objects in xyz; in w Eq. 5's `num`: the hit count
+/// (saturating at 255) for the paper's hit flags (`collide`), the contact
+/// weight for the simulation (`collide_listed`). Layout-compatible with
+/// `force` in `narrow_phase.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct GpuForce {
     /// Σ EqF, world frame.
     pub force: [f32; 3],
-    /// Eq. 5's `num`, as a float (exact up to 255).
+    /// Eq. 5's `num`: a hit count (exact up to 255) or a contact weight.
     pub num: f32,
 }
 const _: () = assert!(std::mem::size_of::<GpuForce>() == 16);
@@ -43,7 +45,6 @@ pub struct GpuField {
     /// Vertex and rest positions, in chunks of whole patches (one chunk
     /// when the field fits one storage binding): draw from `chunks[i].pos`.
     pub chunks: Vec<GpuChunk>,
-    pub(crate) seg_len: wgpu::Buffer,
     pub(crate) neighbours: wgpu::Buffer,
     /// Cells.
     pub cell_count: u32,
@@ -54,11 +55,21 @@ pub struct GpuField {
     pub(crate) cell_rest: wgpu::Buffer,
     /// Per cell: current billboard slope `slope_b` (Eq. 8, 12), xyz.
     pub slope: wgpu::Buffer,
+    /// Per cell: how flattened its blades are, in [0, 1]
+    /// (`trample::field::Cells::flatness`, `follow.wgsl`), `f32`.
+    pub flatness: wgpu::Buffer,
     pub(crate) force: wgpu::Buffer,
-    pub(crate) hit_mask: wgpu::Buffer,
+    /// Per blade, this sub-step: segment mask, the firmest single-object
+    /// contact weight's bits, its owner, moved by contact (see
+    /// `narrow_phase.wgsl`); `[u32; 4]`.
+    pub(crate) touch: wgpu::Buffer,
+    /// Per blade, between propagation's gather and commit passes
+    /// (`propagation.wgsl`); `[u32; 4]`.
+    pub(crate) next: wgpu::Buffer,
     /// Generation per blade this sub-step (0 = DBG, 1… = PBG, 255 = none).
     pub generation: wgpu::Buffer,
-    /// `BladeClass` per blade (0 untouched, 1 DBG, 2 PBG), as `u32`.
+    /// Per blade, as `u32`: bits 0–1 its `BladeClass` (0 untouched, 1 DBG,
+    /// 2 PBG), bits 8–15 its track owner (`Simulation::track_owner`).
     pub class: wgpu::Buffer,
     /// 1 where a blade is away from rest (recovery works on those).
     pub(crate) displaced: wgpu::Buffer,
@@ -252,10 +263,18 @@ impl GpuField {
                     units + i as u32,
                     unit,
                 );
-                // Vertex 0 of `rest` carries the segment length in w (cells.wgsl).
+                // Vertex 0 (the root, never moved) of `pos` and of `rest`
+                // carries the blade's segment length in w (the stages read it
+                // there: one storage binding fewer).
                 let mut rest = chunk_vec4(&blades.rest, blades.count, verts, r.clone());
-                for (x, &l) in rest.iter_mut().zip(&blades.seg_len[r.start as usize..]) {
+                let mut pos = chunk_vec4(&blades.pos, blades.count, verts, r.clone());
+                for ((x, p), &l) in rest
+                    .iter_mut()
+                    .zip(pos.iter_mut())
+                    .zip(&blades.seg_len[r.start as usize..r.end as usize])
+                {
                     x[3] = l;
+                    p[3] = l;
                 }
                 GpuChunk {
                     first_blade: r.start,
@@ -264,12 +283,7 @@ impl GpuField {
                     cells: params.range[3],
                     pos: init(
                         "trample-gpu blade positions",
-                        bytemuck::cast_slice(&chunk_vec4(
-                            &blades.pos,
-                            blades.count,
-                            verts,
-                            r.clone(),
-                        )),
+                        bytemuck::cast_slice(&pos),
                         U::STORAGE | U::VERTEX | U::COPY_DST | U::COPY_SRC,
                     ),
                     rest: init(
@@ -290,11 +304,6 @@ impl GpuField {
             blades_per_cell,
             patch_blades: 0,
             chunks,
-            seg_len: init(
-                "trample-gpu segment lengths",
-                bytemuck::cast_slice(&blades.seg_len),
-                U::STORAGE,
-            ),
             neighbours: init(
                 "trample-gpu neighbours",
                 bytemuck::cast_slice(neighbours),
@@ -338,6 +347,12 @@ impl GpuField {
                 usage: U::STORAGE | U::COPY_DST | U::COPY_SRC,
                 mapped_at_creation: false,
             }),
+            flatness: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu cell flatness"),
+                size: cells * 4,
+                usage: U::STORAGE | U::COPY_DST | U::COPY_SRC,
+                mapped_at_creation: false,
+            }),
             force: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu blade forces"),
                 size: blades.count as u64 * 16,
@@ -349,10 +364,16 @@ impl GpuField {
                 bytemuck::cast_slice(&[0.0f32; 16]),
                 U::STORAGE,
             ),
-            hit_mask: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("trample-gpu hit masks"),
-                size: blades.count as u64 * 4,
+            touch: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu blade contacts"),
+                size: blades.count as u64 * 16,
                 usage: U::STORAGE | U::COPY_SRC | U::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            next: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu propagation next"),
+                size: blades.count as u64 * 16,
+                usage: U::STORAGE | U::COPY_DST,
                 mapped_at_creation: false,
             }),
         })
@@ -377,7 +398,7 @@ impl GpuField {
     }
 
     /// Reads back the hit masks of the last narrow phase (bit k: segment k
-    /// hit one of the objects).
+    /// hit, or touched, one of the objects).
     ///
     /// # Errors
     /// [`GpuError::ReadBack`] when mapping fails.
@@ -386,7 +407,20 @@ impl GpuField {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<u32>, GpuError> {
-        read_buffer(device, queue, &self.hit_mask, "hit masks")
+        let touch: Vec<[u32; 4]> = read_buffer(device, queue, &self.touch, "contacts")?;
+        Ok(touch.iter().map(|t| t[0]).collect())
+    }
+
+    /// Reads back the cells' flatness (`follow.wgsl`).
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn read_flatness(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<f32>, GpuError> {
+        read_buffer(device, queue, &self.flatness, "flatness")
     }
 
     /// Reads back a `u32` per blade: [`GpuField::class`] or [`GpuField::generation`].

@@ -47,6 +47,7 @@ pub mod bend;
 pub mod broad_phase;
 pub mod cells;
 pub mod chunk;
+pub mod contact;
 pub mod draw_lists;
 pub mod error;
 pub mod field;
@@ -94,6 +95,15 @@ pub const BILLBOARD_WGSL: &str = include_str!("billboard.wgsl");
 /// the billboards (prepended; not a stage itself).
 pub const SEGMENT_OBB_WGSL: &str = include_str!("segment_obb.wgsl");
 
+/// `object.wgsl`: one object's tree, pose and mesh queries (inside test,
+/// closest point, contact test), shared by the narrow phase and the
+/// contact response (prepended; not a stage itself).
+pub const OBJECT_WGSL: &str = include_str!("object.wgsl");
+
+/// `cell.wgsl`: the cell state's bits, shared by the per-cell stages
+/// (prepended; not a stage itself).
+pub const CELL_WGSL: &str = include_str!("cell.wgsl");
+
 /// Every WGSL stage of the crate as compiled, by file name (for the naga
 /// validation test). `blade.wgsl` is part of each step stage.
 #[must_use]
@@ -102,7 +112,12 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ("broad_phase.wgsl", broad_phase::source()),
         ("draw_lists.wgsl", draw_lists::source()),
         ("narrow_phase.wgsl", narrow_phase::source()),
-        ("cells.wgsl", cells::source()),
+        ("contact.wgsl", contact::source()),
+        ("classify.wgsl", cells::source(cells::Stage::Classify)),
+        ("billboards.wgsl", cells::source(cells::Stage::Billboards)),
+        ("transitions.wgsl", cells::source(cells::Stage::Transitions)),
+        ("slopes.wgsl", cells::source(cells::Stage::Slopes)),
+        ("follow.wgsl", cells::source(cells::Stage::Follow)),
         ("propagation.wgsl", propagation::source()),
         ("bend.wgsl", bend::source()),
         ("recovery.wgsl", recovery::source()),

@@ -3,8 +3,10 @@
 //! dispatch per object, all in the caller's encoder (one submission; the
 //! paper's read-back between tree levels is gone).
 //!
-//! Matches `trample::collision::narrow_phase::collide_blade` plus the EqF sum
-//! of `trample::step::stages::narrow_phase`. Differences, by design:
+//! Without the broad phase (`trample collide`, the stage tests) it matches
+//! `trample::collision::narrow_phase::collide_blade` plus its EqF sum; with
+//! it (the simulation) `contact_blade` and the weighted sum of
+//! `trample::step::collide::narrow_phase`. Differences, by design:
 //! - with the broad phase ([`BroadPhase`]) every blade of a listed patch is
 //!   tested (the CPU also drops the cells outside the box's reach
 //!   rectangle): the root-box test (the first test of the walk) rejects the
@@ -25,9 +27,10 @@ use crate::object::{GpuObject, GpuObjectParams};
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}",
+        "{}\n{}\n{}\n{}",
         crate::SEGMENT_OBB_WGSL,
         crate::CHUNK_WGSL,
+        crate::OBJECT_WGSL,
         include_str!("narrow_phase.wgsl")
     )
 }
@@ -42,7 +45,7 @@ pub struct NarrowPhase {
     object_layout: wgpu::BindGroupLayout,
 }
 
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
@@ -55,7 +58,7 @@ fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
@@ -87,15 +90,7 @@ impl NarrowPhase {
                 storage_entry(5, true),
             ],
         });
-        let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("trample-gpu narrow phase: object"),
-            entries: &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                storage_entry(2, true),
-                storage_entry(3, true),
-            ],
-        });
+        let object_layout = object_layout(device);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("trample-gpu narrow phase"),
             bind_group_layouts: &[Some(&field_layout), Some(&object_layout)],
@@ -127,14 +122,17 @@ impl NarrowPhase {
 
     /// Records the narrow phase of every object in `objects` (in order) at
     /// `precision` (root = 1; clamped to 1..=64 as on the CPU) into
-    /// `encoder`, writing each object's uniform through `queue` first. After
-    /// the submission `field`'s forces hold Σ EqF and `num` over all objects
-    /// (zero for blades nothing hit); its hit masks the segments any object hit.
+    /// `encoder`, writing each object's uniform through `queue` first (set
+    /// their poses, and with `broad` their contact settings
+    /// ([`GpuObject::set_contact`]), before). After the submission
+    /// `field`'s forces hold Σ EqF and `num` over all objects (zero for
+    /// blades nothing hit); its hit masks the segments any object hit.
     /// With no object nothing is recorded (forces keep their old contents).
     ///
-    /// With `broad` (recorded earlier in `encoder`), forces and hit masks
-    /// are cleared and only the blades of the listed patches are tested;
-    /// without it, every blade of the field.
+    /// With `broad` (recorded earlier in `encoder`): the simulation's
+    /// weighted contacts; forces and contacts are cleared and only the
+    /// blades of the listed patches are tested. Without it: the paper's hit
+    /// flags, every blade of the field.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -151,7 +149,7 @@ impl NarrowPhase {
         }
         if broad.is_some() {
             encoder.clear_buffer(&field.force, 0, None);
-            encoder.clear_buffer(&field.hit_mask, 0, None);
+            encoder.clear_buffer(&field.touch, 0, None);
         }
         let lists = broad.map_or(&self.no_lists, |b| &b.lists);
         let field_groups: Vec<_> = field
@@ -165,7 +163,7 @@ impl NarrowPhase {
                         entry(0, &chunk.pos),
                         entry(1, &field.cell_state),
                         entry(2, &field.force),
-                        entry(3, &field.hit_mask),
+                        entry(3, &field.touch),
                         entry(4, &chunk.uniform),
                         entry(5, lists),
                     ],
@@ -181,16 +179,7 @@ impl NarrowPhase {
             p.field[1] = field.segments;
             p.field[2] = field.blades_per_cell;
             queue.write_buffer(&obj.uniform, 0, bytemuck::bytes_of(p));
-            let object_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("trample-gpu narrow phase: object"),
-                layout: &self.object_layout,
-                entries: &[
-                    entry(0, &obj.uniform),
-                    entry(1, &obj.nodes),
-                    entry(2, &obj.triangles),
-                    entry(3, &obj.voxels),
-                ],
-            });
+            let object_group = obj.bind(device, &self.object_layout);
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("trample-gpu narrow phase"),
                 timestamp_writes: None,
@@ -213,6 +202,21 @@ impl NarrowPhase {
             }
         }
     }
+}
+
+/// The layout of an object's bind group (group 1 of the narrow phase and
+/// the contact response: `object.wgsl`): its uniform, nodes, triangles and
+/// inside-test voxels.
+pub(crate) fn object_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("trample-gpu object"),
+        entries: &[
+            uniform_entry(0),
+            storage_entry(1, true),
+            storage_entry(2, true),
+            storage_entry(3, true),
+        ],
+    })
 }
 
 fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {

@@ -30,8 +30,13 @@ pub struct GpuNode {
     pub dir: [f32; 4],
     /// Left child, right child (`NO_CHILD` for a leaf), first triangle, triangle count.
     pub children: [u32; 4],
+    /// Centre of the node's reach box (`trample::obb::reach`: the node's
+    /// axes, holding its box and every descendant's) (w unused).
+    pub reach_center: [f32; 4],
+    /// Half extents of the reach box (w unused).
+    pub reach_half: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuNode>() == 112);
+const _: () = assert!(std::mem::size_of::<GpuNode>() == 144);
 
 /// An object's pose and tree header. Layout-compatible with `ObjectParams`
 /// in `narrow_phase.wgsl` (uniform).
@@ -61,8 +66,18 @@ pub struct GpuObjectParams {
     pub tree: [u32; 4],
     /// Blade count, segments per blade, blades per cell, inside-grid side (0: none).
     pub field: [u32; 4],
+    /// The velocity in the object's frame (`LocalMotion::velocity`), and its
+    /// thickness (`LocalMotion::thickness`, m) in w.
+    pub local_velocity: [f32; 4],
+    /// The angular velocity in the object's frame, and the sub-step h (s) in w.
+    pub local_angular: [f32; 4],
+    /// Contact shell (m), press (the Eq. 2 factor of its `track`), unused ×2.
+    pub contact: [f32; 4],
+    /// 1 + the object's index (its track owner id; 0 past 254), track
+    /// everywhere (1) or the paper's geometric cells only (0), unused ×2.
+    pub extra: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuObjectParams>() == 176);
+const _: () = assert!(std::mem::size_of::<GpuObjectParams>() == 240);
 
 fn v4(v: Vec3) -> [f32; 4] {
     [v.x, v.y, v.z, 0.0]
@@ -80,6 +95,7 @@ pub fn flatten_nodes(tree: &ObbTree) -> Vec<GpuNode> {
             // valid EqN it is EqN / |EqN|, computed by the core itself.
             let c = n.obb.center;
             let d = tree.eqn_direction(i as u32, c, c);
+            let reach = tree.reach.get(i).copied().unwrap_or(n.obb);
             GpuNode {
                 center: v4(c),
                 axis_u: v4(n.obb.axes[0]),
@@ -88,6 +104,8 @@ pub fn flatten_nodes(tree: &ObbTree) -> Vec<GpuNode> {
                 half: v4(n.obb.half),
                 dir: [d.x, d.y, d.z, if valid { 1.0 } else { 0.0 }],
                 children: [n.children[0], n.children[1], n.first_tri, n.tri_count],
+                reach_center: v4(reach.center),
+                reach_half: v4(reach.half),
             }
         })
         .collect()
@@ -152,6 +170,8 @@ impl GpuObject {
         }
         let mut params = GpuObjectParams::zeroed();
         params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 1];
+        params.local_velocity[3] =
+            2.0 * tree.nodes.first().map_or(0.0, |n| n.obb.half.min_element());
         let mut voxels: Vec<u32> = vec![0];
         if let Some(g) = tree.inside.as_ref().filter(|_| tree.closed) {
             voxels = g.voxels.iter().map(|&v| u32::from(v)).collect();
@@ -192,5 +212,48 @@ impl GpuObject {
         self.params.rotation = [q.x, q.y, q.z, q.w];
         self.params.velocity = v4(pose.velocity);
         self.params.angular_velocity = v4(pose.angular_velocity);
+        // `LocalMotion` as `trample::step::collide::narrow_phase` makes it.
+        let inverse = pose.rotation.inverse();
+        let (v, w) = (inverse * pose.velocity, inverse * pose.angular_velocity);
+        self.params.local_velocity = [v.x, v.y, v.z, self.params.local_velocity[3]];
+        self.params.local_angular = [w.x, w.y, w.z, self.params.local_angular[3]];
+    }
+
+    /// The object's bind group (`object.wgsl`'s group 1) for `layout`
+    /// ([`crate::narrow_phase::object_layout`]).
+    pub(crate) fn bind(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+    ) -> wgpu::BindGroup {
+        let buffers = [&self.uniform, &self.nodes, &self.triangles, &self.voxels];
+        let entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("trample-gpu object"),
+            layout,
+            entries: &entries,
+        })
+    }
+
+    /// Sets what the simulation's contact walk needs besides the pose: the
+    /// sub-step `h` (s), the contact shell (m), the object's press, its
+    /// index among the bodies and whether every level of detail is
+    /// simulated (`sim.track_everywhere`).
+    pub fn set_contact(&mut self, h: f32, shell: f32, press: f32, index: usize, everywhere: bool) {
+        self.params.local_angular[3] = h;
+        self.params.contact = [shell, press, 0.0, 0.0];
+        self.params.extra = [
+            u8::try_from(index + 1).map_or(0, u32::from),
+            u32::from(everywhere),
+            0,
+            0,
+        ];
     }
 }

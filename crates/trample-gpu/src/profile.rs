@@ -40,9 +40,10 @@ pub const TIMESTAMP_FEATURES: wgpu::Features =
 /// (7 a sub-step: over 585 sub-steps) is read back once per this many.
 pub const MAX_QUERIES: u32 = wgpu::QUERY_SET_MAX_QUERIES;
 
-/// Timestamps one sub-step writes at most: its start and one after each of
-/// the six stages.
-const PER_SUBSTEP: u32 = 1 + STAGES as u32;
+/// Timestamps one sub-step writes at most: its start and one after each
+/// lap (`GpuSimulation::step` laps ten times: deformation thrice, around
+/// the contact response and the billboards).
+const PER_SUBSTEP: u32 = 12;
 
 /// How the profiling mode measures stage times (see the module docs), as
 /// `summary.json` names it ([`StageTiming::name`]).
@@ -89,13 +90,15 @@ pub(crate) enum Stage {
     Propagation,
     /// `deformation_ms`: blades and billboards.
     Deformation,
+    /// `contact_ms`: the contact response.
+    Contact,
     /// `transitions_ms`.
     Transitions,
     /// `recovery_ms`: blades and billboard slopes.
     Recovery,
 }
 
-const STAGES: usize = 7;
+const STAGES: usize = 8;
 
 fn field(t: &mut StepTimings, stage: Stage) -> &mut f64 {
     match stage {
@@ -104,6 +107,7 @@ fn field(t: &mut StepTimings, stage: Stage) -> &mut f64 {
         Stage::Narrow => &mut t.narrow_ms,
         Stage::Propagation => &mut t.propagation_ms,
         Stage::Deformation => &mut t.deformation_ms,
+        Stage::Contact => &mut t.contact_ms,
         Stage::Transitions => &mut t.transitions_ms,
         Stage::Recovery => &mut t.recovery_ms,
     }
@@ -245,8 +249,8 @@ impl StageTimer {
 
     /// Ends the step: reads back the remaining timestamps (when profiling
     /// with them) and writes the stage sums into `t`'s `lod_ms`,
-    /// `broad_ms`, `narrow_ms`, `propagation_ms`, `deformation_ms`, `transitions_ms` and
-    /// `recovery_ms`. Needs every sub-step submitted.
+    /// `broad_ms`, `narrow_ms`, `propagation_ms`, `deformation_ms`,
+    /// `contact_ms`, `transitions_ms` and `recovery_ms`. Needs every sub-step submitted.
     ///
     /// # Errors
     /// [`GpuError::ReadBack`] when the read-back fails (device lost).
@@ -263,6 +267,7 @@ impl StageTimer {
             Stage::Narrow,
             Stage::Propagation,
             Stage::Deformation,
+            Stage::Contact,
             Stage::Transitions,
             Stage::Recovery,
         ] {

@@ -25,7 +25,8 @@ pub fn source() -> String {
 const BEGIN: usize = 0;
 const SEED: usize = 1;
 const GATHER: usize = 2;
-const ADVANCE: usize = 3;
+const COMMIT: usize = 3;
+const ADVANCE: usize = 4;
 
 /// The compiled propagation kernels and the indirect arguments of the
 /// gather passes.
@@ -48,9 +49,10 @@ impl Propagation {
                 "trample-gpu propagation",
                 &source(),
                 &[
-                    Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite,
+                    Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite, Read,
+                    ReadWrite,
                 ],
-                &["begin", "seed", "gather", "advance"],
+                &["begin", "seed", "gather", "commit", "advance"],
             ),
             unused_args: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu gather dispatch (unused)"),
@@ -87,13 +89,16 @@ impl Propagation {
                 &field.class,
                 &field.neighbours,
                 &self.next_gather,
+                &field.touch,
+                &field.next,
             ],
         );
         self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
     }
 
-    /// Records generation 0 (DBG) from the narrow phase's hit counts, then
-    /// `passes` gather passes (Eq. 4). [`Propagation::record_reset`] must
+    /// Records generation 0 (every blade touched, DBG from `DBG_WEIGHT`)
+    /// from the narrow phase's contacts, then `passes` gather and commit
+    /// passes (Eq. 4). [`Propagation::record_reset`] must
     /// come first in the sub-step.
     pub fn record(
         &self,
@@ -115,6 +120,8 @@ impl Propagation {
                 &field.class,
                 &field.neighbours,
                 &self.next_gather,
+                &field.touch,
+                &field.next,
             ],
         );
         self.kernel.dispatch(encoder, SEED, &group, groups);
@@ -128,11 +135,15 @@ impl Propagation {
                 &field.class,
                 &field.neighbours,
                 &self.unused_args,
+                &field.touch,
+                &field.next,
             ],
         );
         for _ in 0..passes {
             self.kernel
                 .dispatch_indirect(encoder, GATHER, &gather_group, &self.next_gather);
+            self.kernel
+                .dispatch_indirect(encoder, COMMIT, &gather_group, &self.next_gather);
             self.kernel.dispatch(encoder, ADVANCE, &group, (1, 1));
         }
     }

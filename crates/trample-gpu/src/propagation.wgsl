@@ -1,25 +1,41 @@
 // Force propagation from DBG to PBG (paper §5.2, Definitions 1–7, Eq. 4;
 // DESIGN §5) as generation passes: `begin` and `seed` once, then
-// `gather` + `advance` once per generation up to the cap. Each blade of
-// generation G+1 gathers, in the fixed order −x, +x, −z, +z, the
+// `gather` + `commit` + `advance` once per generation up to the cap. Each
+// blade of generation G+1 gathers, in the fixed order −x, +x, −z, +z, the
 // contributions of the active generation-G neighbours that point at it:
 // the gather of `trample::force::propagation::gather_force`, no float
-// atomics. A pass after the last generation returns at once (`stop`).
+// atomics. `gather` only reads the state and writes `next`; `commit`
+// applies it: a blade may be both a source and a candidate of generation
+// 1 (an ancestor an object holds lightly, which takes part of a push), and
+// its sources must see it as it was. A pass after the last generation
+// returns at once (`stop`).
 
 @group(0) @binding(0) var<uniform> params: StepParams;
 @group(0) @binding(1) var<storage, read_write> state: State;
+// xyz: force (m/s); w: the blade's contact weight this sub-step.
 @group(0) @binding(2) var<storage, read_write> force: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read_write> generation: array<u32>;
+// Bits 0–1: `BladeClass`; bits 8–15: the track owner (1 + object index).
 @group(0) @binding(4) var<storage, read_write> blade_class: array<u32>;
 @group(0) @binding(5) var<storage, read> neighbours: array<vec4<u32>>;
 // Workgroups of the next gather pass (x, y, z), read as indirect dispatch
 // arguments: (0, 1, 1) once propagation has ended, so the passes left over
 // cost a dispatch of nothing.
 @group(0) @binding(6) var<storage, read_write> next_gather: array<u32, 3>;
+// The narrow phase's per-blade contact: segment mask, firmest weight's
+// bits, its owner (see narrow_phase.wgsl).
+@group(0) @binding(7) var<storage, read> touch: array<vec4<u32>>;
+// Per blade, written by `gather`, applied by `commit`: the new force in
+// xyz, and in w 1 + the owner of the first pusher (0: not reached).
+@group(0) @binding(8) var<storage, read_write> next: array<vec4<u32>>;
 
+const NONE_U32: u32 = 0xffffffffu;
 const CLASS_UNTOUCHED: u32 = 0u;
 const CLASS_DIRECT: u32 = 1u;
 const CLASS_PROPAGATED: u32 = 2u;
+// `stages::DBG_WEIGHT`. The threshold's fade-in and the hold weight
+// (`PropagationParams`) are in the step uniform: `params.lod.y`, `.z`.
+const DBG_WEIGHT: f32 = 0.01;
 
 // Reset the per-sub-step state.
 @compute @workgroup_size(1)
@@ -35,6 +51,7 @@ fn begin() {
     atomicStore(&state.lod[0], 0u);
     atomicStore(&state.lod[1], 0u);
     atomicStore(&state.lod[2], 0u);
+    atomicStore(&state.contact, 0u);
     next_gather[0] = params.counts.w;
     next_gather[1] = (params.counts.x + params.counts.w * 64u - 1u) / (params.counts.w * 64u);
     next_gather[2] = 1u;
@@ -44,17 +61,29 @@ fn begin() {
     }
 }
 
-// Generation 0 = the ancestors (DBG, Definition 4): blades the narrow phase hit.
+// Generation 0 = every blade an object touched (Definition 4, held by its
+// contact weight); DBG in the paper's sense (class, count) from
+// DBG_WEIGHT on; the track owner of the firmest contact.
 @compute @workgroup_size(64)
 fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = blade_index(gid);
     if b >= params.counts.x {
         return;
     }
+    let t = touch[b];
+    next[b] = vec4<u32>(0u);
+    // Touched: a contact weight above 0 (a segment mask bit set).
     if force[b].w > 0.0 {
         generation[b] = 0u;
-        blade_class[b] = CLASS_DIRECT;
-        atomicAdd(&state.dbg, 1u);
+        var kind = blade_class[b];
+        if force[b].w >= DBG_WEIGHT {
+            kind = (kind & ~3u) | CLASS_DIRECT;
+            atomicAdd(&state.dbg, 1u);
+        }
+        if t.z != 0u {
+            kind = (kind & ~0xff00u) | (t.z << 8u);
+        }
+        blade_class[b] = kind;
     } else {
         generation[b] = NO_GENERATION;
     }
@@ -66,16 +95,47 @@ fn is_active(f: vec3<f32>) -> bool {
     return e < 3.0e38 && e >= params.a.z;
 }
 
+// `propagation::fade_in`.
+fn fade_in(f: vec3<f32>) -> f32 {
+    var fade = 0.0;
+    if params.lod.y > 0.0 {
+        fade = params.lod.y * params.a.z;
+    }
+    if fade > 0.0 {
+        let e = sqrt((f.x * f.x + f.y * f.y) + f.z * f.z);
+        return clamp((e - params.a.z) / fade, 0.0, 1.0);
+    }
+    return 1.0;
+}
+
+// How firmly an object holds an ancestor (`propagate_forces`'s `held`).
+fn held(b: u32) -> f32 {
+    if params.lod.z > 0.0 {
+        return clamp(force[b].w / params.lod.z, 0.0, 1.0);
+    }
+    return 1.0;
+}
+
 @compute @workgroup_size(64)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let c = blade_index(gid);
-    if c >= params.counts.x || state.stop != 0u || generation[c] != NO_GENERATION {
+    if c >= params.counts.x || state.stop != 0u {
+        return;
+    }
+    let own = generation[c];
+    var take = 1.0;
+    if own == 0u {
+        take = 1.0 - held(c);
+        if !(take > 0.0) {
+            return;
+        }
+    } else if own != NO_GENERATION {
         return;
     }
     let g = state.g;
     let nb = neighbours[c];
     var sum = force[c].xyz;
-    var reached = false;
+    var first = NONE_U32;
     // (slot of J seen from c, slot of c seen from J, axis, sign of J's
     // component that points at c): −x, +x, −z, +z.
     for (var s = 0u; s < 4u; s++) {
@@ -90,22 +150,42 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
         if component * sign > 0.0 && is_active(f) {
             var ef = vec3<f32>(0.0);
             ef[axis] = component;
-            sum += ef * params.a.y;
-            reached = true;
+            sum += ef * (params.a.y * fade_in(f) * take);
+            if first == NONE_U32 {
+                first = j;
+            }
         }
     }
-    if reached {
-        force[c] = vec4<f32>(sum, 0.0);
-        generation[c] = g + 1u;
-        if blade_class[c] == CLASS_UNTOUCHED {
-            blade_class[c] = CLASS_PROPAGATED;
-        }
-        atomicAdd(&state.pbg, 1u);
-        atomicStore(&state.any, 1u);
+    if first != NONE_U32 {
+        let owner = (blade_class[first] >> 8u) & 0xffu;
+        next[c] = vec4<u32>(bitcast<vec3<u32>>(sum), owner + 1u);
     }
 }
 
-// After a gather pass: stop when no blade was reached (termination status,
+// Applies what `gather` found: the blade joins generation G+1.
+@compute @workgroup_size(64)
+fn commit(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = blade_index(gid);
+    if c >= params.counts.x || state.stop != 0u {
+        return;
+    }
+    let nx = next[c];
+    if nx.w == 0u {
+        return;
+    }
+    next[c] = vec4<u32>(0u);
+    force[c] = vec4<f32>(bitcast<vec3<f32>>(nx.xyz), force[c].w);
+    generation[c] = state.g + 1u;
+    var kind = blade_class[c];
+    if (kind & 3u) == CLASS_UNTOUCHED {
+        kind = kind | CLASS_PROPAGATED;
+    }
+    blade_class[c] = (kind & ~0xff00u) | ((nx.w - 1u) << 8u);
+    atomicAdd(&state.pbg, 1u);
+    atomicStore(&state.any, 1u);
+}
+
+// After a commit pass: stop when no blade was reached (termination status,
 // Definition 3) or at the cap, else on to the next generation.
 @compute @workgroup_size(1)
 fn advance() {

@@ -1,10 +1,13 @@
 //! Recovery on the GPU (ours, DESIGN §6): dispatches `recovery.wgsl` over
 //! every blade; displaced ones relax towards rest as
-//! `trample::recovery::recover_blade` does, and are counted. Billboard
-//! slopes do not recover here yet (billboards are not on the GPU yet).
+//! `trample::step::recover` does (`recovery::recover_blade`, with each
+//! blade's track owner's settings and not while an object holds it), and
+//! are counted. Billboard slopes recover in `slopes.wgsl` (the paper's
+//! mode) or follow their blades (`follow.wgsl`).
 
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
+use trample::recovery::RecoveryParams;
 
 /// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl` and `chunk.wgsl`
 /// prepended).
@@ -19,9 +22,14 @@ pub fn source() -> String {
     )
 }
 
-/// The compiled recovery kernel.
+/// Track owners a recovery table holds (`Simulation::track_owner` is a `u8`).
+pub const OWNERS: usize = 256;
+
+/// The compiled recovery kernel and the table of the track owners'
+/// recovery settings.
 pub struct Recovery {
     kernel: Kernel,
+    owners: wgpu::Buffer,
 }
 
 impl Recovery {
@@ -35,11 +43,44 @@ impl Recovery {
                 "trample-gpu recovery",
                 &source(),
                 &[
-                    Uniform, ReadWrite, ReadWrite, Read, Read, ReadWrite, Uniform, Read,
+                    Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Uniform, Read, Read, Read,
+                    Read, Uniform,
                 ],
                 &["recover"],
             ),
+            owners: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu track owners"),
+                size: (OWNERS * 16) as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
         }
+    }
+
+    /// Writes the recovery settings of every track owner of `sim`
+    /// (`Simulation::recovery_params`: 0 for `[sim]`, 1 + i for body i).
+    /// Returns whether any owner recovers.
+    pub fn write_owners(&self, queue: &wgpu::Queue, sim: &trample::Simulation) -> bool {
+        let count = (1 + sim.bodies.len()).min(OWNERS);
+        let table: Vec<RecoveryParams> = (0..count).map(|o| sim.recovery_params(o as u8)).collect();
+        self.write_owner_table(queue, &table)
+    }
+
+    /// Writes `table[o]` as the recovery settings of track owner `o`
+    /// (owners past the table, up to [`OWNERS`], take `table[0]`'s: a body
+    /// removed since). Returns whether any entry recovers (a finite
+    /// `recovery_s`).
+    pub fn write_owner_table(&self, queue: &wgpu::Queue, table: &[RecoveryParams]) -> bool {
+        let row = |p: &RecoveryParams| {
+            let finite = p.recovery_s.is_finite();
+            [if finite { p.recovery_s } else { 0.0 }, p.trail, 0.0, 0.0]
+        };
+        let fallback = table.first().map_or([0.0; 4], row);
+        let rows: Vec<[f32; 4]> = (0..OWNERS)
+            .map(|o| table.get(o).map_or(fallback, row))
+            .collect();
+        queue.write_buffer(&self.owners, 0, bytemuck::cast_slice(&rows));
+        table.iter().any(|p| p.recovery_s.is_finite())
     }
 
     /// Records the recovery of every displaced blade, one dispatch per chunk.
@@ -59,10 +100,13 @@ impl Recovery {
                     state,
                     &chunk.pos,
                     &chunk.rest,
-                    &field.seg_len,
                     &field.displaced,
                     &chunk.uniform,
                     &field.ground,
+                    &field.force,
+                    &field.class,
+                    &field.touch,
+                    &self.owners,
                 ],
             );
             self.kernel.dispatch(encoder, 0, &group, chunk.groups);

@@ -1,24 +1,40 @@
 // Recovery of displaced blades towards rest (ours, DESIGN §6; the paper's
-// future work): `trample::recovery::recover_blade`. Each displaced vertex
-// moves the fraction 1 − exp(−h/τ) of the way back, τ = recovery_s ·
-// (1 + trail · flatness), then lengths are restored; a blade within 1e-4 m
-// of rest snaps to it and leaves the displaced set. With recovery off
-// (recovery_s = ∞) the pass only counts the displaced blades.
+// future work): `trample::step::recover` / `recovery::recover_blade`. Each
+// displaced vertex moves the fraction 1 − exp(−h'/τ) of the way back, τ =
+// recovery_s · (1 + trail · flatness) with the settings of the blade's
+// track owner, h' = h · (1 − min(1, contact weight)): a blade an object
+// holds does not recover. Then lengths are restored; a blade within 1e-4 m
+// of rest snaps to it and leaves the displaced set. With recovery off for
+// every owner (all recovery_s = ∞) the pass only counts the displaced
+// blades. It also counts the blades the contact pass moved.
 
 @group(0) @binding(0) var<uniform> params: StepParams;
 @group(0) @binding(1) var<storage, read_write> state: State;
+// The chunk's vertices; vertex 0's w holds the blade's segment length.
 @group(0) @binding(2) var<storage, read_write> pos: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> rest: array<vec4<f32>>;
-@group(0) @binding(4) var<storage, read> seg_len: array<f32>;
-@group(0) @binding(5) var<storage, read_write> displaced: array<u32>;
-@group(0) @binding(6) var<uniform> chunk: Chunk;
-@group(0) @binding(7) var<storage, read> ground: array<f32>;
-
+@group(0) @binding(4) var<storage, read_write> displaced: array<u32>;
+@group(0) @binding(5) var<uniform> chunk: Chunk;
+@group(0) @binding(6) var<storage, read> ground: array<f32>;
+// w: the blade's contact weight this sub-step.
+@group(0) @binding(7) var<storage, read> force: array<vec4<f32>>;
+// Bits 8–15: the blade's track owner.
+@group(0) @binding(8) var<storage, read> blade_class: array<u32>;
+// w: 1 when the contact pass moved the blade.
+@group(0) @binding(9) var<storage, read> touch: array<vec4<u32>>;
+// Per track owner (0: `[sim]`, i: body i − 1): recovery_s (0 for ∞), trail.
+@group(0) @binding(10) var<uniform> owners: array<vec4<f32>, 256>;
 
 @compute @workgroup_size(64)
 fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = chunk_blade(gid);
-    if b == NOT_IN_CHUNK || displaced[b] == 0u {
+    if b == NOT_IN_CHUNK {
+        return;
+    }
+    if touch[b].w != 0u {
+        atomicAdd(&state.contact, 1u);
+    }
+    if displaced[b] == 0u {
         return;
     }
     if params.b.w == 0.0 {
@@ -38,8 +54,13 @@ fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
         displaced[b] = 0u;
         return;
     }
+    let owner = owners[min((blade_class[b] >> 8u) & 0xffu, 255u)];
     let flat = flatness(v[n].y - v[0].y, r[n].y - r[0].y);
-    let q = recovered_fraction(params.a.x, time_constant(flat));
+    let free = 1.0 - min(force[b].w, 1.0);
+    var q = 0.0;
+    if owner.x > 0.0 {
+        q = recovered_fraction(params.a.x * free, time_constant(owner.x, owner.y, flat));
+    }
     if q == 0.0 {
         atomicAdd(&state.displaced, 1u);
         return;
@@ -47,7 +68,7 @@ fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var k = 1u; k <= n; k++) {
         v[k] += (r[k] - v[k]) * q;
     }
-    preserve_lengths(&v, n, seg_len[b]);
+    preserve_lengths(&v, n, pos[vertex_at(0u, b)].w);
     var at_rest = true;
     for (var k = 0u; k <= n; k++) {
         let d = v[k] - r[k];

@@ -19,12 +19,12 @@ use trample::deform::bend::weights;
 use trample::field::generate::GROUND_CLEARANCE_M;
 use trample::field::{Lod, Terrain};
 use trample::force::propagation::GENERATION_CAP;
-use trample::step::stages::plan_substeps;
 use wgpu::util::DeviceExt;
 
 use crate::bend::Bend;
 use crate::broad_phase::BroadPhase;
 use crate::cells::{Cells, GpuWorldObb};
+use crate::contact::Contact;
 use crate::draw_lists::{DrawLists, GpuDrawParams};
 use crate::error::GpuError;
 use crate::field::GpuField;
@@ -50,6 +50,7 @@ pub struct GpuSimulation {
     objects: Vec<GpuObject>,
     broad: BroadPhase,
     narrow: NarrowPhase,
+    contact: Contact,
     propagation: Propagation,
     bend: Bend,
     recovery: Recovery,
@@ -158,9 +159,20 @@ impl GpuSimulation {
             _ => 0.0,
         };
         let field = GpuField::from_field_chunked(device, queue, &sim.field, max_chunk_bytes)?;
-        // The blades' classes so far (a simulation handed over mid-run).
-        let class: Vec<u32> = sim.class.iter().map(|&c| u32::from(c)).collect();
+        // The blades' classes and track owners so far, the cells' flatness
+        // (a simulation handed over mid-run).
+        let class: Vec<u32> = sim
+            .class
+            .iter()
+            .zip(&sim.track_owner)
+            .map(|(&c, &o)| u32::from(c) | u32::from(o) << 8)
+            .collect();
         queue.write_buffer(&field.class, 0, bytemuck::cast_slice(&class));
+        queue.write_buffer(
+            &field.flatness,
+            0,
+            bytemuck::cast_slice(&sim.field.cells.flatness),
+        );
         let objects = sim
             .bodies
             .iter()
@@ -192,6 +204,7 @@ impl GpuSimulation {
             field,
             objects,
             narrow: NarrowPhase::new(device),
+            contact: Contact::new(device),
             propagation: Propagation::new(device),
             bend: Bend::new(device),
             recovery: Recovery::new(device),
@@ -204,8 +217,9 @@ impl GpuSimulation {
         })
     }
 
-    /// The step uniform for a sub-step of `h` seconds.
-    fn step_params(&self, h: f32, groups_x: u32) -> GpuStepParams {
+    /// The step uniform for a sub-step of `h` seconds; `recovery_on`: some
+    /// track owner recovers ([`Recovery::write_owners`]).
+    fn step_params(&self, h: f32, groups_x: u32, recovery_on: bool) -> GpuStepParams {
         let p = &self.sim.params;
         let n = self.field.segments as usize;
         let w = weights(n, p.weight_a, p.weight_b);
@@ -218,12 +232,12 @@ impl GpuSimulation {
         } else {
             p.att.clamp(0.0, 1.0)
         };
-        let recovery_on = p.recovery_s.is_finite();
+        let sim_recovers = p.recovery_s.is_finite();
         GpuStepParams {
             a: [h, att, p.threshold, self.ground],
             b: [
                 GROUND_CLEARANCE_M,
-                if recovery_on { p.recovery_s } else { 0.0 },
+                if sim_recovers { p.recovery_s } else { 0.0 },
                 p.trail,
                 if recovery_on { 1.0 } else { 0.0 },
             ],
@@ -240,20 +254,27 @@ impl GpuSimulation {
                 self.sim.view.eye.z,
                 self.sim.lod.geometry_m,
             ],
-            lod: [self.sim.lod.billboard_m, 0.0, 0.0, 0.0],
+            lod: [
+                self.sim.lod.billboard_m,
+                trample::force::propagation::THRESHOLD_FADE,
+                trample::step::stages::HOLD_WEIGHT,
+                0.0,
+            ],
             cells: [
                 self.field.cell_count,
                 self.field.blades_per_cell,
                 self.objects.len() as u32,
-                0,
+                u32::from(p.track_everywhere),
             ],
         }
     }
 
     /// Advances the simulation by `dt` seconds: the same sub-steps and
-    /// poses as `Simulation::step`, every stage on the GPU, one submission
-    /// per sub-step, nothing read back (in profiling mode: the stage
-    /// times, see [`GpuSimulation::set_profiling`]). Returns the number of
+    /// poses as `Simulation::step` (the outer loop is the core's:
+    /// `begin_step` plans the sub-steps and counts a clamp,
+    /// `substep_time`, `end_step`), every stage on the GPU, one submission
+    /// per sub-step, nothing read back (in profiling mode: the stage times,
+    /// see [`GpuSimulation::set_profiling`]). Returns the number of
     /// sub-steps.
     ///
     /// # Errors
@@ -266,14 +287,12 @@ impl GpuSimulation {
         queue: &wgpu::Queue,
         dt: f32,
     ) -> Result<u32, GpuError> {
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(GpuError::Layout(format!(
-                "dt = {dt} must be positive and finite"
-            )));
-        }
         let start = std::time::Instant::now();
+        let plan = self
+            .sim
+            .begin_step(dt)
+            .map_err(|e| GpuError::Layout(e.to_string()))?;
         self.sim.timings = trample::StepTimings::default();
-        let plan = plan_substeps(&self.sim, dt);
         let substeps = plan.substeps;
         let h = dt / substeps as f32;
         let max = device.limits().max_compute_workgroups_per_dimension;
@@ -286,13 +305,28 @@ impl GpuSimulation {
             &self.state,
             &self.world_roots,
         );
+        let recovery_on = self.recovery.write_owners(queue, &self.sim);
+        let p = self.sim.params.clone();
         for i in 1..=substeps {
-            let t = (self.sim.time + f64::from(h) * f64::from(i)) as f32;
+            let t = self.sim.substep_time(i, h);
             // Poses and the viewpoint: on the CPU (pure functions of time).
             let mut roots = Vec::with_capacity(self.objects.len().max(1));
-            for (body, obj) in self.sim.bodies.iter_mut().zip(&mut self.objects) {
+            for (index, (body, obj)) in self
+                .sim
+                .bodies
+                .iter_mut()
+                .zip(&mut self.objects)
+                .enumerate()
+            {
                 body.set_time(t);
                 obj.set_pose(&body.pose);
+                obj.set_contact(
+                    h,
+                    p.contact_shell_m,
+                    body.object.track.press,
+                    index,
+                    p.track_everywhere,
+                );
                 roots.push(GpuWorldObb::new(
                     &body.world_root,
                     &self.sim.field.layout,
@@ -301,7 +335,7 @@ impl GpuSimulation {
             }
             let positions: Vec<_> = self.sim.bodies.iter().map(|b| b.pose.position).collect();
             self.sim.view = self.sim.camera.view_at(t, &positions);
-            let params = self.step_params(h, groups.0);
+            let params = self.step_params(h, groups.0, recovery_on);
             queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
             if !roots.is_empty() {
                 queue.write_buffer(&self.world_roots, 0, bytemuck::cast_slice(&roots));
@@ -328,7 +362,7 @@ impl GpuSimulation {
                     &mut encoder,
                     &self.field,
                     &mut self.objects,
-                    self.sim.params.precision,
+                    p.precision,
                     Some(&self.broad),
                 );
                 laps.lap(device, queue, &mut encoder, Stage::Narrow);
@@ -344,26 +378,40 @@ impl GpuSimulation {
                 laps.lap(device, queue, &mut encoder, Stage::Propagation);
                 self.bend
                     .record(device, &mut encoder, &self.field, &self.params);
+                laps.lap(device, queue, &mut encoder, Stage::Deformation);
+                if p.contact {
+                    self.contact.record(
+                        device,
+                        &mut encoder,
+                        &self.field,
+                        &self.params,
+                        &self.objects,
+                        &self.broad,
+                    );
+                }
+                laps.lap(device, queue, &mut encoder, Stage::Contact);
             }
-            self.cells.record_billboards(&mut encoder, &cell_groups);
+            if !p.track_everywhere {
+                self.cells.record_billboards(&mut encoder, &cell_groups);
+            }
             laps.lap(device, queue, &mut encoder, Stage::Deformation);
             self.cells.record_transitions(&mut encoder, &cell_groups);
             laps.lap(device, queue, &mut encoder, Stage::Transitions);
             self.recovery
                 .record(device, &mut encoder, &self.field, &self.params, &self.state);
-            self.cells.record_recover_slopes(&mut encoder, &cell_groups);
+            if !p.track_everywhere {
+                self.cells.record_recover_slopes(&mut encoder, &cell_groups);
+            }
             laps.lap(device, queue, &mut encoder, Stage::Recovery);
+            if p.track_everywhere {
+                self.cells.record_follow(&mut encoder, &cell_groups);
+            }
+            laps.lap(device, queue, &mut encoder, Stage::Deformation);
             queue.submit([encoder.finish()]);
         }
         self.timer
             .finish_step(device, queue, &mut self.sim.timings)?;
-        self.sim.timings.visible_patches = trample::field::cull_patches(
-            &self.sim.field.layout.patch_list,
-            &self.sim.view.frustum(),
-            &mut self.sim.visible,
-        );
-        self.sim.time += f64::from(dt);
-        self.sim.frame += 1;
+        self.sim.timings.visible_patches = self.sim.end_step(dt);
         let tm = &mut self.sim.timings;
         tm.substeps = substeps;
         tm.substeps_needed = plan.needed;
@@ -425,9 +473,18 @@ impl GpuSimulation {
             *p = glam::Vec3A::new(q[0], q[1], q[2]);
         }
         let class = self.field.read_u32(device, queue, &self.field.class)?;
-        for (c, &k) in self.sim.class.iter_mut().zip(&class) {
-            *c = k.min(2) as u8;
+        for ((c, o), &k) in self
+            .sim
+            .class
+            .iter_mut()
+            .zip(self.sim.track_owner.iter_mut())
+            .zip(&class)
+        {
+            *c = (k & 0xff).min(2) as u8;
+            *o = (k >> 8 & 0xff) as u8;
         }
+        let flatness = self.field.read_flatness(device, queue)?;
+        self.sim.field.cells.flatness.copy_from_slice(&flatness);
         let generation = self.field.read_u32(device, queue, &self.field.generation)?;
         for (g, &k) in self.sim.generation.iter_mut().zip(&generation) {
             *g = k.min(255) as u8;

@@ -9,7 +9,9 @@ use bytemuck::{Pod, Zeroable};
 pub struct GpuStepParams {
     /// Sub-step h (s), att (Eq. 4), threshold L (m/s), ground height (m).
     pub a: [f32; 4],
-    /// Ground clearance (m), recovery_s, trail, recovery on (1) / off (0).
+    /// Ground clearance (m), `[sim]` recovery_s (0 for ∞) and trail (the
+    /// paper's billboard recovery), recovery on for some track owner (1) /
+    /// off (0).
     pub b: [f32; 4],
     /// P(1) … P(15) of Eq. 7 (`trample::deform::bend::weights`), zero beyond n.
     pub weights: [[f32; 4]; 4],
@@ -17,10 +19,13 @@ pub struct GpuStepParams {
     pub counts: [u32; 4],
     /// LOD viewpoint xyz (the camera eye of the sub-step), `geometry_m`.
     pub eye: [f32; 4],
-    /// `billboard_m`, unused ×3.
+    /// `billboard_m`; propagation's `threshold_fade` and `hold_weight`
+    /// (`trample::force::propagation::PropagationParams`; the simulation's
+    /// are `THRESHOLD_FADE` and `stages::HOLD_WEIGHT`); unused.
     pub lod: [f32; 4],
-    /// Cell count, blades per cell, object count, unused (per-chunk cell
-    /// dispatches take their workgroups from the chunk's uniform).
+    /// Cell count, blades per cell, object count, track everywhere (1) or
+    /// the paper's geometric cells only (0) (per-chunk cell dispatches take
+    /// their workgroups from the chunk's uniform).
     pub cells: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 160);
@@ -48,20 +53,21 @@ pub struct GpuCounters {
     /// Cells at each level of detail after the sub-step's classification:
     /// geometry, billboard, texture.
     pub lod: [u32; 3],
-    /// Padding to 16 bytes.
-    pub pad: u32,
+    /// Blades the contact response moved (ours, DESIGN §5).
+    pub contact: u32,
 }
 const _: () = assert!(std::mem::size_of::<GpuCounters>() == 48);
 
 impl GpuCounters {
     /// Writes the counts into a step's timings: DBG, PBG, generations,
-    /// transitions, displaced blades, cells per level.
+    /// transitions, displaced blades, contact blades, cells per level.
     pub fn apply_to(&self, t: &mut trample::StepTimings) {
         t.dbg_blades = self.dbg;
         t.pbg_blades = self.pbg;
         t.generations = self.generations;
         t.transitions = self.transitions;
         t.displaced_blades = self.displaced;
+        t.contact_blades = self.contact;
         t.lod = trample::field::LodCounts {
             geometry: self.lod[0],
             billboard: self.lod[1],

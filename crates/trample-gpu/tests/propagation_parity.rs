@@ -2,7 +2,10 @@
 //! generation passes against `trample::force::propagation::propagate_forces`
 //! on the same DBG forces, over a generated field's neighbour table (it
 //! crosses patch borders). Generations must be identical and forces equal
-//! (both sum the same terms in the same order).
+//! (both sum the same terms in the same order). Twice: with the paper's
+//! hard threshold and every ancestor wholly held, and with the
+//! simulation's fade-in and ancestors held by their contact weights (some
+//! lightly: they take part of a neighbour's push, on both paths).
 
 mod common;
 
@@ -16,7 +19,15 @@ use wgpu::util::DeviceExt;
 #[test]
 fn generations_and_forces_match_the_cpu() {
     let gpu = common::gpu();
-    let (device, queue) = (&gpu.device, &gpu.queue);
+    for (fade, hold) in [
+        (0.0, 0.0),
+        (trample::force::propagation::THRESHOLD_FADE, 0.1),
+    ] {
+        compare(&gpu.device, &gpu.queue, fade, hold);
+    }
+}
+
+fn compare(device: &wgpu::Device, queue: &wgpu::Queue, fade: f32, hold: f32) {
     let params = FieldParams {
         patches: [4, 4],
         cells_per_patch: 8,
@@ -29,8 +40,8 @@ fn generations_and_forces_match_the_cpu() {
         att: 0.5,
         threshold: 0.25,
         max_generations: 32,
-        threshold_fade: 0.0,
-        hold_weight: 0.0,
+        threshold_fade: fade,
+        hold_weight: hold,
     };
     // Deterministic DBG blades with horizontal-ish forces of 0.3–6 m/s.
     let mut seed = 0x1234_5678_9abc_def0u64;
@@ -41,22 +52,26 @@ fn generations_and_forces_match_the_cpu() {
         (seed >> 40) as f32 / (1u64 << 24) as f32
     };
     let mut force = vec![Vec3::ZERO; count];
+    let mut weight = vec![0.0f32; count];
     let mut dbg = Vec::new();
-    for _ in 0..40 {
+    for _ in 0..120 {
         let b = (next() * count as f32) as usize % count;
         let f = Vec3::new(next() * 2.0 - 1.0, next() * 0.2, next() * 2.0 - 1.0).normalize()
             * (0.3 + 5.7 * next());
         if force[b] == Vec3::ZERO {
             force[b] = f;
+            // Contact weights from a graze to firmly held (all 1 for the paper).
+            weight[b] = if hold > 0.0 { 0.02 + 0.2 * next() } else { 1.0 };
             dbg.push(b as u32);
         }
     }
     dbg.sort_unstable();
     let gpu_forces: Vec<GpuForce> = force
         .iter()
-        .map(|f| GpuForce {
+        .zip(&weight)
+        .map(|(f, &w)| GpuForce {
             force: f.to_array(),
-            num: if *f == Vec3::ZERO { 0.0 } else { 1.0 },
+            num: w,
         })
         .collect();
     g.write_forces(queue, &gpu_forces);
@@ -73,7 +88,7 @@ fn generations_and_forces_match_the_cpu() {
             groups_x,
         ],
         eye: [0.0; 4],
-        lod: [0.0; 4],
+        lod: [0.0, fade, hold, 0.0],
         cells: [0; 4],
     };
     let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -106,15 +121,23 @@ fn generations_and_forces_match_the_cpu() {
         &field.layout.neighbours,
         &mut force,
         &mut generation,
-        &[],
+        &weight,
         &prop,
     );
     let gpu_gen = g.read_u32(device, queue, &g.generation).unwrap();
     let gpu_force = g.read_forces(device, queue).unwrap();
     let counters: Vec<GpuCounters> = read_buffer(device, queue, &state, "counters").unwrap();
     assert!(cpu.pbg.len() > 100, "only {} PBG blades", cpu.pbg.len());
+    let taken = cpu
+        .pbg
+        .iter()
+        .filter(|&&b| weight[b as usize] > 0.0)
+        .count();
+    if hold > 0.0 {
+        assert!(taken > 5, "only {taken} lightly held ancestors took a push");
+    }
     eprintln!(
-        "{} DBG, {} PBG over {} generations (GPU: {} PBG, {} generations)",
+        "fade {fade}, hold {hold}: {} DBG ({taken} of them also pushed), {} PBG over {} generations (GPU: {} PBG, {} generations)",
         dbg.len(),
         cpu.pbg.len(),
         cpu.generations,

@@ -75,10 +75,11 @@ fn check_parity(scene: &Scene, frames: u32) {
         worst = worst.max(if d.is_nan() { f32::INFINITY } else { d });
     }
     let class = g.field.read_u32(device, queue, &g.field.class).unwrap();
+    // Bits 0–1: the class; 8–15: the track owner.
     let class_diff = class
         .iter()
-        .zip(&cpu.class)
-        .filter(|(a, b)| **a != u32::from(**b))
+        .zip(cpu.class.iter().zip(&cpu.track_owner))
+        .filter(|(a, (b, o))| **a != u32::from(**b) | u32::from(**o) << 8)
         .count();
     let moved = (0..bl.count).filter(|&b| !bl.is_at_rest(b)).count();
     let cells = &cpu.field.cells;
@@ -205,8 +206,8 @@ fn a_simulation_handed_over_mid_run_goes_on_like_the_cpu() {
     assert!(
         class
             .iter()
-            .zip(&cpu.class)
-            .all(|(a, b)| *a == u32::from(*b))
+            .zip(cpu.class.iter().zip(&cpu.track_owner))
+            .all(|(a, (b, o))| *a == u32::from(*b) | u32::from(*o) << 8)
     );
     for _ in 0..120 {
         cpu.step(dt).unwrap();

@@ -26,10 +26,23 @@
 use glam::{Vec3, Vec3A};
 
 use super::bend::preserve_from;
-use crate::collision::contact::{CONTACT_TOLERANCE_M, penetration, push_out};
+use crate::collision::contact::{penetration, push_out};
 use crate::field::Terrain;
 use crate::obb::ObbTree;
 use crate::object::Pose;
+
+/// How high above the ground guard a vertex still counts as on the ground,
+/// and how deep under an object the point this far above it must lie, for
+/// the vertex to be wholly pinned (see [`pinned`]), metres: 2 cm, four
+/// times the contact tolerance plus the guard's clearance. Narrower, the
+/// rule's gain turns ulps into millimetres; wider, it pins blades the
+/// object does not press.
+pub const PIN_HEIGHT: f32 = 0.02;
+
+/// How much a blade's lean decides where a segment standing straight up is
+/// laid flat (times the segment length, against the segment's own
+/// horizontal extent): see [`resolve_contact`].
+pub const FLAT_LEAN: f32 = 0.1;
 
 /// Rounds of tests and turns per blade, object and sub-step. One round
 /// settles a blade pushed out of a flat face; a blade bent over a curved
@@ -60,9 +73,11 @@ pub fn turn_towards(dir: Vec3A, push: Vec3A, lean: Vec3A, len: f32) -> Vec3A {
     if !(delta > 0.0 && len > 0.0 && delta.is_finite()) {
         return d;
     }
-    let lean = (lean - d * lean.dot(d))
-        .try_normalize()
-        .unwrap_or(Vec3A::ZERO);
+    // The lean's part across the segment, not renormalised: it fades as
+    // the lean comes in line with the segment (a near-zero vector made unit
+    // would point anywhere: float noise would decide the fold).
+    let lean = lean.try_normalize().unwrap_or(Vec3A::ZERO);
+    let lean = lean - d * lean.dot(d);
     // The more the push opposes the segment, the less it can turn it: the
     // lean takes over, up to the push's own length when straight opposed.
     let bias = (LEAN_BIAS + (-d.dot(push) / delta).max(0.0)) * delta;
@@ -105,12 +120,16 @@ pub fn resolve_contact(
                 continue;
             };
             let start = verts[k - 1];
-            let lean = (verts[k] - verts[0]) * Vec3A::new(1.0, 0.0, 1.0);
+            let horizontal = Vec3A::new(1.0, 0.0, 1.0);
+            let lean = ((verts[k] - verts[0]) * horizontal)
+                .try_normalize()
+                .unwrap_or(Vec3A::ZERO);
             let push = Vec3A::from(pose.to_world(target)) - verts[k];
             let turned = turn_towards(verts[k] - start, push, lean, seg_len);
-            let flat = ((verts[k] - start) * Vec3A::new(1.0, 0.0, 1.0))
+            // Laid flat the way the segment points, or, as it stands up, the
+            // way the blade leans (a blend: no jump where one takes over).
+            let flat = ((verts[k] - start) * horizontal + lean * (FLAT_LEAN * seg_len))
                 .try_normalize()
-                .or_else(|| lean.try_normalize())
                 .unwrap_or(turned);
             let pin = pinned(start, pose, tree, terrain, clearance);
             let dir = turned.lerp(flat, pin).try_normalize().unwrap_or(turned);
@@ -127,20 +146,25 @@ pub fn resolve_contact(
     moved
 }
 
-/// How pinned under the object a vertex at `p` (world) is, in [0, 1]: 0
-/// unless it is within the ground guard's reach `r` of the ground
-/// (clearance plus the contact tolerance); then how deep under the object
-/// the point `r` above it lies, over `r`, clamped — 1 under a box standing
-/// on the ground, falling to 0 where the object's surface rises above the
-/// ground (the edge of a ball's contact patch). A segment starting at a
-/// pinned vertex is laid flat (see [`resolve_contact`]).
+/// How pinned under the object a vertex at `p` (world) is, in [0, 1]: how
+/// close it is to the ground guard (1 on it, 0 from [`PIN_HEIGHT`] above
+/// it) times how deep under the object the point [`PIN_HEIGHT`] above it
+/// lies, over [`PIN_HEIGHT`] (clamped) — 1 under a box standing on the
+/// ground, falling to 0 where the object's surface rises above the ground
+/// (the edge of a ball's contact patch). Both fade over centimetres, so
+/// the float noise between two runs moves a pinned blade by as little. A
+/// segment starting at a pinned vertex is laid flat (see
+/// [`resolve_contact`]).
 fn pinned(p: Vec3A, pose: &Pose, tree: &ObbTree, terrain: &Terrain, clearance: f32) -> f32 {
-    let reach = clearance.max(0.0) + CONTACT_TOLERANCE_M;
-    if p.y > terrain.height_at(p.x, p.z) + reach {
+    let guard = terrain.height_at(p.x, p.z) + clearance.max(0.0);
+    let on_ground = (1.0 - (p.y - guard) / PIN_HEIGHT).clamp(0.0, 1.0);
+    if on_ground.is_nan() || on_ground <= 0.0 {
         return 0.0;
     }
-    let above = pose.to_local(Vec3::from(p) + Vec3::Y * reach);
-    penetration(tree, above, reach).map_or(0.0, |(_, depth)| (depth / reach).min(1.0))
+    let above = pose.to_local(Vec3::from(p) + Vec3::Y * PIN_HEIGHT);
+    let under = penetration(tree, above, PIN_HEIGHT)
+        .map_or(0.0, |(_, depth)| (depth / PIN_HEIGHT).min(1.0));
+    on_ground * under
 }
 
 #[cfg(test)]

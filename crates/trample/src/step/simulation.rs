@@ -246,16 +246,42 @@ impl Simulation {
     /// `params.max_substeps`; beyond, the step is taken with that many and
     /// recorded as a [`SubstepClamp`].
     pub fn step(&mut self, dt: f32) -> Result<&StepTimings, SimError> {
-        check_dt(dt)?;
         let start = Instant::now();
         let mut tm = StepTimings::default();
         let t_pose = Instant::now();
-        let plan = stages::plan_substeps(self, dt);
+        let plan = self.begin_step(dt)?;
         tm.poses_ms += ms(t_pose);
-        let substeps = plan.substeps;
-        tm.substeps = substeps;
+        tm.substeps = plan.substeps;
         tm.substeps_needed = plan.needed;
-        if plan.needed > substeps {
+        let h = dt / plan.substeps as f32;
+        for i in 1..=plan.substeps {
+            let t = self.substep_time(i, h);
+            stages::substep(self, t, h, &mut tm);
+        }
+        let t_cull = Instant::now();
+        tm.visible_patches = self.end_step(dt);
+        tm.lod_ms += ms(t_cull);
+        tm.displaced_blades = self.scratch.displaced.len() as u32;
+        tm.total_ms = ms(start);
+        self.timings = tm;
+        Ok(&self.timings)
+    }
+
+    /// The start of a step of `dt` seconds, shared by the CPU path
+    /// ([`Simulation::step`]) and the GPU path (STYLE rule 9: the loop both
+    /// run is written once): checks `dt`, plans the sub-steps
+    /// ([`stages::plan_substeps`]) and, when the plan is clamped, counts it
+    /// ([`Simulation::substep_clamps`]) and keeps the first
+    /// ([`Simulation::first_substep_clamp`]). Run the sub-steps `1 ..=
+    /// plan.substeps` ending at [`Simulation::substep_time`], then
+    /// [`Simulation::end_step`].
+    ///
+    /// # Errors
+    /// [`SimError`] for a `dt` that is not a finite number of seconds in (0, 10].
+    pub fn begin_step(&mut self, dt: f32) -> Result<stages::SubstepPlan, SimError> {
+        check_dt(dt)?;
+        let plan = stages::plan_substeps(self, dt);
+        if plan.needed > plan.substeps {
             self.substep_clamps += 1;
             if self.first_substep_clamp.is_none() {
                 self.first_substep_clamp = Some(SubstepClamp {
@@ -266,28 +292,31 @@ impl Simulation {
                         .map(|i| self.bodies[i].object.name.clone())
                         .unwrap_or_default(),
                     needed: plan.needed,
-                    max_substeps: substeps,
+                    max_substeps: plan.substeps,
                 });
             }
         }
-        let h = dt / substeps as f32;
-        for i in 1..=substeps {
-            let t = (self.time + f64::from(h) * f64::from(i)) as f32;
-            stages::substep(self, t, h, &mut tm);
-        }
+        Ok(plan)
+    }
+
+    /// The time at which sub-step `i` (1-based) of the step being taken
+    /// ends, `h` seconds each, seconds.
+    #[must_use]
+    pub fn substep_time(&self, i: u32, h: f32) -> f32 {
+        (self.time + f64::from(h) * f64::from(i)) as f32
+    }
+
+    /// The end of a step of `dt` seconds (see [`Simulation::begin_step`]):
+    /// time and frame advance, and the patches are culled for the last
+    /// sub-step's viewpoint. Returns how many patches are visible.
+    pub fn end_step(&mut self, dt: f32) -> u32 {
         self.time += f64::from(dt);
         self.frame += 1;
-        let t_cull = Instant::now();
-        tm.visible_patches = cull_patches(
+        cull_patches(
             &self.field.layout.patch_list,
             &self.view.frustum(),
             &mut self.visible,
-        );
-        tm.lod_ms += ms(t_cull);
-        tm.displaced_blades = self.scratch.displaced.len() as u32;
-        tm.total_ms = ms(start);
-        self.timings = tm;
-        Ok(&self.timings)
+        )
     }
 
     /// Runs `frames` steps of the scene's `dt`.

@@ -172,13 +172,27 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
             hold_weight: HOLD_WEIGHT,
         },
     );
-    for (&b, &source) in prop.pbg.iter().zip(&prop.sources) {
-        if sim.class[b as usize] == BladeClass::Untouched as u8 {
-            sim.class[b as usize] = BladeClass::Propagated as u8;
-        }
-        if let Some(&owner) = sim.track_owner.get(source as usize) {
+    // A reached blade follows the owner its pusher had at the end of the
+    // generation before (all of a generation's owners are read before any is
+    // written, as the GPU's gather and commit passes do).
+    let mut i = 0;
+    while i < prop.pbg.len() {
+        let g = sim.generation[prop.pbg[i] as usize];
+        let end = i + prop.pbg[i..]
+            .iter()
+            .take_while(|&&b| sim.generation[b as usize] == g)
+            .count();
+        let owners: Vec<u8> = prop.sources[i..end]
+            .iter()
+            .map(|&s| sim.track_owner.get(s as usize).copied().unwrap_or(0))
+            .collect();
+        for (&b, owner) in prop.pbg[i..end].iter().zip(owners) {
+            if sim.class[b as usize] == BladeClass::Untouched as u8 {
+                sim.class[b as usize] = BladeClass::Propagated as u8;
+            }
             sim.track_owner[b as usize] = owner;
         }
+        i = end;
     }
     tm.pbg_blades = prop.pbg.len() as u32;
     tm.generations = prop.generations;
@@ -197,7 +211,7 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     let clock = Instant::now();
     if sim.params.contact {
         let moved = resolve_contacts(sim, &patch_hits);
-        tm.contact_blades += moved.len() as u32;
+        tm.contact_blades = moved.len() as u32;
         changed.extend(moved);
     }
     tm.contact_ms += ms(clock);

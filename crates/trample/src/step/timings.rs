@@ -42,7 +42,8 @@ pub struct StepTimings {
     /// cells whose billboard and flatness followed their blades (ours,
     /// `sim.track_everywhere`).
     pub bbg_cells: u32,
-    /// Blades the contact response moved out of an object (ours, DESIGN §5).
+    /// Blades the contact response moved out of an object in the last
+    /// sub-step (ours, DESIGN §5).
     pub contact_blades: u32,
     /// Cells that changed level of detail.
     pub transitions: u32,

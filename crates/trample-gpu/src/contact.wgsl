@@ -1,0 +1,127 @@
+// The contact response (ours, DESIGN §5 "Contact"): after the bending of
+// Eq. 5–7, every blade some object touched this sub-step is moved out of
+// this object — `trample::deform::contact::resolve_contact` as the CPU's
+// `step::deform::resolve_contacts` runs it: one dispatch per object, in
+// object order, over the blades of the patches the broad phase listed for
+// it, from the lowest segment touched. A vertex inside the object turns
+// its segment towards the way out (`turn_towards`), a segment starting at
+// a vertex pinned under the object is laid flat (`pinned`), the segments
+// above follow with the ground guard (`preserve_from`, guard.wgsl).
+
+@group(0) @binding(0) var<uniform> params: StepParams;
+// The chunk's vertices; vertex 0's w holds the blade's segment length.
+@group(0) @binding(1) var<storage, read_write> pos: array<vec4<f32>>;
+// x: segment mask of the blade this sub-step (0: untouched); w set to 1
+// when this pass moves the blade (counted by the recovery pass).
+@group(0) @binding(2) var<storage, read_write> touch: array<vec4<u32>>;
+@group(0) @binding(3) var<storage, read_write> displaced: array<u32>;
+@group(0) @binding(4) var<uniform> chunk: Chunk;
+@group(0) @binding(5) var<storage, read> ground: array<f32>;
+@group(0) @binding(6) var<storage, read> lists: array<u32>;
+
+// `deform::contact::CONTACT_ITERATIONS`, `LEAN_BIAS`, `PIN_HEIGHT`, `FLAT_LEAN`.
+const CONTACT_ITERATIONS: u32 = 4u;
+const LEAN_BIAS: f32 = 0.05;
+const PIN_HEIGHT: f32 = 0.02;
+const FLAT_LEAN: f32 = 0.1;
+
+// glam `Vec3A::try_normalize`, with a fallback.
+fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let rcp = 1.0 / sqrt(dot3(v, v));
+    if rcp < 3.0e38 && rcp > 0.0 {
+        return v * rcp;
+    }
+    return fallback;
+}
+
+// `contact::turn_towards`.
+fn turn_towards(dir: vec3<f32>, push: vec3<f32>, lean_in: vec3<f32>, len: f32) -> vec3<f32> {
+    let d = normalize_or(dir, vec3<f32>(0.0, 1.0, 0.0));
+    let delta = sqrt(dot3(push, push));
+    if !(delta > 0.0 && len > 0.0 && delta < 3.0e38) {
+        return d;
+    }
+    let lean_unit = normalize_or(lean_in, vec3<f32>(0.0));
+    let lean = lean_unit - d * dot3(lean_unit, d);
+    let bias = (LEAN_BIAS + max(-dot3(d, push) / delta, 0.0)) * delta;
+    return normalize_or(d * len + push + lean * bias, d);
+}
+
+// `contact::pinned`: how pinned under the object a vertex at p (world) is.
+fn pinned(p: vec3<f32>) -> f32 {
+    let guard = ground_at(p.x, p.z) + max(params.b.x, 0.0);
+    let on_ground = clamp(1.0 - (p.y - guard) / PIN_HEIGHT, 0.0, 1.0);
+    if !(on_ground > 0.0) {
+        return 0.0;
+    }
+    let above = to_local(p + vec3<f32>(0.0, 1.0, 0.0) * PIN_HEIGHT);
+    let pen = penetration(above, PIN_HEIGHT);
+    var under = 0.0;
+    if pen.w >= 0.0 {
+        under = min(pen.w / PIN_HEIGHT, 1.0);
+    }
+    return on_ground * under;
+}
+
+@compute @workgroup_size(64)
+fn contact_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    opaque_uniforms(gid);
+    let per_patch = max(chunk.groups.w, 1u);
+    let t = gid.x + gid.y * groups.x * 64u;
+    let slot = t / per_patch;
+    if slot >= lists[chunk.groups.z] {
+        return;
+    }
+    let b = lists[chunk.range.x / per_patch + slot] * per_patch + t % per_patch;
+    let mask = touch[b].x;
+    if mask == 0u {
+        return;
+    }
+    let n = min(field.y, MAX_SEGMENTS);
+    let seg_len = pos[vertex_at(0u, b)].w;
+    var v: array<vec3<f32>, MAX_VERTS>;
+    for (var k = 0u; k <= n; k++) {
+        v[k] = pos[vertex_at(k, b)].xyz;
+    }
+    if !(seg_len > 0.0 && seg_len < 3.0e38) || !all(abs(v[0]) < vec3<f32>(3.0e38)) {
+        return;
+    }
+    // The segment length as the open-mesh depth (the CPU passes it too).
+    let open_depth = seg_len;
+    var first = max(countTrailingZeros(mask), 1u);
+    var moved = false;
+    for (var iter = 0u; iter < CONTACT_ITERATIONS; iter++) {
+        var lowest = NONE;
+        for (var k = first; k <= n; k++) {
+            let out = push_out(to_local(v[k]), open_depth);
+            if out.w == 0.0 {
+                continue;
+            }
+            let start = v[k - 1u];
+            let horizontal = vec3<f32>(1.0, 0.0, 1.0);
+            let lean = normalize_or((v[k] - v[0]) * horizontal, vec3<f32>(0.0));
+            let push = to_world(out.xyz) - v[k];
+            let turned = turn_towards(v[k] - start, push, lean, seg_len);
+            let flat = normalize_or((v[k] - start) * horizontal + lean * (FLAT_LEAN * seg_len), turned);
+            let pin = pinned(start);
+            let dir = normalize_or(turned * (1.0 - pin) + flat * pin, turned);
+            v[k] = start + dir * seg_len;
+            preserve_from(&v, k, n, seg_len);
+            if lowest == NONE {
+                lowest = k;
+            }
+        }
+        if lowest == NONE {
+            break;
+        }
+        moved = true;
+        first = lowest;
+    }
+    if moved {
+        for (var k = 1u; k <= n; k++) {
+            pos[vertex_at(k, b)] = vec4<f32>(v[k], 0.0);
+        }
+        displaced[b] = 1u;
+        touch[b].w = 1u;
+    }
+}

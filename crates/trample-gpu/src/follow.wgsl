@@ -1,0 +1,60 @@
+// Track everywhere (ours, DESIGN §2): every cell's billboard takes its slope
+// from its blades (Eq. 9–12) and its flatness from their tips
+// (`transition::cell_offset_and_flatness`, as `step::deform::
+// cells_from_blades` keeps them), at the end of a sub-step. The CPU updates
+// only the cells whose blades moved; a cell whose blades did not keeps
+// exactly these values, so computing every cell here gives the same.
+
+@group(0) @binding(0) var<uniform> params: StepParams;
+@group(0) @binding(1) var<storage, read_write> cell_state: array<u32>;
+@group(0) @binding(2) var<storage, read> cell_rest: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read_write> slope: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read_write> flatness_of: array<f32>;
+@group(0) @binding(5) var<storage, read> pos: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read> rest: array<vec4<f32>>;
+@group(0) @binding(7) var<uniform> chunk: Chunk;
+
+@compute @workgroup_size(64)
+fn follow(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = chunk_cell(gid);
+    if c == NOT_IN_CHUNK {
+        return;
+    }
+    let bpc = params.cells.y;
+    let n = min(params.counts.y, MAX_VERTS - 1u);
+    // `transition::mean_offset` of `blade_offset`s and the mean flatness.
+    var sum = vec3<f32>(0.0);
+    var k = 0u;
+    var flat = 0.0;
+    var kf = 0u;
+    for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
+        let root = pos[vertex_at(0u, b)].xyz;
+        let rest_root = rest[vertex_at(0u, b)].xyz;
+        let chord = pos[vertex_at(n, b)].xyz - root;
+        let rest_chord = rest[vertex_at(n, b)].xyz - rest_root;
+        let f = flatness(chord.y, rest_chord.y);
+        flat += f;
+        kf += 1u;
+        let rest_height = sqrt(dot3(rest_chord, rest_chord));
+        var off = vec3<f32>(0.0);
+        if rest_height > 1e-12 && rest_height < 3.0e38 {
+            off = (chord - rest_chord) / rest_height;
+        }
+        sum += off;
+        k += 1u;
+    }
+    var mean = vec3<f32>(0.0);
+    if k > 0u {
+        mean = sum / f32(k);
+    }
+    let origin = cell_rest[2u * c + 1u].xyz;
+    let sl = origin + mean;
+    slope[c] = vec4<f32>(sl, 0.0);
+    flatness_of[c] = select(0.0, flat / f32(kf), kf > 0u);
+    let s = cell_state[c];
+    if all(sl == origin) {
+        cell_state[c] = s & ~BENT;
+    } else {
+        cell_state[c] = s | BENT;
+    }
+}

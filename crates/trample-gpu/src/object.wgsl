@@ -1,0 +1,451 @@
+// One object as the narrow phase and the contact response see it (prepended
+// to narrow_phase.wgsl and contact.wgsl, not a stage of its own): its OBB
+// tree, triangles and inside-voxel grid (group 1), its pose, and the mesh
+// queries of `trample::collision` — the inside test (`exact.rs`,
+// `inside_grid.rs`), the closest point of the mesh (`closest_point.rs`) and
+// the contact test (`contact.rs`: `penetration`, `push_out`). Float op for
+// float op as the CPU where it can be (glam's operation order).
+
+// Layout-compatible with `GpuNode` in object.rs.
+struct Node {
+    center: vec4<f32>,
+    axis_u: vec4<f32>,
+    axis_v: vec4<f32>,
+    axis_w: vec4<f32>,
+    half: vec4<f32>,
+    // xyz: Eq. 3's EqN normalised when w == 1; else the smallest box axis,
+    // pointing up (the fallback of `ObbTree::eqn_direction`).
+    dir: vec4<f32>,
+    // left child, right child (0xffffffff for a leaf), first triangle, count
+    children: vec4<u32>,
+    // The reach box (`trample::obb::reach`): the node's axes, this centre
+    // and half extents, holding the node's box and every descendant's.
+    reach_center: vec4<f32>,
+    reach_half: vec4<f32>,
+}
+
+// Layout-compatible with `GpuObjectParams` in object.rs.
+struct ObjectParams {
+    position: vec4<f32>,
+    rotation: vec4<f32>,
+    velocity: vec4<f32>,
+    angular_velocity: vec4<f32>,
+    grid_center: vec4<f32>,
+    grid_u: vec4<f32>,
+    grid_v: vec4<f32>,
+    grid_w: vec4<f32>,
+    grid_half: vec4<f32>,
+    // node count, closed (1) / open (0), final depth, 1 for the first object
+    tree: vec4<u32>,
+    // blade count, segments, blades per cell, inside-grid side (0: no grid)
+    field: vec4<u32>,
+    // velocity in the object's frame xyz (`LocalMotion`), thickness (m)
+    local_velocity: vec4<f32>,
+    // angular velocity in the object's frame xyz, sub-step h (s)
+    local_angular: vec4<f32>,
+    // contact shell (m), press (Eq. 2 factor), unused ×2
+    contact: vec4<f32>,
+    // 1 + the object's index (its track owner id, 0 past 254), track
+    // everywhere (1) or the paper's geometric cells only (0), unused ×2
+    extra: vec4<u32>,
+}
+
+@group(1) @binding(0) var<uniform> obj: ObjectParams;
+@group(1) @binding(1) var<storage, read> nodes: array<Node>;
+@group(1) @binding(2) var<storage, read> triangles: array<vec4<f32>>;
+@group(1) @binding(3) var<storage, read> voxels: array<u32>;
+
+// The object's header as every branch and loop bound below reads it: a copy
+// of `obj.tree` and `obj.field` with `gid.z` added, which is 0 (the kernels
+// are always dispatched one workgroup deep in z) but unknown to the driver
+// when it compiles. Why: Mesa's lavapipe (22.3, what CI installs) finds the
+// uniform values that decide a branch or a loop's trip count, folds them into
+// the shader and compiles it again through LLVM at every dispatch, without a
+// cache of the variants. With `obj.tree` / `obj.field` deciding branches it
+// did that for the narrow phase at every dispatch: 3–13 s each on the 2-core
+// CI machine, against ≈ 10–20 ms for the dispatch itself (Mesa's on-disk
+// shader cache hid it for the poses an earlier run had already compiled).
+// Values that only index (`obj.field.x`, `.z`) may stay plain uniform reads.
+var<private> tree: vec4<u32>;
+var<private> field: vec4<u32>;
+var<private> extra: vec4<u32>;
+
+const NO_CHILD: u32 = 0xffffffffu;
+const NONE: u32 = 0xffffffffu;
+// MAX_TREE_DEPTH + 2, as `exact::STACK_SIZE`.
+const STACK_SIZE: u32 = 66u;
+const MAX_SEGMENTS: u32 = 15u;
+const VOXEL_INSIDE: u32 = 1u;
+const VOXEL_OUTSIDE: u32 = 0u;
+// `exact::INSIDE_RAY`.
+const INSIDE_RAY: vec3<f32> = vec3<f32>(0.012345679, -1.0, 0.017320508);
+// `contact::CONTACT_TOLERANCE_M`.
+const CONTACT_TOLERANCE_M: f32 = 0.003;
+
+// `tree`, `field` and `extra`: the object's uniforms as the compiler
+// cannot fold them (see their declarations).
+fn opaque_uniforms(gid: vec3<u32>) {
+    tree = obj.tree + vec4<u32>(gid.z);
+    field = obj.field + vec4<u32>(gid.z);
+    extra = obj.extra + vec4<u32>(gid.z);
+}
+
+// Vector into the box frame: rows u, v, w (glam: transposed `Mat3A` times v).
+fn to_box(n: Node, v: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot3(n.axis_u.xyz, v), dot3(n.axis_v.xyz, v), dot3(n.axis_w.xyz, v));
+}
+
+fn hits_obb(centre: vec3<f32>, half: vec3<f32>, n: Node) -> bool {
+    return hits_box(centre, half, n.center.xyz, n.axis_u.xyz, n.axis_v.xyz, n.axis_w.xyz, n.half.xyz);
+}
+
+// glam `Quat::mul_vec3a` (SSE path) for a unit quaternion q = (x, y, z, w).
+fn rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
+    let w = q.w;
+    let b = q.xyz;
+    let b2 = dot3(b, b);
+    return (v * (w * w - b2) + b * (dot3(v, b) * 2.0)) + cross3(b, v) * (w * 2.0);
+}
+
+// `Pose::to_local`: rotation⁻¹ (p − position).
+fn to_local(p: vec3<f32>) -> vec3<f32> {
+    let q = vec4<f32>(-obj.rotation.xyz, obj.rotation.w);
+    return rotate(q, p - obj.position.xyz);
+}
+
+// `Pose::to_world`: position + rotation p.
+fn to_world(p: vec3<f32>) -> vec3<f32> {
+    return obj.position.xyz + rotate(obj.rotation, p);
+}
+
+// `Pose::point_velocity` of a world point: v + ω × (p − position).
+fn point_velocity(p: vec3<f32>) -> vec3<f32> {
+    return obj.velocity.xyz + cross3(obj.angular_velocity.xyz, p - obj.position.xyz);
+}
+
+// `obb::build::closest_point_on_segment`.
+fn closest_point(p0: vec3<f32>, p1: vec3<f32>, q: vec3<f32>) -> vec3<f32> {
+    let d = p1 - p0;
+    let dd = dot3(d, d);
+    if dd > 0.0 {
+        let t = clamp(dot3(q - p0, d) / dd, 0.0, 1.0);
+        return p0 + d * t;
+    }
+    return p0;
+}
+
+// `ObbTree::eqn_direction`.
+fn eqn_direction(i: u32, p0: vec3<f32>, p1: vec3<f32>) -> vec3<f32> {
+    let n = nodes[i];
+    if n.dir.w == 1.0 {
+        return n.dir.xyz;
+    }
+    let c = n.center.xyz;
+    let away = closest_point(p0, p1, c) - c;
+    let len2 = dot3(away, away);
+    if len2 > 0.0 {
+        return away * (1.0 / sqrt(len2));
+    }
+    return n.dir.xyz;
+}
+
+// `segment_triangle::segment_crosses_triangle_interior`, in f32 (the CPU
+// works in f64; WGSL has no f64): Möller–Trumbore, strict interior.
+fn crosses_triangle(p0: vec3<f32>, p1: vec3<f32>, t: u32) -> bool {
+    let a = triangles[3u * t].xyz;
+    let b = triangles[3u * t + 1u].xyz;
+    let c = triangles[3u * t + 2u].xyz;
+    let e1 = b - a;
+    let e2 = c - a;
+    let n_len = length(cross3(e1, e2));
+    let scale = max(max(length(e1), length(e2)), length(c - b));
+    if n_len <= 1e-12 * scale * scale {
+        return false;
+    }
+    let d = p1 - p0;
+    let pvec = cross3(d, e2);
+    let det = dot3(e1, pvec);
+    if abs(det) <= 1e-12 * length(d) * n_len {
+        return false;
+    }
+    let inv = 1.0 / det;
+    let s = p0 - a;
+    let u = dot3(s, pvec) * inv;
+    let qvec = cross3(s, e1);
+    let v = dot3(d, qvec) * inv;
+    let tt = dot3(e2, qvec) * inv;
+    return u > 0.0 && v > 0.0 && u + v < 1.0 && tt > 0.0 && tt < 1.0;
+}
+
+// `exact::point_inside_by_ray` (f32 triangle tests, see `crosses_triangle`).
+fn inside_by_ray(p: vec3<f32>) -> bool {
+    let root = nodes[0];
+    let q = to_box(root, p - root.center.xyz);
+    let hh = root.half.xyz;
+    if any(abs(q) > hh) {
+        return false;
+    }
+    let d = vec3<f32>(dot3(INSIDE_RAY, root.axis_u.xyz), dot3(INSIDE_RAY, root.axis_v.xyz), dot3(INSIDE_RAY, root.axis_w.xyz));
+    var t_exit = 3.0e38;
+    for (var k = 0u; k < 3u; k++) {
+        if d[k] != 0.0 {
+            let side = select(hh[k], -hh[k], d[k] < 0.0);
+            t_exit = min(t_exit, (side - q[k]) / d[k]);
+        }
+    }
+    if t_exit >= 3.0e38 {
+        return false;
+    }
+    let end = p + INSIDE_RAY * (max(t_exit, 0.0) * 1.001 + 1e-3 * max(max(hh.x, hh.y), hh.z) + 1e-5);
+    // `exact::visit_leaves` with the ray segment, counting crossings.
+    let centre = (p + end) * 0.5;
+    let half = (end - p) * 0.5;
+    var stack: array<u32, STACK_SIZE>;
+    stack[0] = 0u;
+    var len = 1u;
+    var crossings = 0u;
+    let count = tree.x;
+    while len > 0u {
+        len -= 1u;
+        let i = stack[len];
+        if i >= count {
+            continue;
+        }
+        let n = nodes[i];
+        if !hits_obb(centre, half, n) {
+            continue;
+        }
+        let l = n.children.x;
+        let r = n.children.y;
+        if l == NO_CHILD || l <= i || r <= i || len + 2u > STACK_SIZE {
+            for (var t = n.children.z; t < n.children.z + n.children.w; t++) {
+                if crosses_triangle(p, end, t) {
+                    crossings += 1u;
+                }
+            }
+        } else {
+            stack[len] = r;
+            stack[len + 1u] = l;
+            len += 2u;
+        }
+    }
+    return crossings % 2u == 1u;
+}
+
+// `InsideGrid::classify`: 1 inside, 0 outside, 2 the exact test must decide.
+fn grid_classify(p: vec3<f32>) -> u32 {
+    let side = field.w;
+    if side == 0u {
+        return 2u;
+    }
+    let dd = p - obj.grid_center.xyz;
+    let q = vec3<f32>(dot3(dd, obj.grid_u.xyz), dot3(dd, obj.grid_v.xyz), dot3(dd, obj.grid_w.xyz));
+    let h = obj.grid_half.xyz;
+    let g = (q + h) / (2.0 * h) * f32(side);
+    if any(g < vec3<f32>(0.0)) || any(g >= vec3<f32>(f32(side))) {
+        return 0u;
+    }
+    let v = vec3<u32>(g);
+    let voxel = voxels[(v.z * side + v.y) * side + v.x];
+    if voxel == VOXEL_INSIDE {
+        return 1u;
+    }
+    if voxel == VOXEL_OUTSIDE {
+        return 0u;
+    }
+    return 2u;
+}
+
+// `exact::point_inside`: the voxel grid first, the ray where it cannot tell.
+fn point_inside(p: vec3<f32>) -> bool {
+    if tree.y == 0u {
+        return false;
+    }
+    let known = grid_classify(p);
+    if known != 2u {
+        return known == 1u;
+    }
+    return inside_by_ray(p);
+}
+
+// `closest_point::closest_point_on_triangle`: (point, on the face interior).
+struct TrianglePoint {
+    point: vec3<f32>,
+    face: bool,
+}
+
+fn closest_on_triangle(p: vec3<f32>, t: u32) -> TrianglePoint {
+    let a = triangles[3u * t].xyz;
+    let b = triangles[3u * t + 1u].xyz;
+    let c = triangles[3u * t + 2u].xyz;
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = dot3(ab, ap);
+    let d2 = dot3(ac, ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return TrianglePoint(a, false);
+    }
+    let bp = p - b;
+    let d3 = dot3(ab, bp);
+    let d4 = dot3(ac, bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return TrianglePoint(b, false);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return TrianglePoint(a + ab * v, false);
+    }
+    let cp = p - c;
+    let d5 = dot3(ab, cp);
+    let d6 = dot3(ac, cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return TrianglePoint(c, false);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return TrianglePoint(a + ac * w, false);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return TrianglePoint(b + (c - b) * w, false);
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let v = vb * denom;
+    let w = vc * denom;
+    return TrianglePoint(a + ab * v + ac * w, true);
+}
+
+// glam `Vec3::cross` (scalar): a.y b.z − b.y a.z, …
+fn cross_scalar(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
+}
+
+// `closest_point::SurfacePoint`; `found` false when there is none.
+struct SurfacePoint {
+    point: vec3<f32>,
+    distance_sq: f32,
+    normal: vec3<f32>,
+    face: bool,
+    found: bool,
+}
+
+// Squared distance from p to node i's box.
+fn distance_sq_to_box(p: vec3<f32>, i: u32) -> f32 {
+    let n = nodes[i];
+    let q = to_box(n, p - n.center.xyz);
+    let d = max(abs(q) - n.half.xyz, vec3<f32>(0.0));
+    return dot3(d, d);
+}
+
+// `closest_point::closest_point_on_mesh`: branch and bound, nearer child
+// first; ties keep the first found.
+fn closest_point_on_mesh(p: vec3<f32>, max_distance: f32) -> SurfacePoint {
+    var best = SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false);
+    var best_sq = max_distance * max_distance;
+    var stack: array<u32, STACK_SIZE>;
+    stack[0] = 0u;
+    var len = 1u;
+    let count = tree.x;
+    while len > 0u {
+        len -= 1u;
+        let i = stack[len];
+        if i >= count {
+            continue;
+        }
+        if distance_sq_to_box(p, i) > best_sq {
+            continue;
+        }
+        let n = nodes[i];
+        let l = n.children.x;
+        let r = n.children.y;
+        if l == NO_CHILD || l <= i || r <= i || len + 2u > STACK_SIZE {
+            for (var t = n.children.z; t < n.children.z + n.children.w; t++) {
+                let c = closest_on_triangle(p, t);
+                let dv = c.point - p;
+                let d = dot3(dv, dv);
+                if d <= best_sq && (!best.found || d < best_sq) {
+                    best_sq = d;
+                    let a = triangles[3u * t].xyz;
+                    let nrm = cross_scalar(triangles[3u * t + 1u].xyz - a, triangles[3u * t + 2u].xyz - a);
+                    let nl = sqrt(dot3(nrm, nrm));
+                    var unit = vec3<f32>(0.0);
+                    if nl > 0.0 {
+                        unit = nrm * (1.0 / nl);
+                    }
+                    best = SurfacePoint(c.point, d, unit, c.face, true);
+                }
+            }
+        } else {
+            var dl = 3.0e38;
+            var dr = 3.0e38;
+            if l < count {
+                dl = distance_sq_to_box(p, l);
+            }
+            if r < count {
+                dr = distance_sq_to_box(p, r);
+            }
+            var near = l;
+            var far = r;
+            if dr < dl {
+                near = r;
+                far = l;
+            }
+            stack[len] = far;
+            stack[len + 1u] = near;
+            len += 2u;
+        }
+    }
+    return best;
+}
+
+// `contact::penetration`: (surface point, depth) in xyz and w when p is
+// inside the object, w < 0 when it is outside. `open_depth`: how far
+// behind an open mesh a point still counts as inside.
+fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
+    let outside = vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    if tree.x == 0u {
+        return outside;
+    }
+    if tree.y != 0u {
+        let known = grid_classify(p);
+        if known == 0u {
+            return outside;
+        }
+        let s = closest_point_on_mesh(p, 3.0e38);
+        if !s.found {
+            return outside;
+        }
+        var inside = known == 1u;
+        if !inside {
+            if s.face {
+                inside = dot3(p - s.point, s.normal) < 0.0;
+            } else {
+                inside = inside_by_ray(p);
+            }
+        }
+        if !inside {
+            return outside;
+        }
+        return vec4<f32>(s.point, sqrt(s.distance_sq));
+    }
+    let s = closest_point_on_mesh(p, open_depth);
+    if !s.found || dot3(p - s.point, s.normal) >= 0.0 {
+        return outside;
+    }
+    return vec4<f32>(s.point, sqrt(s.distance_sq));
+}
+
+// `contact::push_out`: where p must go to lie no deeper than the contact
+// tolerance; w = 1 when it must move, 0 when it stays.
+fn push_out(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
+    let pen = penetration(p, open_depth);
+    if pen.w > CONTACT_TOLERANCE_M {
+        let s = pen.xyz;
+        return vec4<f32>(s + (p - s) * (CONTACT_TOLERANCE_M / pen.w), 1.0);
+    }
+    return vec4<f32>(p, 0.0);
+}

@@ -1,0 +1,91 @@
+// Transitions between levels of detail, per cell (paper Eq. 9–13, §6.3;
+// `deform::transition` as `step::deform::apply_transitions` applies it): a
+// cell leaving geometry takes its blades' mean offset as its billboard's
+// (Eq. 9–12); one coming back gets on its blades' last segment what its
+// billboard shows and they do not (Eq. 13, Eq. 5) — the paper's mode only:
+// with `track_everywhere` the blades hold the track already. One thread per
+// changed cell; it owns its blades.
+
+@group(0) @binding(0) var<uniform> params: StepParams;
+@group(0) @binding(1) var<storage, read_write> cell_state: array<u32>;
+@group(0) @binding(2) var<storage, read> cell_rest: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read_write> slope: array<vec4<f32>>;
+// The chunk's vertices; vertex 0's w holds the blade's segment length.
+@group(0) @binding(4) var<storage, read_write> pos: array<vec4<f32>>;
+@group(0) @binding(5) var<storage, read> rest: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> displaced: array<u32>;
+@group(0) @binding(7) var<uniform> chunk: Chunk;
+@group(0) @binding(8) var<storage, read> ground: array<f32>;
+
+// `transition::blade_offset`: (tip − root − rest chord) / rest height.
+fn blade_offset(b: u32) -> vec3<f32> {
+    let n = params.counts.y;
+    let chord = pos[vertex_at(n, b)].xyz - pos[vertex_at(0u, b)].xyz;
+    let rest_chord = rest[vertex_at(n, b)].xyz - rest[vertex_at(0u, b)].xyz;
+    let rest_height = length(rest_chord);
+    if !(rest_height > 1e-12) {
+        return vec3<f32>(0.0);
+    }
+    return (chord - rest_chord) / rest_height;
+}
+
+@compute @workgroup_size(64)
+fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = chunk_cell(gid);
+    if c == NOT_IN_CHUNK {
+        return;
+    }
+    let s = cell_state[c];
+    let from_level = changed_from(s);
+    if from_level == UNCHANGED {
+        return;
+    }
+    let bpc = params.cells.y;
+    let n = min(params.counts.y, MAX_VERTS - 1u);
+    // Eq. 9–11: off_g, the mean offset of the cell's blades.
+    var sum = vec3<f32>(0.0);
+    for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
+        sum += blade_offset(b);
+    }
+    let off_g = sum / f32(max(bpc, 1u));
+    let origin = cell_rest[2u * c + 1u].xyz;
+    if from_level == GEOMETRY {
+        // Eq. 12: the billboard takes its blades' offset.
+        let sl = origin + off_g;
+        slope[c] = vec4<f32>(sl, 0.0);
+        if any(sl != origin) {
+            cell_state[c] = s | BENT;
+        }
+        return;
+    }
+    if level(s) != GEOMETRY || params.cells.w != 0u {
+        return;
+    }
+    // Eq. 13: what the billboard shows and the blades do not acts on their
+    // last segment through Eq. 5 (`transition::bend_last_segment`).
+    let missing = (slope[c].xyz - origin) - off_g;
+    if dot3(missing, missing) < 1e-12 {
+        return;
+    }
+    for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
+        displaced[b] = 1u;
+        let rest_h = length(rest[vertex_at(n, b)].xyz - rest[vertex_at(0u, b)].xyz);
+        var v: array<vec3<f32>, MAX_VERTS>;
+        for (var k = 0u; k <= n; k++) {
+            v[k] = pos[vertex_at(k, b)].xyz;
+        }
+        let v1 = missing * rest_h;
+        let ab = v[n] - v[0];
+        let ab_len2 = dot(ab, ab);
+        if ab_len2 <= 1.17549435e-38 {
+            continue;
+        }
+        let perpendicular = v1 - ab * (dot(v1, ab) / ab_len2);
+        if dot(perpendicular, perpendicular) <= 1e-12 * dot(v1, v1) {
+            continue;
+        }
+        v[n] += perpendicular;
+        preserve_from(&v, n, n, pos[vertex_at(0u, b)].w);
+        pos[vertex_at(n, b)] = vec4<f32>(v[n], 0.0);
+    }
+}
