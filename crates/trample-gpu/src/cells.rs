@@ -321,3 +321,35 @@ struct ChunkGroups {
 
 /// The per-chunk bind groups of [`Cells`] and their workgroup counts.
 pub struct CellGroups(Vec<ChunkGroups>);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trample::field::{Field, FieldParams, Terrain};
+
+    /// Issue 12: cell coordinates were packed as `gx + 4096 gz` in a float
+    /// (wrong past 4,096 cells a side). They now take 16 bits each: the
+    /// billboards kernel reads them back for fields up to 65,536 a side.
+    #[test]
+    fn cell_coordinates_round_trip_past_4096_cells_a_side() {
+        let params = FieldParams {
+            patches: [160, 1],
+            cells_per_patch: 32,
+            ..FieldParams::default()
+        };
+        let field = Field::generate(&params, Terrain::Flat(0.0)).unwrap();
+        let layout = &field.layout;
+        assert!(layout.grid_size()[0] > 4096);
+        for c in [
+            0,
+            31,
+            32 * 32,
+            layout.cell_count() - 1,
+            layout.cell_count() / 2 + 17,
+        ] {
+            let packed = packed_cell_coords(layout, c).to_bits();
+            let [gx, gz] = layout.cell_coord(c);
+            assert_eq!((packed & 0xffff, packed >> 16), (gx, gz), "cell {c}");
+        }
+    }
+}

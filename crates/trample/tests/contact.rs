@@ -10,43 +10,7 @@ use glam::{Quat, Vec3};
 use trample::Simulation;
 use trample::collision::closest_point::closest_point_on_mesh;
 use trample::collision::exact::point_inside;
-
-/// The paper's density at precision 7 on 16,384 blades (4×4 patches of
-/// 32×32 cells, 12.8 m square): a 1.2 m box standing in the grass, a 1.6 m
-/// ball that rolls at 2.5 m/s for 1.6 s and stops, and a 0.8 m ball rolling
-/// at 2.5 m/s through the whole run.
-fn contact_scene(contact: bool) -> String {
-    format!(
-        r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 32
-[lod]
-geometry_m = 4.0
-billboard_m = 8.0
-[sim]
-precision = 7
-contact = {contact}
-[camera]
-path = {{ kind = "static", position = [0.0, 3.0, 9.0] }}
-look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
-[[objects]]
-name = "crate"
-shape = {{ kind = "box", half_extents_m = [0.6, 0.6, 0.6] }}
-path = {{ kind = "static", position = [-3.5, 0.6, -3.0] }}
-[[objects]]
-name = "stopper"
-shape = {{ kind = "sphere", radius_m = 0.8 }}
-orientation = "rolling"
-path = {{ kind = "line", from = [-4.0, 0.8, 2.5], to = [0.0, 0.8, 2.5], duration_s = 1.6 }}
-[[objects]]
-name = "roller"
-shape = {{ kind = "sphere", radius_m = 0.4 }}
-orientation = "rolling"
-path = {{ kind = "line", from = [-5.0, 0.4, 0.0], to = [5.0, 0.4, 0.0], duration_s = 4.0 }}
-"#
-    )
-}
+use trample_testkit::scenes;
 
 /// The deepest any blade vertex lies inside body `i` at its current pose:
 /// distance to the mesh surface of every vertex the exact inside test puts
@@ -68,7 +32,9 @@ fn deepest_inside(sim: &Simulation, i: usize) -> f32 {
 }
 
 fn run_contact_scene(contact: bool) -> Simulation {
-    let mut sim = sim_from(&contact_scene(contact));
+    let mut scene = scenes::scene(scenes::CONTACT);
+    scene.file.sim.contact = contact;
+    let mut sim = scenes::build(&scene);
     sim.run((3.6 / sim.params.dt_s) as u64).unwrap();
     sim
 }
