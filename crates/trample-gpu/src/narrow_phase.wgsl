@@ -247,7 +247,7 @@ fn pen_of(k: u32, q: vec3<f32>) -> f32 {
 }
 
 // `narrow_phase::below_patch`.
-fn below_patch(c: vec3<f32>, n: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> f32 {
+fn below_patch(c: vec3<f32>, n: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, shell: f32, floor_reach: f32) -> f32 {
     let b0 = dot3(c - p0, n);
     let b1 = dot3(c - p1, n);
     var q = p1;
@@ -258,7 +258,7 @@ fn below_patch(c: vec3<f32>, n: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, shell: 
         below = b0;
         k = 0u;
     }
-    if below <= 0.0 {
+    if below <= 0.0 || below + shell <= floor_reach {
         return 0.0;
     }
     let depth = pen_of(k, q);
@@ -311,11 +311,12 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
         let d = max_depth_local_of(framed(centre, half, i, false, shell));
         if d > 0.0 {
             let at = closest_point(p0, p1, n.center.xyz);
+            let full = shell + ramp_at(at);
             var reach = d;
-            if n.dir.w == 1.0 {
-                reach = max(d, below_patch(n.center.xyz, n.dir.xyz, p0, p1, shell));
+            if n.dir.w == 1.0 && d < full {
+                reach = max(d, below_patch(n.center.xyz, n.dir.xyz, p0, p1, shell, d));
             }
-            let w = min(reach / (shell + ramp_at(at)), 1.0);
+            let w = min(reach / full, 1.0);
             weighted_add(&acc, w, eqn_direction(i, p0, p1), at);
         }
     }

@@ -215,11 +215,16 @@ pub fn contact_segment(
         let depth = segment_depth_in_obb(centre, half, &node.obb, shell);
         if depth > 0.0 {
             let at = closest_point_on_segment(p0, p1, node.obb.center);
+            let full = shell + motion.ramp_at(at);
+            // The below-patch depth only matters where it can raise the
+            // weight: the box depth is short of `full` (weight < 1).
             let reach = match tree.eqn_unit(i) {
-                Some(n) => depth.max(below_patch(node.obb.center, n, p0, p1, shell, &mut pen)),
-                None => depth,
+                Some(n) if depth < full => {
+                    depth.max(below_patch(node.obb.center, n, p0, p1, shell, depth, &mut pen))
+                }
+                _ => depth,
             };
-            let w = (reach / (shell + motion.ramp_at(at))).min(1.0);
+            let w = (reach / full).min(1.0);
             acc.add(w, tree.eqn_direction(i, p0, p1), at);
         }
     });
@@ -250,17 +255,20 @@ pub fn contact_segment(
 /// the end is below it; `None` = outside the mesh, then 0 in all). The
 /// true depth keeps it honest where the patch is not flat (the plane of a
 /// curved patch passes outside the mesh), the plane keeps it local.
+/// `floor` is a reach already known: when `below + shell` cannot pass it,
+/// 0 is returned without asking `pen` (the caller takes the larger).
 fn below_patch(
     c: Vec3,
     n: Vec3,
     p0: Vec3,
     p1: Vec3,
     shell: f32,
+    floor: f32,
     pen: &mut impl FnMut(Vec3) -> Option<f32>,
 ) -> f32 {
     let (b0, b1) = ((c - p0).dot(n), (c - p1).dot(n));
     let (q, below) = if b0 >= b1 { (p0, b0) } else { (p1, b1) };
-    if below <= 0.0 {
+    if below <= 0.0 || below + shell <= floor {
         return 0.0;
     }
     pen(q).map_or(0.0, |depth| below.min(depth) + shell)
