@@ -149,7 +149,8 @@ pub fn run(a: &Args) -> Result<()> {
         outputs.stage(p, &npy_f32(&shape, &sim.blade_vertices()))?;
     }
     if let Some(p) = &a.dump_classes {
-        outputs.stage(p, &npy_u8(&[sim.class.len()], &sim.class))?;
+        let class: Vec<u8> = sim.class.iter().map(|&c| u8::from(c)).collect();
+        outputs.stage(p, &npy_u8(&[class.len()], &class))?;
     }
     if let Some(p) = &a.track_png {
         outputs.stage(p, &crate::track::track_png(&sim)?)?;

@@ -116,7 +116,7 @@ impl SimSummary {
         wall_s: f64,
         rec: &Recorder,
     ) -> Self {
-        let count = |c: BladeClass| sim.class.iter().filter(|&&x| x == c as u8).count();
+        let count = |c: BladeClass| sim.class.iter().filter(|&&x| x == c).count();
         let last = rec.steps.last().cloned().unwrap_or_default();
         Self {
             scene: scene.source.clone(),

@@ -22,7 +22,7 @@ pub fn track_png(sim: &Simulation) -> Result<Vec<u8>> {
         let [gx, gz] = layout.cell_coord(c);
         let (mut standing, mut class) = (0.0f32, 0u8);
         for b in c * bpc..(c + 1) * bpc {
-            let rest = bl.rest[n * bl.count + b].y - bl.rest[b].y;
+            let rest = bl.rest_vertex(b, n).y - bl.rest_vertex(b, 0).y;
             let now = bl.vertex(b, n).y - bl.vertex(b, 0).y;
             standing += if rest > 0.0 {
                 (now / rest).clamp(0.0, 1.0)
@@ -30,9 +30,9 @@ pub fn track_png(sim: &Simulation) -> Result<Vec<u8>> {
                 1.0
             };
             class = class.max(match sim.class[b] {
-                x if x == BladeClass::Direct as u8 => 2,
-                x if x == BladeClass::Propagated as u8 => 1,
-                _ => 0,
+                BladeClass::Direct => 2,
+                BladeClass::Propagated => 1,
+                BladeClass::Untouched => 0,
             });
         }
         let s = standing / bpc as f32;

@@ -470,7 +470,7 @@ fn cell_state(lod: Lod, bent: bool) -> u32 {
 /// (`count` blades of `verts` vertices) as one chunk's vertex-major
 /// `[x, y, z, 0]`s.
 fn chunk_vec4(
-    v: &[glam::Vec3A],
+    v: &[trample::field::BladeVertex],
     count: usize,
     verts: u32,
     range: std::ops::Range<u32>,
@@ -478,6 +478,6 @@ fn chunk_vec4(
     let (a, b) = (range.start as usize, range.end as usize);
     (0..verts as usize)
         .flat_map(|k| &v[k * count + a..k * count + b])
-        .map(|p| [p.x, p.y, p.z, 0.0])
+        .map(|p| [p.pos[0], p.pos[1], p.pos[2], 0.0])
         .collect()
 }

@@ -248,12 +248,7 @@ impl GpuSimulation {
                 p.max_generations.min(GENERATION_CAP),
                 groups_x,
             ],
-            eye: [
-                self.sim.view.eye.x,
-                self.sim.view.eye.y,
-                self.sim.view.eye.z,
-                self.sim.lod.geometry_m,
-            ],
+            eye: self.sim.eye().extend(self.sim.lod.geometry_m).to_array(),
             lod: [
                 self.sim.lod.billboard_m,
                 trample::force::propagation::THRESHOLD_FADE,
@@ -333,8 +328,7 @@ impl GpuSimulation {
                     self.sim.field.max_blade_length,
                 ));
             }
-            let positions: Vec<_> = self.sim.bodies.iter().map(|b| b.pose.position).collect();
-            self.sim.view = self.sim.camera.view_at(t, &positions);
+            self.sim.update_view(t);
             let params = self.step_params(h, groups.0, recovery_on);
             queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
             if !roots.is_empty() {
@@ -470,7 +464,7 @@ impl GpuSimulation {
     ) -> Result<(), GpuError> {
         let pos = self.field.read_positions(device, queue)?;
         for (p, q) in self.sim.field.blades.pos.iter_mut().zip(&pos) {
-            *p = glam::Vec3A::new(q[0], q[1], q[2]);
+            *p = glam::Vec3A::new(q[0], q[1], q[2]).into();
         }
         let class = self.field.read_u32(device, queue, &self.field.class)?;
         for ((c, o), &k) in self
@@ -480,7 +474,7 @@ impl GpuSimulation {
             .zip(self.sim.track_owner.iter_mut())
             .zip(&class)
         {
-            *c = (k & 0xff).min(2) as u8;
+            *c = trample::step::BladeClass::from_u32(k & 0xff);
             *o = (k >> 8 & 0xff) as u8;
         }
         let flatness = self.field.read_flatness(device, queue)?;

@@ -59,15 +59,13 @@ fn blades_around(centre: Vec3, reach: f32, side: usize, seed: u64) -> Blades {
         }
         seg_len[b] = step;
     }
-    Blades {
-        count,
-        segments: SEGMENTS,
-        rest: pos.clone(),
-        pos,
+    Blades::new(
+        SEGMENTS,
+        pos.into_iter().map(Into::into).collect(),
         seg_len,
-        width: vec![0.01; count],
-        tint: vec![0.0; count],
-    }
+        vec![0.01; count],
+        vec![0.0; count],
+    )
 }
 
 /// The CPU reference for one object: per blade (hit mask, Σ EqF, num), as

@@ -72,7 +72,7 @@ fn check_parity(scene: &Scene, frames: u32) {
     let bl = &cpu.field.blades;
     let mut worst = 0.0f32;
     for (i, p) in pos.iter().enumerate() {
-        let d = glam::Vec3A::new(p[0], p[1], p[2]).distance(bl.pos[i]);
+        let d = glam::Vec3A::new(p[0], p[1], p[2]).distance(bl.pos[i].vec3a());
         worst = worst.max(if d.is_nan() { f32::INFINITY } else { d });
     }
     let class = g.field.read_u32(device, queue, &g.field.class).unwrap();
@@ -236,7 +236,7 @@ fn a_simulation_handed_over_mid_run_goes_on_like_the_cpu() {
     let worst = pos
         .iter()
         .zip(&cpu.field.blades.pos)
-        .map(|(p, q)| glam::Vec3A::new(p[0], p[1], p[2]).distance(*q))
+        .map(|(p, q)| glam::Vec3A::new(p[0], p[1], p[2]).distance(q.vec3a()))
         .fold(0.0f32, f32::max);
     eprintln!(
         "hand-over after 120 frames, 120 more: worst vertex difference {worst:e} m ({bent} blades bent at the hand-over)"

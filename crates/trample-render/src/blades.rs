@@ -210,8 +210,12 @@ impl BladePass {
             self.bind_group = Some(self.bind_cpu(device));
         }
         self.staging.clear();
-        self.staging
-            .extend(blades.pos.iter().map(|v| [v.x, v.y, v.z, 1.0]));
+        self.staging.extend(
+            blades
+                .pos
+                .iter()
+                .map(|v| [v.pos[0], v.pos[1], v.pos[2], 1.0]),
+        );
         if let Some(pos) = &self.pos {
             queue.write_buffer(pos, 0, bytemuck::cast_slice(&self.staging));
         }

@@ -144,9 +144,9 @@ fn class_colour(sim: &Simulation, b: usize) -> u32 {
         DBG_NOW
     } else if g != NO_GENERATION {
         PBG_NOW * (1.0 - PBG_FADE * f32::from(g - 1)).max(0.3)
-    } else if sim.class[b] == BladeClass::Direct as u8 {
+    } else if sim.class[b] == BladeClass::Direct {
         DBG_EARLIER
-    } else if sim.class[b] == BladeClass::Propagated as u8 {
+    } else if sim.class[b] == BladeClass::Propagated {
         PBG_EARLIER
     } else {
         UNTOUCHED
@@ -249,13 +249,11 @@ impl Renderer {
     /// shared WGSL (`globals.wgsl`) themselves.
     #[must_use]
     pub fn globals_of(&self, sim: &Simulation) -> Globals {
-        let mut view = sim.view;
-        view.aspect = self.params.width as f32 / self.params.height as f32;
-        let view_proj = view.proj() * view.view();
+        let view_proj = sim.view_proj(self.params.width as f32 / self.params.height as f32);
         Globals {
             view_proj,
             inv_view_proj: view_proj.inverse(),
-            eye: view.eye.extend(sim.time as f32),
+            eye: sim.eye().extend(sim.time as f32),
             sun_dir: self.params.sun_dir.normalize_or(Vec3::Y).extend(0.55),
             sun_color: Vec4::new(1.0, 0.93, 0.8, 0.0) * 1.1,
             sky_zenith: Vec4::new(0.16, 0.32, 0.72, 0.0),

@@ -103,8 +103,7 @@ fn block_means(img: &image::RgbaImage) -> Vec<[f64; 3]> {
 fn trampled(sim: &Simulation, c: usize) -> bool {
     let bl = &sim.field.blades;
     let (n, bpc) = (bl.segments, sim.field.layout.blades_per_cell as usize);
-    (c * bpc..(c + 1) * bpc)
-        .any(|b| bl.vertex(b, n).distance(bl.rest[n * bl.count + b]) > TRAMPLED_M)
+    (c * bpc..(c + 1) * bpc).any(|b| bl.vertex(b, n).distance(bl.rest_vertex(b, n)) > TRAMPLED_M)
 }
 
 /// Marks the blocks where the cells that changed level are drawn: the

@@ -11,11 +11,11 @@ use crate::driver::Driver;
 use crate::input::{Action, Input, Key};
 use glam::Vec3;
 use trample::Simulation;
-use trample::camera::{Camera, CameraTarget};
-use trample::field::cull_patches;
-use trample::object::body::Orientation;
-use trample::object::{Motion, Path, PathParams, ShapeParams};
+use trample::camera::Camera;
+use trample::object::Orientation;
+use trample::object::{Motion, ShapeParams};
 use trample::scene::Scene;
+use trample::step::HostView;
 use trample_render::DebugView;
 
 /// Highest precision the panel and keys offer (the paper's range is 1–7).
@@ -160,7 +160,6 @@ impl App {
             stage_times: false,
         };
         app.apply_camera();
-        app.refresh_view();
         Ok(app)
     }
 
@@ -353,7 +352,6 @@ impl App {
         let step = !self.paused || std::mem::take(&mut self.step_once);
         if !step {
             self.apply_camera();
-            self.refresh_view();
             return Ok(false);
         }
         let dt = self.sim().params.dt_s;
@@ -407,7 +405,6 @@ impl App {
             ),
         };
         self.apply_camera();
-        self.refresh_view();
         Ok(())
     }
 
@@ -452,49 +449,43 @@ impl App {
         }
     }
 
-    /// Puts the current camera into the simulation (its eye is the LOD
-    /// viewpoint and culls the patches).
+    /// Puts the current camera into the simulation: the scene's camera
+    /// path, or the orbit or free-fly camera as the host's view
+    /// ([`Simulation::set_view`]: its eye is the LOD viewpoint and its
+    /// frustum culls the patches, at once, so a paused view follows too;
+    /// levels of detail follow at the next step, which blends them).
     fn apply_camera(&mut self) {
         let target = self
             .sim()
             .bodies
             .first()
             .map_or(Vec3::ZERO, |b| b.pose.position);
-        let mut camera = match self.camera_mode {
-            CameraMode::Scene => self.scene_camera.clone(),
-            CameraMode::Orbit => fixed_camera(&self.scene_camera, self.orbit.eye(target), target),
-            CameraMode::Fly => fixed_camera(&self.scene_camera, self.fly.eye, self.fly.target()),
+        let eye_target = match self.camera_mode {
+            CameraMode::Scene => None,
+            CameraMode::Orbit => Some((self.orbit.eye(target), target)),
+            CameraMode::Fly => Some((self.fly.eye, self.fly.target())),
         };
+        let mut camera = self.scene_camera.clone();
         camera.params.aspect = self.aspect;
-        self.sim_mut().camera = camera;
-    }
-
-    /// View and culling for the current camera without a step (paused).
-    /// Levels of detail wait for the next step, which blends them (Eq. 9–13).
-    fn refresh_view(&mut self) {
+        let lens = camera.params.clone();
         let sim = self.backend.sim_mut();
-        let positions: Vec<Vec3> = sim.bodies.iter().map(|b| b.pose.position).collect();
-        sim.view = sim.camera.view_at(sim.time as f32, &positions);
-        sim.timings.visible_patches = cull_patches(
-            &sim.field.layout.patch_list,
-            &sim.view.frustum(),
-            &mut sim.visible,
-        );
-    }
-}
-
-/// A camera that stays at `eye` and looks at `target`; `scene`'s lens.
-fn fixed_camera(scene: &Camera, eye: Vec3, target: Vec3) -> Camera {
-    match Path::new(PathParams::Static {
-        position: eye.to_array(),
-    }) {
-        Ok(path) => Camera {
-            eye: path,
-            target: CameraTarget::Point(target),
-            params: scene.params.clone(),
-        },
-        // A non-finite eye (cannot come from the controllers): keep the scene's.
-        Err(_) => scene.clone(),
+        sim.camera = camera;
+        match eye_target {
+            None => sim.clear_view(),
+            Some((eye, target)) => {
+                // A non-finite eye (cannot come from the controllers) keeps the last view.
+                if let Ok(view) = HostView::look_at(
+                    eye,
+                    target,
+                    lens.fov_y_deg.to_radians(),
+                    lens.aspect,
+                    lens.near_m,
+                    lens.far_m,
+                ) {
+                    let _ = sim.set_view(view);
+                }
+            }
+        }
     }
 }
 

@@ -124,7 +124,7 @@ pub struct OnGpu {
     device: GpuDevice,
     /// Each blade's class over the run before the GPU path took over: the
     /// GPU counts classes from its own start.
-    class_before: Vec<u8>,
+    class_before: Vec<BladeClass>,
     /// The last step.
     stats: GpuStepStats,
 }
@@ -317,7 +317,7 @@ impl OnGpu {
     /// Whole-run classes: hit directly on either path wins, then reached by
     /// propagation on either.
     fn merge_classes(&mut self) {
-        const DIRECT: u8 = BladeClass::Direct as u8;
+        const DIRECT: BladeClass = BladeClass::Direct;
         for (now, &before) in self.gpu.sim.class.iter_mut().zip(&self.class_before) {
             *now = if *now == DIRECT || before == DIRECT {
                 DIRECT

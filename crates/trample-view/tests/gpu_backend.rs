@@ -58,7 +58,7 @@ fn max_gap(a: &App, b: &App) -> f32 {
     assert_eq!(a.len(), b.len());
     a.iter()
         .zip(b)
-        .map(|(p, q)| p.distance(*q))
+        .map(|(p, q)| p.vec3a().distance(q.vec3a()))
         .fold(0.0, f32::max)
 }
 

@@ -137,11 +137,7 @@ fn cameras_cycle_and_free_fly_moves_with_wasd() {
     assert_eq!(app.camera_mode, CameraMode::Orbit);
     // Orbit: the eye is at the orbit distance from the ball.
     app.update(1.0 / 60.0).unwrap();
-    let d = app
-        .sim()
-        .view
-        .eye
-        .distance(app.sim().bodies[0].pose.position);
+    let d = app.sim().eye().distance(app.sim().bodies[0].pose.position);
     assert!((d - app.orbit.distance).abs() < 0.2, "{d}");
     app.key(Key::C, true, false);
     assert_eq!(app.camera_mode, CameraMode::Fly);
@@ -150,7 +146,7 @@ fn cameras_cycle_and_free_fly_moves_with_wasd() {
     hold(&mut app, &[Key::W], 30);
     let moved = app.fly.eye - eye;
     assert!(moved.dot(forward) > 2.0, "{moved}");
-    assert!((app.sim().view.eye - app.fly.eye).length() < 1e-4);
+    assert!((app.sim().eye() - app.fly.eye).length() < 1e-4);
     app.key(Key::C, true, false);
     assert_eq!(app.camera_mode, CameraMode::Scene);
     app.key(Key::C, true, false);

@@ -17,7 +17,7 @@ fn bench(c: &mut Criterion) {
     let mut force = vec![Vec3::ZERO; bl.count];
     let dbg: Vec<u32> = (0..bl.count as u32)
         .filter(|&b| {
-            let r = Vec3::from(bl.rest[b as usize]);
+            let r = Vec3::from(bl.rest_vertex(b as usize, 0));
             let out = Vec3::new(r.x, 0.0, r.z);
             let hit = out.length() < 1.0;
             if hit {

@@ -45,6 +45,53 @@ impl Default for CameraParams {
     }
 }
 
+/// A `[camera]` value out of range. The message names the key.
+#[derive(Debug, thiserror::Error)]
+pub enum CameraError {
+    /// `fov_y_deg` not in (0, 180).
+    #[error("camera.fov_y_deg = {0}: must be in (0, 180) degrees")]
+    FovY(f32),
+    /// `aspect` not finite and positive.
+    #[error("camera.aspect = {0}: must be a finite number > 0")]
+    Aspect(f32),
+    /// Near and far planes not `0 < near_m < far_m`, finite.
+    #[error(
+        "camera.near_m = {near_m}, camera.far_m = {far_m}: need 0 < near_m < far_m, both finite"
+    )]
+    Planes {
+        /// Near plane given.
+        near_m: f32,
+        /// Far plane given.
+        far_m: f32,
+    },
+    /// The eye's path is invalid.
+    #[error("camera.{0}")]
+    Path(crate::object::PathError),
+}
+
+impl CameraParams {
+    /// Checks the lens and the eye's path (not `look_at`, which needs the
+    /// objects: see [`crate::builder::SimulationBuilder::validate`]).
+    ///
+    /// # Errors
+    /// [`CameraError`] naming the key.
+    pub fn validate(&self) -> Result<(), CameraError> {
+        if !(self.fov_y_deg > 0.0 && self.fov_y_deg < 180.0) {
+            return Err(CameraError::FovY(self.fov_y_deg));
+        }
+        if !(self.aspect.is_finite() && self.aspect > 0.0) {
+            return Err(CameraError::Aspect(self.aspect));
+        }
+        let (near_m, far_m) = (self.near_m, self.far_m);
+        if !(near_m.is_finite() && near_m > 0.0 && far_m.is_finite() && far_m > near_m) {
+            return Err(CameraError::Planes { near_m, far_m });
+        }
+        Path::new(self.path.clone())
+            .map(|_| ())
+            .map_err(CameraError::Path)
+    }
+}
+
 /// What the camera looks at.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]

@@ -31,7 +31,7 @@ const MAX_FUZZ_BLADES: u64 = 4096;
 const MAX_FUZZ_SUBDIVISIONS: u32 = 4;
 
 /// Scene text → [`Scene::parse`] (validation included); for a valid scene
-/// with built-in shapes only and at most [`MAX_FUZZ_BLADES`] blades, builds
+/// with built-in shapes only and at most `MAX_FUZZ_BLADES` blades, builds
 /// the simulation (field, objects, OBB trees) and runs 4 steps of its `dt`,
 /// then checks every blade vertex is finite and every segment keeps its
 /// rest length (within 1e-3 relative). Mesh files and height maps resolve
@@ -109,7 +109,7 @@ pub fn gltf(data: &[u8]) {
     }
 }
 
-/// Bytes → a raw [`TriMesh`] (see [`mesh_from_bytes`]) → [`sanitize`] → OBB
+/// Bytes → a raw [`TriMesh`] (see [`mesh_from_bytes`]) → [`sanitize()`] → OBB
 /// tree → collision queries, as [`check_mesh`] describes.
 pub fn mesh(data: &[u8]) {
     check_mesh(mesh_from_bytes(data));
@@ -152,7 +152,7 @@ pub fn mesh_from_bytes(data: &[u8]) -> TriMesh {
     TriMesh { positions, indices }
 }
 
-/// The checks every fuzzed mesh goes through: [`sanitize`]; when it accepts
+/// The checks every fuzzed mesh goes through: [`sanitize()`]; when it accepts
 /// the mesh, the result is well formed (at least one triangle, every index
 /// in range), its OBB tree passes [`ObbTree::validate`], and up to 19
 /// segments around it (through the centre along the three axes, along the

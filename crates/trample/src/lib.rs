@@ -12,9 +12,18 @@
 //!
 //! [`accuracy`] measures the narrow phase against the exact reference.
 //!
+//! A host program embedding the simulation starts at [`builder`] (a field
+//! and bodies from values), moves bodies and hands in its camera between
+//! steps ([`Simulation::move_body`], [`Simulation::teleport_body`],
+//! [`Simulation::set_view`]) and reads the blades without a copy
+//! ([`field::Blades::pos_bytes`], [`Simulation::changed_blades`]); see the
+//! README's "Embedding" section and `examples/minimal.rs`.
+//!
 //! Units: metres, seconds, radians; y is up, the ground is the x–z plane.
+#![warn(missing_docs)]
 
 pub mod accuracy;
+pub mod builder;
 pub mod camera;
 pub mod collision;
 pub mod deform;
@@ -30,4 +39,10 @@ pub mod scene;
 pub mod step;
 pub mod wind;
 
-pub use step::{Simulation, StepTimings};
+pub use builder::{BodyBuilder, BuildError, SimulationBuilder};
+
+/// The README's Rust snippets, compiled and run by `cargo test --doc`.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
+pub use step::{Body, BodyId, HostView, Simulation, StepTimings};

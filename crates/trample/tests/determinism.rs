@@ -15,7 +15,7 @@
 mod common;
 use common::*;
 
-fn run_on(threads: usize) -> (Vec<u32>, Vec<u8>) {
+fn run_on(threads: usize) -> (Vec<u32>, Vec<trample::step::BladeClass>) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -35,7 +35,12 @@ fn same_scene_twice_and_on_one_or_two_threads_is_bit_identical() {
     let one = run_on(1);
     let two = run_on(2);
     let again = run_on(2);
-    assert!(one.1.iter().any(|&c| c != 0), "the run must touch blades");
+    assert!(
+        one.1
+            .iter()
+            .any(|&c| c != trample::step::BladeClass::Untouched),
+        "the run must touch blades"
+    );
     assert_eq!(two, again, "two runs on 2 threads differ");
     assert_eq!(one, two, "1 thread and 2 threads differ");
 }
@@ -78,7 +83,11 @@ fn default_scene_hash(threads: usize) -> (u64, usize) {
             .build()
             .unwrap();
         sim.run(300).unwrap();
-        let touched = sim.class.iter().filter(|&&c| c != 0).count();
+        let touched = sim
+            .class
+            .iter()
+            .filter(|&&c| c != trample::step::BladeClass::Untouched)
+            .count();
         (fnv1a64(&sim.blade_vertices()), touched)
     })
 }

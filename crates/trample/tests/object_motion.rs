@@ -6,9 +6,9 @@
 use glam::{DQuat, DVec3, Quat, Vec3};
 use std::f32::consts::TAU;
 use std::path::Path;
-use trample::object::body::{Anchor, Orientation, Scale};
 use trample::object::path::Keyframe;
 use trample::object::pose::rotation_from_euler_deg;
+use trample::object::{Anchor, Orientation, Scale};
 use trample::object::{Object, ObjectParams, PathParams, Pose, ShapeParams};
 
 fn params(shape: ShapeParams, orientation: Orientation, path: PathParams) -> ObjectParams {

@@ -26,7 +26,7 @@ fn one_second_at_30_and_144_hz_gives_nearly_the_same_field() {
     let n = bl.0.segments;
     let (mut moved, mut diff, mut disp, mut both, mut either) = (0usize, 0.0f64, 0.0f64, 0, 0);
     for i in 0..bl.0.count {
-        let rest = bl.0.rest[n * bl.0.count + i];
+        let rest = bl.0.rest_vertex(i, n);
         let (ta, tb) = (bl.0.vertex(i, n), bl.1.vertex(i, n));
         let (da, db) = (ta.distance(rest), tb.distance(rest));
         let bent = (da > 0.05, db > 0.05);

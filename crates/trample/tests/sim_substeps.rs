@@ -50,7 +50,7 @@ path = {{ kind = "line", from = [-4.0, 0.2, 0.0], to = [4.0, 0.2, 0.0], duration
         let (x, z) = root_xz(&sim, b);
         if x.abs() < 2.8 && z.abs() < 0.08 {
             on += 1;
-            hit += usize::from(sim.class[b] == 1);
+            hit += usize::from(sim.class[b] == trample::step::BladeClass::Direct);
         }
     }
     assert!(on > 40);
@@ -148,7 +148,7 @@ path = {{ kind = "line", from = [-34.0, 0.2, 0.0], to = [34.0, 0.2, 0.0], durati
             let (x, z) = root_xz(&sim, b);
             if x.abs() < 3.0 && z.abs() < 0.08 {
                 on += 1;
-                hit += usize::from(sim.class[b] == 1);
+                hit += usize::from(sim.class[b] == trample::step::BladeClass::Direct);
             }
         }
         (t, hit as f32 / on as f32, sim.substep_clamps)

@@ -39,8 +39,8 @@ fn rolling_sphere_leaves_a_lasting_track() {
         "blades far from the path must stay exactly at rest"
     );
     // Blades hit directly exist, and propagation reached blades beside the path.
-    assert!(sim.class.contains(&1));
-    assert!(sim.class.contains(&2));
+    assert!(sim.class.contains(&trample::step::BladeClass::Direct));
+    assert!(sim.class.contains(&trample::step::BladeClass::Propagated));
 }
 
 #[test]

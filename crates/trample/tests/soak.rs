@@ -74,7 +74,7 @@ fn check(sim: &Simulation) -> Soundness {
         ..Soundness::default()
     };
     for b in 0..bl.count {
-        if bl.vertex(b, 0) != bl.rest[b] {
+        if bl.vertex(b, 0) != bl.rest_vertex(b, 0) {
             s.roots_moved += 1;
         }
         for k in 0..=bl.segments {

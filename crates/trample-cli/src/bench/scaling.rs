@@ -33,7 +33,7 @@ use std::time::Instant;
 use trample::obb::build::DEFAULT_MAX_DEPTH;
 use trample::object::{ShapeParams, TriMesh};
 use trample::scene::Scene;
-use trample::step::simulation::Body;
+use trample::step::Body;
 
 /// Blade-count factors of both series.
 const BLADE_FACTORS: [(&str, u32); 5] =

@@ -56,8 +56,7 @@ pub fn field_segments(sim: &Simulation, times: &[f32]) -> Vec<(Vec3, Vec3)> {
             let patch = &sim.field.layout.patch_list[p as usize];
             for b in patch.first_blade..patch.first_blade + patch.blades {
                 for k in 0..bl.segments {
-                    let v =
-                        |k: usize| pose.to_local(Vec3::from(bl.rest[k * bl.count + b as usize]));
+                    let v = |k: usize| pose.to_local(Vec3::from(bl.rest_vertex(b as usize, k)));
                     out.push((v(k), v(k + 1)));
                 }
             }

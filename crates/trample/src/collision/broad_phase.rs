@@ -46,8 +46,8 @@ pub fn world_obb(local: &Obb, pose: &Pose) -> Obb {
 /// True when `obb` and the axis-aligned box `min..max` overlap or touch
 /// (world frame): no separating axis among the 3 AABB axes, the 3 OBB axes
 /// and their 9 cross products. Conservative: parallel edges are padded
-/// ([`PARALLEL_PAD`]) and each comparison has a relative slack
-/// ([`REL_SLACK`]). An inverted AABB (`min > max` on some axis) or a
+/// (`PARALLEL_PAD`) and each comparison has a relative slack
+/// (`REL_SLACK`). An inverted AABB (`min > max` on some axis) or a
 /// non-finite input gives `false`.
 #[must_use]
 pub fn obb_overlaps_aabb(obb: &Obb, min: Vec3, max: Vec3) -> bool {

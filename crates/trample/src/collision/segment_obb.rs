@@ -1,5 +1,5 @@
 //! Segment vs oriented box: the "intersection test between linear object and
-//! oriented bounding box" of paper §4.2, ref. [16] (P. Schneider, D. Eberly,
+//! oriented bounding box" of paper §4.2, ref. \[16\] (P. Schneider, D. Eberly,
 //! *Geometric Tools for Computer Graphics*, 2003: linear components and
 //! boxes; the same test is in Eberly's `IntrSegment3Box3`).
 //!

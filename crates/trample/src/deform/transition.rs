@@ -60,6 +60,7 @@ pub fn mean_offset(offsets: impl IntoIterator<Item = Vec3>) -> Vec3 {
 /// [`blade_offset`] over the cell's blades `blades_of_cell`) and its
 /// flatness (ours: the mean over the same blades of `1 − tip height / rest
 /// tip height`, clamped to [0, 1]; see [`crate::field::Cells::flatness`]).
+/// Blades a grass map left out ([`Blades::is_present`]) do not count.
 /// Reads the blades' current and rest vertices; allocates nothing.
 #[must_use]
 pub fn cell_offset_and_flatness(
@@ -69,10 +70,11 @@ pub fn cell_offset_and_flatness(
     let n = blades.segments;
     let count = blades_of_cell.len();
     let (mut flat, mut k) = (0.0, 0u32);
-    let off = mean_offset(blades_of_cell.map(|b| {
-        let (root, rest_root) = (blades.vertex(b, 0), blades.rest[b]);
+    let grown = blades_of_cell.filter(|&b| blades.is_present(b));
+    let off = mean_offset(grown.map(|b| {
+        let (root, rest_root) = (blades.vertex(b, 0), blades.rest_vertex(b, 0));
         let chord = Vec3::from(blades.vertex(b, n) - root);
-        let rest = Vec3::from(blades.rest[n * blades.count + b] - rest_root);
+        let rest = Vec3::from(blades.rest_vertex(b, n) - rest_root);
         let f = crate::recovery::flatness(chord.y, rest.y);
         if f.is_finite() {
             flat += f;

@@ -1,6 +1,7 @@
 //! Per-cell state: level of detail and the billboard that stands for the
 //! cell's blades at mid distance (paper §3.1, §6.2–6.3).
 
+use super::changes::ChangeSet;
 use super::lod::Lod;
 use glam::Vec3;
 
@@ -29,6 +30,9 @@ pub struct Cells {
     pub patch_lod: Vec<Option<Lod>>,
     /// Per patch: bounds (min, max) of its cells' base centres.
     pub patch_bounds: Vec<(Vec3, Vec3)>,
+    /// Cells whose level or slope the last step set
+    /// ([`super::Field::changed_cells`]).
+    pub(crate) changed: ChangeSet,
 }
 
 impl Cells {
@@ -36,5 +40,12 @@ impl Cells {
     #[must_use]
     pub fn slope_at_rest(&self, c: usize) -> bool {
         self.slope[c] == self.slope_origin[c]
+    }
+
+    /// Sets cell `c`'s billboard slope and records the cell as changed in
+    /// this step ([`super::Field::changed_cells`]).
+    pub fn set_slope(&mut self, c: usize, slope: Vec3) {
+        self.slope[c] = slope;
+        self.changed.mark(c);
     }
 }

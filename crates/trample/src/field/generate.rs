@@ -2,11 +2,12 @@
 //! cell slots on the terrain, height/width/lean jitter, a gently curved rest
 //! shape, the neighbour table of Definition 6, patch boxes and cell state.
 
-use super::blades::{Blades, MAX_SEGMENTS};
+use super::blades::{BladeVertex, Blades, MAX_SEGMENTS};
 use super::cells::Cells;
-use super::grass::Field;
+use super::field::Field;
 use super::layout::{FieldLayout, NO_NEIGHBOUR, Patch};
 use super::lod::Lod;
+use super::maps::GrassMaps;
 use super::params::{FieldError, FieldParams};
 use super::rng::unit;
 use super::terrain::Terrain;
@@ -15,6 +16,9 @@ use rayon::prelude::*;
 
 /// Height above the terrain kept by every vertex (the ground guard), metres.
 pub const GROUND_CLEARANCE_M: f32 = 0.002;
+
+/// Random stream of the density test (streams 0–6 are the shape's).
+const DENSITY_STREAM: u64 = 7;
 
 /// Per-blade shape parameters drawn from the seed.
 #[derive(Clone, Copy)]
@@ -26,9 +30,23 @@ struct BladeShape {
 }
 
 impl Field {
-    /// Generates the field of `params` on `terrain`. Same parameters → same
-    /// field, bit for bit, on any number of threads.
+    /// Generates the field of `params` on `terrain` without grass maps
+    /// (grass everywhere; see [`Field::generate_with_maps`]). Same
+    /// parameters → same field, bit for bit, on any number of threads.
     pub fn generate(params: &FieldParams, terrain: Terrain) -> Result<Field, FieldError> {
+        Field::generate_with_maps(params, terrain, &GrassMaps::default())
+    }
+
+    /// Generates the field of `params` on `terrain`, with `maps` deciding
+    /// where blades grow, how tall and their tint ([`super::maps`]). Same
+    /// parameters and maps → same field, bit for bit, on any number of
+    /// threads; with the default maps, the same field as
+    /// [`Field::generate`].
+    pub fn generate_with_maps(
+        params: &FieldParams,
+        terrain: Terrain,
+        maps: &GrassMaps,
+    ) -> Result<Field, FieldError> {
         params.validate()?;
         let layout = make_layout(params);
         let count = layout.blade_count();
@@ -36,42 +54,43 @@ impl Field {
 
         let shapes: Vec<BladeShape> = (0..count)
             .into_par_iter()
-            .map(|b| draw_shape(params, &layout, &terrain, b))
+            .map(|b| draw_shape(params, &layout, &terrain, maps, b))
             .collect();
 
-        let mut pos = vec![Vec3A::ZERO; count * (n + 1)];
+        let mut pos = vec![BladeVertex::default(); count * (n + 1)];
         pos.par_chunks_mut(count).enumerate().for_each(|(k, out)| {
             for (b, v) in out.iter_mut().enumerate() {
-                *v = vertex(&shapes[b], k, n);
+                *v = vertex(&shapes[b], k, n).into();
             }
         });
-        let seg_len = shapes.iter().map(|s| s.seg_len).collect();
+        let seg_len: Vec<f32> = shapes.iter().map(|s| s.seg_len).collect();
         let width = (0..count)
             .into_par_iter()
             .map(|b| {
-                params.blade_width_m
-                    * (1.0 + params.width_jitter * (2.0 * unit(params.seed, b as u64, 5) - 1.0))
+                if seg_len[b] > 0.0 {
+                    params.blade_width_m
+                        * (1.0 + params.width_jitter * (2.0 * unit(params.seed, b as u64, 5) - 1.0))
+                } else {
+                    0.0
+                }
             })
             .collect();
         let tint = (0..count)
             .into_par_iter()
-            .map(|b| unit(params.seed, b as u64, 6))
+            .map(|b| {
+                let root = shapes[b].root;
+                maps.tint_at(root.x, root.z)
+                    .unwrap_or_else(|| unit(params.seed, b as u64, 6))
+            })
             .collect();
-        let blades = Blades {
-            count,
-            segments: n,
-            rest: pos.clone(),
-            pos,
-            seg_len,
-            width,
-            tint,
-        };
+        let blades = Blades::new(n, pos, seg_len, width, tint);
 
         let mut layout = layout;
-        layout.neighbours = neighbour_table(&layout);
+        layout.neighbours = neighbour_table(&layout, &blades);
         layout.patch_list = patch_boxes(&layout, &blades);
         let cells = rest_cells(&layout, &blades, &terrain);
         let max_blade_length = blades.seg_len.iter().fold(0.0f32, |m, &l| m.max(l)) * n as f32;
+        let absent_blades = (0..count).filter(|&b| !blades.is_present(b)).count() as u64;
         Ok(Field {
             params: params.clone(),
             layout,
@@ -79,8 +98,28 @@ impl Field {
             blades,
             cells,
             max_blade_length,
+            absent_blades,
         })
     }
+}
+
+/// How many blades of `params` grow under `maps` (every one without a
+/// density or height map that leaves some out): the count the memory
+/// estimate needs, computed without generating the field (the same roots
+/// and draws as [`Field::generate_with_maps`]).
+#[must_use]
+pub fn growing_blades(params: &FieldParams, maps: &GrassMaps) -> u64 {
+    if maps.grows_everywhere() && maps.height.is_constant(1.0) {
+        return params.blade_count();
+    }
+    let layout = make_layout(params);
+    (0..layout.blade_count())
+        .into_par_iter()
+        .filter(|&b| {
+            let (x, z) = root_xz(params, &layout, b);
+            grows(params, maps, b, x, z) && maps.height_at(x, z) > 0.0
+        })
+        .count() as u64
 }
 
 fn make_layout(p: &FieldParams) -> FieldLayout {
@@ -96,8 +135,8 @@ fn make_layout(p: &FieldParams) -> FieldLayout {
     }
 }
 
-/// Root, length and lean of blade `b`.
-fn draw_shape(p: &FieldParams, layout: &FieldLayout, terrain: &Terrain, b: usize) -> BladeShape {
+/// World (x, z) of blade `b`'s root: its slot in its cell, jittered.
+fn root_xz(p: &FieldParams, layout: &FieldLayout, b: usize) -> (f32, f32) {
     let id = b as u64;
     let bpc = p.blades_per_cell as usize;
     let (cell, slot) = (b / bpc, b % bpc);
@@ -114,8 +153,33 @@ fn draw_shape(p: &FieldParams, layout: &FieldLayout, terrain: &Terrain, b: usize
         + gz as f32 * p.cell_size_m
         + sz * slot_size
         + p.position_jitter * slot_size * (unit(p.seed, id, 1) - 0.5);
+    (x, z)
+}
+
+/// Whether blade `b`, rooted at (x, z), passes the density test.
+fn grows(p: &FieldParams, maps: &GrassMaps, b: usize, x: f32, z: f32) -> bool {
+    unit(p.seed, b as u64, DENSITY_STREAM) < maps.density_at(x, z)
+}
+
+/// Root, length and lean of blade `b`; a blade that does not grow (density
+/// test failed, or height factor 0) has length 0.
+fn draw_shape(
+    p: &FieldParams,
+    layout: &FieldLayout,
+    terrain: &Terrain,
+    maps: &GrassMaps,
+    b: usize,
+) -> BladeShape {
+    let id = b as u64;
+    let (x, z) = root_xz(p, layout, b);
     let root = Vec3::new(x, terrain.height_at(x, z), z);
-    let length = p.blade_height_m * (1.0 + p.height_jitter * (2.0 * unit(p.seed, id, 2) - 1.0));
+    let length = if grows(p, maps, b, x, z) {
+        p.blade_height_m
+            * maps.height_at(x, z)
+            * (1.0 + p.height_jitter * (2.0 * unit(p.seed, id, 2) - 1.0))
+    } else {
+        0.0
+    };
     let n = p.segments as usize;
     let mut shape = BladeShape {
         root,
@@ -123,6 +187,10 @@ fn draw_shape(p: &FieldParams, layout: &FieldLayout, terrain: &Terrain, b: usize
         lean: p.lean_jitter_rad * unit(p.seed, id, 3),
         azimuth: std::f32::consts::TAU * unit(p.seed, id, 4),
     };
+    if shape.seg_len <= 0.0 {
+        shape.seg_len = 0.0;
+        return shape;
+    }
     // Ground guard at rest: on steep terrain, straighten the blade until every
     // vertex is above the ground.
     for _ in 0..8 {
@@ -152,8 +220,10 @@ fn vertex(s: &BladeShape, k: usize, n: usize) -> Vec3A {
 }
 
 /// Definition 6: for each blade, the blades in the same slot of the cells
-/// immediately −x, +x, −z, +z of its cell (crossing patch borders).
-fn neighbour_table(layout: &FieldLayout) -> Vec<[u32; 4]> {
+/// immediately −x, +x, −z, +z of its cell (crossing patch borders). Blades
+/// a grass map left out are no one's neighbours and have none: force does
+/// not propagate across bare ground.
+fn neighbour_table(layout: &FieldLayout, blades: &Blades) -> Vec<[u32; 4]> {
     let bpc = layout.blades_per_cell as usize;
     let [gw, gh] = layout.grid_size();
     (0..layout.blade_count())
@@ -163,11 +233,18 @@ fn neighbour_table(layout: &FieldLayout) -> Vec<[u32; 4]> {
             let [gx, gz] = layout.cell_coord(cell);
             let at = |x: i64, z: i64| {
                 if x < 0 || z < 0 || x >= i64::from(gw) || z >= i64::from(gh) {
-                    NO_NEIGHBOUR
+                    return NO_NEIGHBOUR;
+                }
+                let nb = layout.cell_index(x as u32, z as u32) * bpc + slot;
+                if blades.is_present(nb) {
+                    nb as u32
                 } else {
-                    (layout.cell_index(x as u32, z as u32) * bpc + slot) as u32
+                    NO_NEIGHBOUR
                 }
             };
+            if !blades.is_present(b) {
+                return [NO_NEIGHBOUR; 4];
+            }
             let (x, z) = (i64::from(gx), i64::from(gz));
             [at(x - 1, z), at(x + 1, z), at(x, z - 1), at(x, z + 1)]
         })
@@ -204,7 +281,8 @@ fn patch_boxes(layout: &FieldLayout, blades: &Blades) -> Vec<Patch> {
 }
 
 /// Cells at rest: billboard base on the ground at the cell centre, height =
-/// mean rest chord |Vn − V0| of its blades, rest slope = mean unit chord.
+/// mean rest chord |Vn − V0| of its growing blades, rest slope = mean unit
+/// chord (a cell without grass: height 0, slope straight up).
 fn rest_cells(layout: &FieldLayout, blades: &Blades, terrain: &Terrain) -> Cells {
     let bpc = layout.blades_per_cell as usize;
     let n = blades.segments;
@@ -213,16 +291,19 @@ fn rest_cells(layout: &FieldLayout, blades: &Blades, terrain: &Terrain) -> Cells
         .map(|c| {
             let [gx, gz] = layout.cell_coord(c);
             let [x, z] = layout.cell_centre(gx, gz);
-            let (mut h, mut dir) = (0.0, Vec3::ZERO);
-            for b in c * bpc..(c + 1) * bpc {
-                let chord = Vec3::from(blades.rest[n * blades.count + b] - blades.rest[b]);
+            let (mut h, mut dir, mut k) = (0.0, Vec3::ZERO, 0u32);
+            for b in (c * bpc..(c + 1) * bpc).filter(|&b| blades.is_present(b)) {
+                let chord = Vec3::from(blades.rest_vertex(b, n) - blades.rest_vertex(b, 0));
                 h += chord.length();
                 dir += chord.normalize_or(Vec3::Y);
+                k += 1;
             }
-            (
-                Vec3::new(x, terrain.height_at(x, z), z),
-                (h / bpc as f32, dir / bpc as f32),
-            )
+            let rest = if k == 0 {
+                (0.0, Vec3::Y)
+            } else {
+                (h / k as f32, dir / k as f32)
+            };
+            (Vec3::new(x, terrain.height_at(x, z), z), rest)
         })
         .unzip();
     let (height, slope_origin): (Vec<f32>, Vec<Vec3>) = rest.into_iter().unzip();
@@ -242,6 +323,7 @@ fn rest_cells(layout: &FieldLayout, blades: &Blades, terrain: &Terrain) -> Cells
         slope: slope_origin.clone(),
         slope_origin,
         flatness: vec![0.0; layout.cell_count()],
+        changed: super::changes::ChangeSet::new(layout.cell_count()),
     }
 }
 

@@ -24,6 +24,59 @@ impl Default for LodParams {
     }
 }
 
+/// A `[lod]` value out of range. The message names the key.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LodError {
+    /// `geometry_m` negative, NaN or infinite.
+    #[error("lod.geometry_m = {geometry_m}: must be a finite distance >= 0 metres")]
+    Geometry {
+        /// The value given.
+        geometry_m: f32,
+    },
+    /// `billboard_m` NaN.
+    #[error(
+        "lod.billboard_m = NaN: must be a distance >= lod.geometry_m = {geometry_m} metres (inf allowed)"
+    )]
+    BillboardNaN {
+        /// `geometry_m`, the least it may be.
+        geometry_m: f32,
+    },
+    /// `billboard_m` below `geometry_m`.
+    #[error(
+        "lod.billboard_m = {billboard_m} is less than lod.geometry_m = {geometry_m}: LOD distances must not decrease"
+    )]
+    Decreasing {
+        /// The value given.
+        billboard_m: f32,
+        /// `geometry_m`.
+        geometry_m: f32,
+    },
+}
+
+impl LodParams {
+    /// Checks both distances: `0 ≤ geometry_m ≤ billboard_m`, `geometry_m`
+    /// finite (`billboard_m` may be infinite: billboards to the horizon).
+    ///
+    /// # Errors
+    /// [`LodError`] naming the key.
+    pub fn validate(&self) -> Result<(), LodError> {
+        let (geometry_m, billboard_m) = (self.geometry_m, self.billboard_m);
+        if !(geometry_m.is_finite() && geometry_m >= 0.0) {
+            return Err(LodError::Geometry { geometry_m });
+        }
+        if billboard_m.is_nan() {
+            return Err(LodError::BillboardNaN { geometry_m });
+        }
+        if billboard_m < geometry_m {
+            return Err(LodError::Decreasing {
+                billboard_m,
+                geometry_m,
+            });
+        }
+        Ok(())
+    }
+}
+
 /// Representation of a cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[repr(u8)]
@@ -139,6 +192,9 @@ pub fn classify_cells(
         total.geometry += c.geometry;
         total.billboard += c.billboard;
         total.texture += c.texture;
+        for ch in &local {
+            cells.changed.mark(ch.cell as usize);
+        }
         changes.extend(local);
     }
     total

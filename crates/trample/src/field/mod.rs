@@ -3,20 +3,27 @@
 
 pub mod blades;
 pub mod cells;
+pub mod changes;
 pub mod frustum;
 pub mod generate;
-pub mod grass;
+pub mod grid_image;
+// Named after its module so that `Field` is found where it is looked for.
+#[allow(clippy::module_inception)]
+pub mod field;
 pub mod layout;
 pub mod lod;
+pub mod maps;
 pub mod params;
 pub mod rng;
 pub mod terrain;
 
-pub use blades::{Blades, MAX_SEGMENTS};
+pub use blades::{BladeVertex, Blades, MAX_SEGMENTS};
 pub use cells::Cells;
+pub use changes::ChangeSet;
+pub use field::Field;
 pub use frustum::{Frustum, cull_patches};
-pub use grass::Field;
 pub use layout::{FieldLayout, NO_NEIGHBOUR, Patch};
-pub use lod::{Lod, LodChange, LodCounts, LodParams, classify_cells};
+pub use lod::{Lod, LodChange, LodCounts, LodError, LodParams, classify_cells};
+pub use maps::{GrassMap, GrassMapParams, GrassMaps, MapError};
 pub use params::{FieldError, FieldParams, TerrainParams};
-pub use terrain::Terrain;
+pub use terrain::{Terrain, TerrainError};

@@ -37,6 +37,9 @@ pub struct FieldParams {
     pub seed: u64,
     /// Ground under the field.
     pub terrain: TerrainParams,
+    /// `[field.maps]`: where grass grows, how tall, what tint (grey images;
+    /// see [`super::maps`]). Default: none (grass everywhere).
+    pub maps: super::maps::GrassMapParams,
 }
 
 impl Default for FieldParams {
@@ -55,6 +58,7 @@ impl Default for FieldParams {
             position_jitter: 0.8,
             seed: 1,
             terrain: TerrainParams::default(),
+            maps: super::maps::GrassMapParams::default(),
         }
     }
 }
@@ -224,6 +228,7 @@ impl FieldParams {
                 "must be in [0, 1]",
             );
         }
+        self.maps.validate()?;
         match &self.terrain {
             TerrainParams::Flat { height_m } if !height_m.is_finite() => {
                 err("terrain.height_m", height_m.to_string(), "must be finite")
@@ -278,12 +283,32 @@ impl FieldParams {
     /// 1,048,576 blades 509.9 MiB (497.5). A run where a ball touches a
     /// small part of the field peaks at about half the estimate (262,144
     /// blades: 65.5 MiB).
+    ///
+    /// Every blade is counted as growing; see
+    /// [`FieldParams::memory_estimate_bytes_for`] for a field whose grass
+    /// maps leave blades out.
     #[must_use]
     pub fn memory_estimate_bytes(&self) -> u64 {
+        self.memory_estimate_bytes_for(self.blade_count())
+    }
+
+    /// [`FieldParams::memory_estimate_bytes`] of a field in which only
+    /// `growing` blades grow (the rest left out by its grass maps; see
+    /// [`super::generate::growing_blades`]): every blade keeps its state
+    /// (absent blades keep their slots, [`super::maps`]), but only growing
+    /// blades can be under an object, so only they count for one step's
+    /// work. `growing` is capped at the blade count.
+    ///
+    /// Not itemised: the sets of blades and cells a step wrote
+    /// ([`super::ChangeSet`], about 0.2 bytes a blade or cell).
+    #[must_use]
+    pub fn memory_estimate_bytes_for(&self, growing: u64) -> u64 {
         let verts = u64::from(self.segments) + 1;
-        let per_blade = (32 * verts + 28) + (16 * verts + 72);
+        let (state, work) = (32 * verts + 28, 16 * verts + 72);
         let per_cell = 58;
-        let exact = self.blade_count() * per_blade + self.cell_count() * per_cell;
+        let exact = self.blade_count() * state
+            + growing.min(self.blade_count()) * work
+            + self.cell_count() * per_cell;
         exact + exact / 4
     }
 }

@@ -2,6 +2,7 @@
 //! (DESIGN §2). Blades' roots sit on it; the ground guard of the deformation
 //! keeps every vertex above it.
 
+use super::grid_image::{GridImageError, load_grid_image};
 use super::params::TerrainParams;
 use std::path::Path;
 
@@ -23,7 +24,8 @@ pub enum Terrain {
     Heightmap(HeightGrid),
 }
 
-/// A grid of heights covering the rectangle `origin .. origin + size`.
+/// A grid of values (heights, or the grass maps' values) covering the
+/// rectangle `origin .. origin + size`, sampled bilinearly.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HeightGrid {
     /// Samples along x and z.
@@ -92,43 +94,21 @@ impl Terrain {
                 path,
                 height_scale_m,
             } => {
-                let full = crate::paths::resolve_inside(base_dir, path).map_err(|reason| {
-                    TerrainError::Outside {
-                        path: path.clone(),
-                        reason,
+                let mut grid = load_grid_image(base_dir, path, extent).map_err(|e| match e {
+                    GridImageError::Outside { path, reason } => {
+                        TerrainError::Outside { path, reason }
+                    }
+                    GridImageError::Unreadable { path, reason } => {
+                        TerrainError::Unreadable { path, reason }
+                    }
+                    GridImageError::TooSmall { path, w, h } => {
+                        TerrainError::TooSmall { path, w, h }
                     }
                 })?;
-                let shown = full.display().to_string();
-                // A FIFO or a device would block or never end: regular files only.
-                match std::fs::metadata(&full) {
-                    Ok(m) if !m.is_file() => {
-                        return Err(TerrainError::Unreadable {
-                            path: shown,
-                            reason: "not a regular file; allowed: a PNG image file".into(),
-                        });
-                    }
-                    _ => {}
+                for v in &mut grid.heights {
+                    *v *= height_scale_m;
                 }
-                let img = image::open(&full)
-                    .map_err(|e| TerrainError::Unreadable {
-                        path: shown.clone(),
-                        reason: e.to_string(),
-                    })?
-                    .into_luma16();
-                let (w, h) = img.dimensions();
-                if w < 2 || h < 2 {
-                    return Err(TerrainError::TooSmall { path: shown, w, h });
-                }
-                let heights = img
-                    .pixels()
-                    .map(|p| f32::from(p.0[0]) / 65535.0 * height_scale_m)
-                    .collect();
-                Terrain::Heightmap(HeightGrid {
-                    dims: [w as usize, h as usize],
-                    heights,
-                    origin: [-extent[0] * 0.5, -extent[1] * 0.5],
-                    size: extent,
-                })
+                Terrain::Heightmap(grid)
             }
         })
     }

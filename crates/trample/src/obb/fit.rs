@@ -246,7 +246,7 @@ const JACOBI_MAX_SWEEPS: usize = 32;
 /// (Golub & Van Loan, *Matrix Computations*, §8.5). Returns the eigenvalues
 /// and the matrix whose **columns** are the matching unit eigenvectors (an
 /// orthogonal matrix). A non-finite or zero matrix gives its diagonal and the
-/// identity. Never loops more than [`JACOBI_MAX_SWEEPS`] sweeps.
+/// identity. Never loops more than `JACOBI_MAX_SWEEPS` (32) sweeps.
 #[must_use]
 #[allow(clippy::needless_range_loop)] // matrix indices read best as indices
 pub fn symmetric_eigen(m: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {

@@ -6,7 +6,9 @@
 //!   [`mod@sanitize`]: what every mesh goes through; [`error`]: [`MeshError`].
 //! - [`path`]: where an object is at time t ([`spline`] for `spline` paths);
 //!   [`motion`]: its whole [`Pose`] at time t ([`rolling`] for rolling ones).
-//! - [`body`]: an [`Object`] made from its scene-file [`ObjectParams`].
+//! - [`mod@object`]: an [`Object`] (mesh + motion) made from its scene-file
+//!   [`ObjectParams`]. In a running simulation each object is a
+//!   [`crate::step::Body`] (object + OBB tree + current pose).
 //! - [`skin`]: a skinned glTF mesh ([`SkinnedMesh`]) and linear blend
 //!   skinning; [`animation`]: its keyframed [`Animation`]s;
 //!   [`rig_error`]: [`RigError`].
@@ -14,12 +16,14 @@
 //!   ([`Articulation`]) with wheels, keyframed and host-posed joints.
 
 pub mod animation;
-pub mod body;
 pub mod error;
 pub mod gltf;
 pub mod mesh;
 pub mod motion;
 pub mod obj;
+// Named after its module so that `Object` is found where it is looked for.
+#[allow(clippy::module_inception)]
+pub mod object;
 pub mod parts;
 pub mod path;
 mod piecewise;
@@ -32,10 +36,13 @@ pub mod skin;
 pub mod spline;
 
 pub use animation::Animation;
-pub use body::{Object, ObjectError, ObjectErrorKind, ObjectParams, ShapeParams, TrackParams};
 pub use error::MeshError;
 pub use mesh::TriMesh;
 pub use motion::{Motion, MotionError};
+pub use object::{
+    Anchor, Object, ObjectError, ObjectErrorKind, ObjectParams, Orientation, Scale, ShapeParams,
+    TrackParams,
+};
 pub use parts::{Articulation, PartError, PartParams};
 pub use path::{Path, PathError, PathParams};
 pub use pose::Pose;

@@ -4,7 +4,7 @@
 //! t gives the same [`Pose`], bit for bit, whatever was asked before, so the
 //! simulation does not depend on the frame rate.
 
-use super::body::Orientation;
+use super::object::Orientation;
 use super::path::Path;
 use super::pose::Pose;
 use super::rolling::{self, Rolling};

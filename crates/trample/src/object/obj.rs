@@ -16,7 +16,7 @@ use std::path::Path;
 /// Loads every face of the OBJ file at `path` as one triangle mesh, in the
 /// file's units and frame: [`super::read_mesh_bytes`] then [`parse_obj`].
 /// The mesh is not sanitised: pass it through [`super::sanitize::sanitize`]
-/// (as [`super::body::Object::from_params`] does).
+/// (as [`super::object::Object::from_params`] does).
 ///
 /// # Errors
 /// [`MeshError::Io`] when the file cannot be read (missing, no permission,

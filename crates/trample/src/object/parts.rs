@@ -32,8 +32,8 @@
 use glam::{Quat, Vec3};
 use serde::{Deserialize, Serialize};
 
-use super::body::{ObjectErrorKind, Scale, ShapeParams, baked_mesh};
 use super::mesh::TriMesh;
+use super::object::{ObjectErrorKind, Scale, ShapeParams, baked_mesh};
 use super::path::{Keyframe, Path, PathError, PathParams};
 use super::pose::Pose;
 

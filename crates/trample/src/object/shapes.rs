@@ -6,7 +6,7 @@
 //! triangles seen from outside (outward normals, positive
 //! [`TriMesh::signed_volume`]) and no degenerate triangle, for positive finite
 //! sizes. The functions do not validate their sizes: the scene loader does
-//! (`object::body`), and every mesh is sanitised afterwards anyway.
+//! (`object::object`), and every mesh is sanitised afterwards anyway.
 
 use super::mesh::TriMesh;
 use glam::Vec3;

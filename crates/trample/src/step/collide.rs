@@ -1,7 +1,8 @@
 //! Stages 4–5 of a sub-step (DESIGN §7): the narrow phase of one object over
 //! the blades the broad phase kept, and the forces of Eq. 2 it gives.
 
-use super::simulation::{Body, Simulation};
+use super::body::Body;
+use super::simulation::Simulation;
 use super::stages::{DBG_WEIGHT, reach_rect};
 use super::timings::StepTimings;
 use crate::collision::narrow_phase::{BladeContacts, LocalMotion, contact_blade};
@@ -42,12 +43,16 @@ pub(crate) fn narrow_phase(
     let shell = sim.params.contact_shell_m;
     let (min, max) = reach_rect(&body.world_root, sim.field.max_blade_length + shell);
     let everywhere = sim.params.track_everywhere;
-    let candidates: Vec<u32> = patches
+    let mut candidates: Vec<u32> = patches
         .iter()
         .flat_map(|&p| layout.patch_cells_overlapping(p as usize, min, max))
         .filter(|&c| everywhere || sim.field.cells.lod[c] == Lod::Geometry)
         .flat_map(|c| (c * bpc) as u32..((c + 1) * bpc) as u32)
         .collect();
+    if sim.field.absent_blades > 0 {
+        // Blades a grass map left out are not grass: nothing collides with them.
+        candidates.retain(|&b| sim.field.blades.is_present(b as usize));
+    }
     tm.narrow_candidates += candidates.len() as u32;
     let blades = &sim.field.blades;
     let n = blades.segments;

@@ -150,7 +150,8 @@ pub(crate) fn bend_billboards(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> 
                 .patch_cells_overlapping(p as usize, min, max)
             {
                 let cells = &mut sim.field.cells;
-                if cells.lod[c] != Lod::Billboard {
+                // A cell without grass (grass maps) has a billboard of height 0.
+                if cells.lod[c] != Lod::Billboard || cells.height[c] <= 0.0 {
                     continue;
                 }
                 let (base, height) = (cells.base[c], cells.height[c]);
@@ -166,8 +167,8 @@ pub(crate) fn bend_billboards(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> 
                 }
                 let centre = 0.5 * (base + top);
                 let candidate = billboard_slope(cells.slope_origin[c], centre - obb.center, r);
-                cells.slope[c] =
-                    deflect_billboard(cells.slope[c], cells.slope_origin[c], candidate);
+                let slope = deflect_billboard(cells.slope[c], cells.slope_origin[c], candidate);
+                cells.set_slope(c, slope);
                 if !sim.scratch.bent_flag[c] {
                     sim.scratch.bent_flag[c] = true;
                     sim.scratch.bent_cells.push(c as u32);
@@ -195,7 +196,7 @@ pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
         let cells = &mut sim.field.cells;
         match (ch.from, ch.to) {
             (Lod::Geometry, _) => {
-                cells.slope[c] = slope_from_offset(cells.slope_origin[c], off_g);
+                cells.set_slope(c, slope_from_offset(cells.slope_origin[c], off_g));
                 if !cells.slope_at_rest(c) && !sim.scratch.bent_flag[c] {
                     sim.scratch.bent_flag[c] = true;
                     sim.scratch.bent_cells.push(ch.cell);
@@ -211,7 +212,10 @@ pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
                 }
                 for b in blades_of_cell {
                     let bl = &mut sim.field.blades;
-                    let rest_h = Vec3::from(bl.rest[n * bl.count + b] - bl.rest[b]).length();
+                    if !bl.is_present(b) {
+                        continue;
+                    }
+                    let rest_h = Vec3::from(bl.rest_vertex(b, n) - bl.rest_vertex(b, 0)).length();
                     let mut v = [Vec3A::ZERO; MAX_SEGMENTS + 1];
                     bl.load(b, &mut v);
                     bend_last_segment(
@@ -252,7 +256,7 @@ pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 
     let s = &mut sim.scratch;
     for (&c, &(off, flat)) in cells.iter().zip(&state) {
         let c = c as usize;
-        f.slope[c] = slope_from_offset(f.slope_origin[c], off);
+        f.set_slope(c, slope_from_offset(f.slope_origin[c], off));
         f.flatness[c] = flat;
         let bent = !f.slope_at_rest(c);
         if bent != s.bent_flag[c] {

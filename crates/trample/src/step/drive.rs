@@ -8,7 +8,17 @@
 //! displacement and turn over the step, so the force of Eq. 2 matches what
 //! the body really sweeps through and sub-stepping (DESIGN §9) sees its
 //! true travel. Bodies that are never driven behave exactly as before.
+//!
+//! A host moving its own objects (issue 14) says for each frame which of
+//! two things happened: the body *moved* there ([`Simulation::move_body`]:
+//! it sweeps the grass between the two poses, as above) or it *jumped*
+//! there ([`Simulation::teleport_body`]: a respawn, a cut, a level load).
+//! A teleport does not sweep: the body is at the new pose at once, at
+//! rest; no sub-step lies between the two places and the jump is no
+//! velocity, so Eq. 2 gets no force from it.
 
+use super::bodies::BodyError;
+use super::body::BodyId;
 use super::simulation::Simulation;
 use crate::object::Pose;
 use glam::{Quat, Vec3};
@@ -69,6 +79,7 @@ impl Simulation {
     /// of that `dt`; between calls the body stays where it was left, at rest.
     /// [`Simulation::release`] gives it back to its path. Returns `false`
     /// (and does nothing) when there is no such body or a value is not finite.
+    /// See also [`Simulation::move_body`], the same by [`BodyId`].
     pub fn drive(&mut self, index: usize, position: Vec3, rotation: Quat, dt: f32) -> bool {
         let t0 = self.time as f32;
         let Some(body) = self.bodies.get_mut(index) else {
@@ -89,6 +100,77 @@ impl Simulation {
             t1: t0 + dt,
         });
         true
+    }
+
+    /// The host moves body `id` over the next step of `dt` seconds to
+    /// `position` with `rotation` (world from local), sweeping the grass on
+    /// the way ([`Simulation::drive`] by id). Call it before each
+    /// [`Simulation::step`] of that `dt`; a body not moved in a step stays
+    /// where it was, at rest.
+    ///
+    /// # Errors
+    /// [`BodyError`] (and nothing changes) for an unknown id or a value
+    /// that is not finite (or `dt ≤ 0`).
+    pub fn move_body(
+        &mut self,
+        id: BodyId,
+        position: Vec3,
+        rotation: Quat,
+        dt: f32,
+    ) -> Result<(), BodyError> {
+        let index = self.index_of(id)?;
+        if self.drive(index, position, rotation, dt) {
+            Ok(())
+        } else {
+            Err(BodyError::NotFinite {
+                id,
+                what: format!("position = {position}, rotation = {rotation}, dt = {dt}"),
+                extra: "; dt > 0",
+            })
+        }
+    }
+
+    /// Puts body `id` at `position` with `rotation` (world from local) at
+    /// once, without sweeping the grass in between: no sub-step is taken
+    /// along the jump, and the body is at rest there (no velocity, so no
+    /// Eq. 2 force from the jump). It stays there until moved again
+    /// ([`Simulation::move_body`], which then starts from here) or released
+    /// to its path ([`Simulation::release`]).
+    ///
+    /// # Errors
+    /// [`BodyError`] (and nothing changes) for an unknown id or a value
+    /// that is not finite.
+    pub fn teleport_body(
+        &mut self,
+        id: BodyId,
+        position: Vec3,
+        rotation: Quat,
+    ) -> Result<(), BodyError> {
+        let index = self.index_of(id)?;
+        if !(position.is_finite() && rotation.is_finite()) {
+            return Err(BodyError::NotFinite {
+                id,
+                what: format!("position = {position}, rotation = {rotation}"),
+                extra: "",
+            });
+        }
+        let t = self.time as f32;
+        let pose = Pose {
+            position,
+            rotation: rotation.normalize(),
+            velocity: Vec3::ZERO,
+            angular_velocity: Vec3::ZERO,
+        };
+        let body = &mut self.bodies[index];
+        // An empty span: `Drive::pose_at` is `to` at rest at every time.
+        body.drive = Some(Drive {
+            from: pose,
+            to: pose,
+            t0: t,
+            t1: t,
+        });
+        body.set_time(t);
+        Ok(())
     }
 
     /// Body `index` follows its path again (from its pose at the current
@@ -160,7 +242,7 @@ mod tests {
             pressed.len()
         );
         for &b in &pressed {
-            let root = bl.rest[b];
+            let root = bl.rest_vertex(b, 0);
             let on_path = Vec3::new(root.x.clamp(-0.5, 0.5), root.y, 0.0);
             let off = Vec3::from(root).distance(on_path);
             assert!(off <= 0.75, "blade {b} pressed down {off} m off the track");

@@ -1,5 +1,9 @@
 //! One simulation step (DESIGN §7) and the parameters and timings around it.
 
+pub mod blade_class;
+pub mod bodies;
+pub mod body;
+pub mod changes;
 mod collide;
 mod deform;
 pub mod drive;
@@ -10,8 +14,13 @@ pub mod rescan;
 pub mod simulation;
 pub mod stages;
 pub mod timings;
+pub mod view;
 
+pub use blade_class::BladeClass;
+pub use bodies::BodyError;
+pub use body::{Body, BodyId};
 pub use drive::Drive;
 pub use params::{SimError, SimParams};
-pub use simulation::{BladeClass, Simulation, SubstepClamp};
+pub use simulation::{Simulation, SubstepClamp};
 pub use timings::StepTimings;
+pub use view::{HostView, ViewError};

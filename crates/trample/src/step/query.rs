@@ -40,8 +40,8 @@ impl Simulation {
                     .for_each(|(i, out)| {
                         let b = range.start + i;
                         for (k, f) in out.iter_mut().enumerate() {
-                            let p0 = pose.to_local(Vec3::from(bl.rest[k * bl.count + b]));
-                            let p1 = pose.to_local(Vec3::from(bl.rest[(k + 1) * bl.count + b]));
+                            let p0 = pose.to_local(Vec3::from(bl.rest_vertex(b, k)));
+                            let p1 = pose.to_local(Vec3::from(bl.rest_vertex(b, k + 1)));
                             let hit = match mode {
                                 HitMode::Precision(d) => {
                                     collide_segment(p0, p1, &body.tree, d).is_some()

@@ -72,7 +72,9 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
         let flags = &mut sim.scratch.bent_flag;
         sim.scratch.bent_cells.retain(|&c| {
             let c = c as usize;
-            let done = recover_slope(&mut cells.slope[c], cells.slope_origin[c], h, &params[0]);
+            let mut slope = cells.slope[c];
+            let done = recover_slope(&mut slope, cells.slope_origin[c], h, &params[0]);
+            cells.set_slope(c, slope);
             if done {
                 flags[c] = false;
             }

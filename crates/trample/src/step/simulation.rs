@@ -1,78 +1,15 @@
 //! The simulation state and `Simulation::step` (DESIGN §7).
 
+use super::blade_class::BladeClass;
+use super::body::{Body, BodyId};
 use super::params::{SimError, SimParams, check_dt};
 use super::stages;
 use super::timings::StepTimings;
 use crate::camera::{Camera, CameraView};
-use crate::collision::broad_phase::world_obb;
-use crate::field::{Field, LodParams, cull_patches};
+use crate::field::{Field, LodParams};
 use crate::force::propagation::NO_GENERATION;
-use crate::obb::{Obb, ObbTree};
-use crate::object::{Object, Pose};
 use glam::Vec3;
 use std::time::Instant;
-
-/// What happened to a blade over the whole run (the `--dump-classes` values).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
-pub enum BladeClass {
-    /// Never touched.
-    Untouched = 0,
-    /// Hit directly by an object (DBG) in some frame.
-    Direct = 1,
-    /// Reached only by propagation (PBG).
-    Propagated = 2,
-}
-
-/// An object in the simulation: its mesh and motion, its OBB tree, and its
-/// pose at the current sub-step.
-#[derive(Clone, Debug)]
-pub struct Body {
-    /// Mesh, motion and name.
-    pub object: Object,
-    /// The HBV of the mesh (built once, off-line stage of the paper).
-    pub tree: ObbTree,
-    /// Pose at the latest sub-step.
-    pub pose: Pose,
-    /// The tree's root box in world space at that pose.
-    pub world_root: Obb,
-    /// Set while the caller drives the body ([`Simulation::drive`]): its
-    /// poses come from this instead of its path. `None` for scene objects.
-    pub drive: Option<super::drive::Drive>,
-}
-
-impl Body {
-    /// Builds the tree of `object` (to `max_depth`) and poses it at time 0.
-    #[must_use]
-    pub fn new(object: Object, max_depth: u32) -> Self {
-        let tree = ObbTree::build(&object.mesh, max_depth);
-        let pose = object.pose_at(0.0);
-        let world_root = world_obb(&tree.nodes[0].obb, &pose);
-        Self {
-            object,
-            tree,
-            pose,
-            world_root,
-            drive: None,
-        }
-    }
-
-    /// The pose at time `t`: from [`Body::drive`] while driven, else from
-    /// the object's path ([`Object::pose_at`]).
-    #[must_use]
-    pub fn pose_at(&self, t: f32) -> Pose {
-        match &self.drive {
-            Some(d) => d.pose_at(t),
-            None => self.object.pose_at(t),
-        }
-    }
-
-    /// Moves the body to its pose at time `t` ([`Body::pose_at`]).
-    pub fn set_time(&mut self, t: f32) {
-        self.pose = self.pose_at(t);
-        self.world_root = world_obb(&self.tree.nodes[0].obb, &self.pose);
-    }
-}
 
 /// Reusable per-blade and per-cell work memory of a step.
 #[derive(Clone, Debug, Default)]
@@ -110,7 +47,8 @@ pub struct Simulation {
     pub field: Field,
     /// The objects.
     pub bodies: Vec<Body>,
-    /// The camera (its eye is the LOD viewpoint).
+    /// The scene's camera (its eye is the LOD viewpoint unless a host view
+    /// is set: [`Simulation::set_view`]).
     pub camera: Camera,
     /// LOD distances.
     pub lod: LodParams,
@@ -120,14 +58,16 @@ pub struct Simulation {
     pub time: f64,
     /// Steps taken.
     pub frame: u64,
-    /// Per blade: [`BladeClass`] over the whole run.
-    pub class: Vec<u8>,
+    /// Per blade: what happened to it over the whole run.
+    pub class: Vec<BladeClass>,
     /// Per blade: generation in the latest sub-step (0 = DBG, 1.. = PBG,
     /// `NO_GENERATION` = untouched), for debug views.
     pub generation: Vec<u8>,
     /// Per patch: inside the view frustum at the end of the last step.
     pub visible: Vec<bool>,
-    /// The camera at the end of the last step.
+    /// The scene's camera at the end of the last step (see
+    /// [`Simulation::eye`] and [`Simulation::view_proj`] for the camera in
+    /// charge, which may be the host's).
     pub view: CameraView,
     /// Timers and counts of the last step.
     pub timings: StepTimings,
@@ -146,6 +86,10 @@ pub struct Simulation {
     /// `[sim]`'s `recovery_s` and `trail` (also for bodies past index 254).
     pub track_owner: Vec<u8>,
     pub(crate) scratch: Scratch,
+    /// The host's camera, in charge of LOD and culling when set.
+    pub(crate) host_view: Option<super::view::HostView>,
+    /// The id the next added body gets.
+    pub(crate) next_body_id: u32,
 }
 
 /// A step in which an object moved too far for `sim.max_substeps` (DESIGN
@@ -180,8 +124,9 @@ impl std::fmt::Display for SubstepClamp {
 }
 
 impl Simulation {
-    /// Assembles a simulation at time 0. Parameters must already be valid
-    /// (see [`crate::scene::Scene::build`]).
+    /// Assembles a simulation at time 0; the bodies get ids 0, 1, ... in
+    /// order. Parameters must already be valid: this does not check them
+    /// ([`crate::builder::SimulationBuilder::build`] does, then calls it).
     #[must_use]
     pub fn new(
         field: Field,
@@ -192,6 +137,11 @@ impl Simulation {
     ) -> Self {
         let blades = field.blades.count;
         let cells = field.layout.cell_count();
+        let mut bodies = bodies;
+        for (i, body) in bodies.iter_mut().enumerate() {
+            body.id = BodyId(i as u32);
+        }
+        let next_body_id = bodies.len() as u32;
         let positions: Vec<Vec3> = bodies.iter().map(|b| b.pose.position).collect();
         let view = camera.view_at(0.0, &positions);
         let mut sim = Self {
@@ -202,7 +152,7 @@ impl Simulation {
             params,
             time: 0.0,
             frame: 0,
-            class: vec![BladeClass::Untouched as u8; blades],
+            class: vec![BladeClass::Untouched; blades],
             generation: vec![NO_GENERATION; blades],
             visible: Vec::new(),
             view,
@@ -220,22 +170,13 @@ impl Simulation {
                 bent_flag: vec![false; cells],
                 ..Scratch::default()
             },
+            host_view: None,
+            next_body_id,
         };
         // Levels of detail and culling for the starting viewpoint, so a
         // simulation that is drawn before its first step shows the right thing.
-        let mut changes = Vec::new();
-        sim.timings.lod = crate::field::classify_cells(
-            &sim.field.layout,
-            &mut sim.field.cells,
-            view.eye,
-            &sim.lod,
-            &mut changes,
-        );
-        sim.timings.visible_patches = cull_patches(
-            &sim.field.layout.patch_list,
-            &view.frustum(),
-            &mut sim.visible,
-        );
+        sim.classify_at_rest();
+        sim.cull();
         sim
     }
 
@@ -270,7 +211,8 @@ impl Simulation {
     /// The start of a step of `dt` seconds, shared by the CPU path
     /// ([`Simulation::step`]) and the GPU path (STYLE rule 9: the loop both
     /// run is written once): checks `dt`, plans the sub-steps
-    /// ([`stages::plan_substeps`]) and, when the plan is clamped, counts it
+    /// ([`stages::plan_substeps`]), forgets the blades and cells the last
+    /// step changed, and, when the plan is clamped, counts it
     /// ([`Simulation::substep_clamps`]) and keeps the first
     /// ([`Simulation::first_substep_clamp`]). Run the sub-steps `1 ..=
     /// plan.substeps` ending at [`Simulation::substep_time`], then
@@ -280,6 +222,7 @@ impl Simulation {
     /// [`SimError`] for a `dt` that is not a finite number of seconds in (0, 10].
     pub fn begin_step(&mut self, dt: f32) -> Result<stages::SubstepPlan, SimError> {
         check_dt(dt)?;
+        self.field.clear_changes();
         let plan = stages::plan_substeps(self, dt);
         if plan.needed > plan.substeps {
             self.substep_clamps += 1;
@@ -307,16 +250,15 @@ impl Simulation {
     }
 
     /// The end of a step of `dt` seconds (see [`Simulation::begin_step`]):
-    /// time and frame advance, and the patches are culled for the last
-    /// sub-step's viewpoint. Returns how many patches are visible.
+    /// time and frame advance, the sets of changed blades and cells are
+    /// sorted ([`Simulation::changed_blades`]), and the patches are culled
+    /// for the camera in charge ([`Simulation::cull`]). Returns how many
+    /// patches are visible.
     pub fn end_step(&mut self, dt: f32) -> u32 {
         self.time += f64::from(dt);
         self.frame += 1;
-        cull_patches(
-            &self.field.layout.patch_list,
-            &self.view.frustum(),
-            &mut self.visible,
-        )
+        self.field.sort_changes();
+        self.cull()
     }
 
     /// Runs `frames` steps of the scene's `dt`.

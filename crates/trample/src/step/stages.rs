@@ -5,12 +5,13 @@
 //! and forces; `deform.rs`: bending, contact, billboards, transitions;
 //! `recover.rs`: recovery).
 
+use super::blade_class::BladeClass;
 use super::collide::{accumulate_contacts, narrow_phase};
 use super::deform::{
     apply_transitions, bend_billboards, bend_blades, cells_from_blades, resolve_contacts,
 };
 use super::recover::recover;
-use super::simulation::{BladeClass, Simulation, ms};
+use super::simulation::{Simulation, ms};
 use super::timings::StepTimings;
 use crate::collision::broad_phase::patches_hit;
 use crate::field::classify_cells;
@@ -95,13 +96,13 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
 
     // LOD per cell from the camera eye.
     let clock = Instant::now();
-    let positions: Vec<Vec3> = sim.bodies.iter().map(|b| b.pose.position).collect();
-    sim.view = sim.camera.view_at(t, &positions);
+    sim.update_view(t);
+    let eye = sim.eye();
     let mut changes = Vec::new();
     tm.lod = classify_cells(
         &sim.field.layout,
         &mut sim.field.cells,
-        sim.view.eye,
+        eye,
         &sim.lod,
         &mut changes,
     );
@@ -149,7 +150,7 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     let mut direct = 0;
     for &b in &dbg {
         if sim.scratch.weight[b as usize] >= DBG_WEIGHT {
-            sim.class[b as usize] = BladeClass::Direct as u8;
+            sim.class[b as usize] = BladeClass::Direct;
             direct += 1;
         }
     }
@@ -187,8 +188,8 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
             .map(|&s| sim.track_owner.get(s as usize).copied().unwrap_or(0))
             .collect();
         for (&b, owner) in prop.pbg[i..end].iter().zip(owners) {
-            if sim.class[b as usize] == BladeClass::Untouched as u8 {
-                sim.class[b as usize] = BladeClass::Propagated as u8;
+            if sim.class[b as usize] == BladeClass::Untouched {
+                sim.class[b as usize] = BladeClass::Propagated;
             }
             sim.track_owner[b as usize] = owner;
         }

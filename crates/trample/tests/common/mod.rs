@@ -52,12 +52,12 @@ pub fn tip_height(sim: &Simulation, b: usize) -> f32 {
 /// Rest height of blade `b`'s tip above its root.
 pub fn rest_tip_height(sim: &Simulation, b: usize) -> f32 {
     let bl = &sim.field.blades;
-    bl.rest[bl.segments * bl.count + b].y - bl.rest[b].y
+    bl.rest_vertex(b, bl.segments).y - bl.rest_vertex(b, 0).y
 }
 
 /// Root (x, z) of blade `b`.
 pub fn root_xz(sim: &Simulation, b: usize) -> (f32, f32) {
-    let r = sim.field.blades.rest[b];
+    let r = sim.field.blades.rest_vertex(b, 0);
     (r.x, r.z)
 }
 

@@ -187,6 +187,20 @@ pub enum ShapeParams {
         /// Outer diameter, metres (> 0).
         size_m: f32,
     },
+    /// Triangles given as values (a mesh built in code, or a small one
+    /// written into a scene file), metres, in the object's local frame
+    /// (the origin is kept). Sanitised like every mesh (DESIGN §9): NaN
+    /// coordinates and out-of-range indices are refused, degenerate and
+    /// duplicate triangles dropped. Code only: not a kind scene files know
+    /// (which keeps their list of kinds, and its messages, as it was).
+    #[serde(skip)]
+    Triangles {
+        /// Vertex positions, metres.
+        positions: Vec<[f32; 3]>,
+        /// Triangles as three indices into `positions`, counter-clockwise
+        /// seen from outside.
+        indices: Vec<[u32; 3]>,
+    },
     /// A mesh file: `.obj`, `.gltf` or `.glb`, relative to the scene file's
     /// folder and inside it (no absolute path, no `..` above it: see
     /// [`crate::paths`]), in metres (scale it otherwise). See
@@ -445,6 +459,13 @@ fn build_shape(
         &ShapeParams::Knot { size_m } => (
             shapes::knot(positive("shape.size_m", size_m)?),
             "built-in knot".into(),
+        ),
+        ShapeParams::Triangles { positions, indices } => (
+            TriMesh {
+                positions: positions.iter().map(|&p| Vec3::from_array(p)).collect(),
+                indices: indices.clone(),
+            },
+            "triangles given as values".into(),
         ),
         ShapeParams::Mesh { path, .. } => {
             let file = crate::paths::resolve_inside(base_dir, path).map_err(|reason| {

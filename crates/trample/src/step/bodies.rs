@@ -1,0 +1,110 @@
+//! Bodies joining and leaving a running simulation (issue 14), found by
+//! their stable [`BodyId`].
+//!
+//! A body added at time t is posed at t (its path's clock is simulation
+//! time: give it `start_s = t` to start its path now) and collides from the
+//! next step on; it appears where it is, without sweeping the grass on the
+//! way there. A removed body stops acting at once; the blades it left bent
+//! are displaced blades like any others and recover at the next steps with
+//! `sim.recovery_s` (with the paper's `recovery_s = inf` its track stays).
+
+use super::body::{Body, BodyId};
+use super::simulation::Simulation;
+use crate::camera::CameraTarget;
+
+/// A body operation that named a body the simulation does not have, or
+/// gave a pose that is not finite.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum BodyError {
+    /// No body has this id (never added, or removed).
+    #[error("{id}: no such body in the simulation (bodies: {known:?})")]
+    Unknown {
+        /// The id asked for.
+        id: BodyId,
+        /// The ids the simulation has.
+        known: Vec<u32>,
+    },
+    /// A position, rotation or time step with a NaN or infinite value.
+    #[error("{id}: {what}: every value must be finite{extra}")]
+    NotFinite {
+        /// The body.
+        id: BodyId,
+        /// What was given, e.g. `position = [NaN, 0, 0]`.
+        what: String,
+        /// More of what is allowed (e.g. `; dt > 0`).
+        extra: &'static str,
+    },
+}
+
+impl Simulation {
+    /// Adds `body` at the current time and returns its new id (never one a
+    /// removed body had). It is posed at the current time at once; it acts
+    /// on the grass from the next [`Simulation::step`].
+    pub fn add_body(&mut self, mut body: Body) -> BodyId {
+        let id = BodyId(self.next_body_id);
+        self.next_body_id = self.next_body_id.wrapping_add(1);
+        body.id = id;
+        body.set_time(self.time as f32);
+        self.bodies.push(body);
+        id
+    }
+
+    /// Removes the body `id` and gives it back. The blades it bent stay
+    /// displaced and recover normally, with `[sim]`'s `recovery_s` and
+    /// `trail` (its own track settings went with it); a scene camera that
+    /// followed it keeps looking where it was; the other bodies keep their
+    /// ids (and the blades they pressed, their track settings).
+    ///
+    /// # Errors
+    /// [`BodyError::Unknown`] when there is no such body.
+    pub fn remove_body(&mut self, id: BodyId) -> Result<Body, BodyError> {
+        let index = self.index_of(id)?;
+        let body = self.bodies.remove(index);
+        // `track_owner` holds 1 + a body's index: the removed body's blades
+        // fall back to `[sim]` (0), later bodies' move down by one.
+        let owner = index + 1;
+        for o in &mut self.track_owner {
+            let o_us = usize::from(*o);
+            if o_us == owner {
+                *o = 0;
+            } else if o_us > owner {
+                *o -= 1;
+            }
+        }
+        if let CameraTarget::Object(i) = self.camera.target {
+            self.camera.target = match i.cmp(&index) {
+                std::cmp::Ordering::Less => CameraTarget::Object(i),
+                std::cmp::Ordering::Equal => CameraTarget::Point(body.pose.position),
+                std::cmp::Ordering::Greater => CameraTarget::Object(i - 1),
+            };
+        }
+        Ok(body)
+    }
+
+    /// The body `id`, if the simulation has it.
+    #[must_use]
+    pub fn body(&self, id: BodyId) -> Option<&Body> {
+        self.bodies.iter().find(|b| b.id == id)
+    }
+
+    /// The body `id`, mutable (to change its parameters; see
+    /// [`Simulation::move_body`] and [`Simulation::teleport_body`] to move it).
+    pub fn body_mut(&mut self, id: BodyId) -> Option<&mut Body> {
+        self.bodies.iter_mut().find(|b| b.id == id)
+    }
+
+    /// Where the body `id` is in [`Simulation::bodies`] now (indices shift
+    /// when an earlier body is removed; ids do not).
+    ///
+    /// # Errors
+    /// [`BodyError::Unknown`] when there is no such body.
+    pub fn index_of(&self, id: BodyId) -> Result<usize, BodyError> {
+        self.bodies
+            .iter()
+            .position(|b| b.id == id)
+            .ok_or_else(|| BodyError::Unknown {
+                id,
+                known: self.bodies.iter().map(|b| b.id.0).collect(),
+            })
+    }
+}
