@@ -29,7 +29,7 @@
 //! the boxes grown by a **contact shell** (a blade is not a line: its
 //! half width reaches past its centre line), and a **weight** in [0, 1]
 //! per segment — how deep it reaches into the final-depth boxes
-//! ([`segment_depth_in_obb`]) over the shell's thickness. A grazing contact
+//! (`segment_depth_in_obb`) over the shell's thickness. A grazing contact
 //! has a weight near 0, so two states a few ulp apart, one hitting and one
 //! not, get forces a few ulp apart instead of 0 and a full-speed push. The
 //! push direction and the contact point are weighted by the nodes' weights
@@ -153,11 +153,11 @@ pub fn collide_segment(
 ///
 /// Weight of a final-depth node `j` hit: `w_j = min(1, reach_j / (shell +
 /// ramp_j))`. `reach_j` is how far the segment reaches into the node: its
-/// depth in the grown box ([`segment_depth_in_obb`], continuous in the
+/// depth in the grown box (`segment_depth_in_obb`, continuous in the
 /// segment) or, where the node's EqN is a reliable normal
 /// ([`ObbTree::eqn_unit`]), how far its deeper end lies below the node's
 /// surface patch (the plane through the box centre across EqN) and inside
-/// the mesh, plus the shell, if more (see [`below_patch`]). A
+/// the mesh, plus the shell, if more (see `below_patch`). A
 /// segment crossing the surface of a finely split mesh is barely inside any
 /// one thin box; this weighs it by how deep it really goes. A segment of a
 /// closed mesh that meets no final box but lies inside the mesh (then at

@@ -18,7 +18,7 @@
 //! an object resting on the ground lies flat under it, and comes out from
 //! under it where it is long enough. How pinned a point is goes from 0 to 1
 //! with how deep under the object the point just above it lies
-//! ([`pinned`]), so the two rules blend without a jump. One turn settles a
+//! (`pinned`), so the two rules blend without a jump. One turn settles a
 //! flat surface; for a curved one the vertices are tested again, up to
 //! [`CONTACT_ITERATIONS`] rounds, each round starting at the lowest vertex
 //! moved in the one before (vertices below it are final).
@@ -64,7 +64,7 @@ const LEAN_BIAS: f32 = 0.05;
 /// exact turn that would carry the end all of `|push|` along the push; the
 /// rounds of [`resolve_contact`] make up the difference). A push that
 /// opposes the segment (an object coming down on a blade's tip) cannot turn
-/// it by itself: it folds it towards `lean` (see [`LEAN_BIAS`]). A push a
+/// it by itself: it folds it towards `lean` (see `LEAN_BIAS`). A push a
 /// few ulp long turns the segment by a few ulp.
 #[must_use]
 pub fn turn_towards(dir: Vec3A, push: Vec3A, lean: Vec3A, len: f32) -> Vec3A {
