@@ -6,7 +6,8 @@
 //! next step on; it appears where it is, without sweeping the grass on the
 //! way there. A removed body stops acting at once; the blades it left bent
 //! are displaced blades like any others and recover at the next steps with
-//! `sim.recovery_s` (with the paper's `recovery_s = inf` its track stays).
+//! `[sim]`'s `recovery_s` and `trail` (its own track settings go with it;
+//! with the paper's `recovery_s = inf` its track stays).
 
 use super::body::{Body, BodyId};
 use super::simulation::Simulation;

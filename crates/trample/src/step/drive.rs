@@ -15,7 +15,9 @@
 //! there ([`Simulation::teleport_body`]: a respawn, a cut, a level load).
 //! A teleport does not sweep: the body is at the new pose at once, at
 //! rest; no sub-step lies between the two places and the jump is no
-//! velocity, so Eq. 2 gets no force from it.
+//! velocity, so Eq. 2 gets no force from it. The grass it lands in is
+//! held as under any body standing still (the contact response turns
+//! segments out of it); nothing between the two places is touched.
 
 use super::bodies::BodyError;
 use super::body::BodyId;
