@@ -33,7 +33,7 @@ use crate::object::Pose;
 
 /// How high above the ground guard a vertex still counts as on the ground,
 /// and how deep under an object the point this far above it must lie, for
-/// the vertex to be wholly pinned (see [`pinned`]), metres: 2 cm, four
+/// the vertex to be wholly pinned (see `pinned`), metres: 2 cm, four
 /// times the contact tolerance plus the guard's clearance. Narrower, the
 /// rule's gain turns ulps into millimetres; wider, it pins blades the
 /// object does not press.
