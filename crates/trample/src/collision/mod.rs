@@ -12,7 +12,9 @@ pub mod narrow_phase;
 pub mod segment_obb;
 pub mod segment_triangle;
 
-pub use broad_phase::{obb_overlaps_aabb, patches_hit, world_obb};
+pub use broad_phase::{
+    PatchRect, obb_overlaps_aabb, patch_rect, patches_hit, patches_under, world_obb,
+};
 pub use exact::{point_inside, segment_hits_exact};
 pub use narrow_phase::{
     BladeContacts, LocalMotion, SegmentContact, collide_blade, collide_segment, contact_blade,

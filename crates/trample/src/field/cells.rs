@@ -33,6 +33,12 @@ pub struct Cells {
     /// Cells whose level or slope the last step set
     /// ([`super::Field::changed_cells`]).
     pub(crate) changed: ChangeSet,
+    /// Per strip of patches ([`super::strips`]): the level shared by all its
+    /// patches' cells, if they share one (lets
+    /// [`super::lod::classify_cells`] skip settled strips).
+    pub strip_lod: Vec<Option<Lod>>,
+    /// Per strip: bounds of its patches' `patch_bounds`.
+    pub strip_bounds: Vec<(Vec3, Vec3)>,
 }
 
 impl Cells {
