@@ -348,7 +348,15 @@ impl GpuSimulation {
             self.cells.record_classify(&mut encoder, &cell_groups);
             laps.lap(device, queue, &mut encoder, Stage::Lod);
             if !self.objects.is_empty() {
-                self.broad.record(device, &mut encoder, &self.world_roots);
+                let obbs: Vec<_> = self.sim.bodies.iter().map(|b| b.world_root).collect();
+                self.broad.record(
+                    device,
+                    queue,
+                    &mut encoder,
+                    &self.world_roots,
+                    &self.sim.field.layout,
+                    &obbs,
+                );
                 laps.lap(device, queue, &mut encoder, Stage::Broad);
                 self.narrow.record(
                     device,

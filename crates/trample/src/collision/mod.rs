@@ -10,6 +10,7 @@ pub mod exact;
 pub mod inside_grid;
 pub mod narrow_phase;
 pub mod segment_obb;
+pub mod segment_obb_wide;
 pub mod segment_triangle;
 
 pub use broad_phase::{
@@ -21,4 +22,5 @@ pub use narrow_phase::{
     contact_segment,
 };
 pub use segment_obb::{segment_hits_box_local, segment_hits_obb};
+pub use segment_obb_wide::Segments4;
 pub use segment_triangle::{segment_crosses_triangle_interior, segment_hits_triangle};
