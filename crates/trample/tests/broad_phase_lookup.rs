@@ -132,7 +132,7 @@ fn grid_lookup_on_patch_borders_and_edges() {
                 };
                 let mut all = Vec::new();
                 patches_hit(&f.layout.patch_list, &obb, &mut all);
-                let index = (p.coord[1] * f.layout.patches[0] + p.coord[0]) as u32;
+                let index = p.coord[1] * f.layout.patches[0] + p.coord[0];
                 slack_hits += usize::from(all.contains(&index));
                 assert_same_lists(&f, &obb, "within slack");
             }

@@ -9,7 +9,9 @@ use std::path::Path;
 use trample::accuracy::measure_accuracy;
 use trample::scene::Scene;
 
-fn measure(scene: &str, times: &[f32]) {
+/// `max_fp_at_7`: the share of false positives allowed at precision 7 (the
+/// tree's splits and fit decide it; BENCHMARKS.md has the table).
+fn measure(scene: &str, times: &[f32], max_fp_at_7: f64) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes")
         .join(scene);
@@ -45,6 +47,13 @@ fn measure(scene: &str, times: &[f32]) {
         }
     }
     println!();
+    let at7 = acc.per_precision[6].false_positive_rate();
+    assert!(
+        at7 <= max_fp_at_7,
+        "{scene}: {:.1} % false positives at precision 7, allowed {:.1} %",
+        100.0 * at7,
+        100.0 * max_fp_at_7
+    );
     let (first, last) = (&acc.per_precision[0], &acc.per_precision[9]);
     assert!(
         last.false_positives < first.false_positives,
@@ -54,10 +63,14 @@ fn measure(scene: &str, times: &[f32]) {
 
 #[test]
 fn sphere_on_the_papers_field_never_misses_and_false_positives_fall() {
-    measure("default.toml", &[1.0, 4.0, 6.0, 9.0]);
+    // 5.6 % measured (6.5 % before the split between pieces and the wider
+    // orientation search, issue 16; its goal of 5 % is not reached).
+    measure("default.toml", &[1.0, 4.0, 6.0, 9.0], 0.06);
 }
 
 #[test]
 fn knot_on_the_papers_field_never_misses_and_false_positives_fall() {
-    measure("knot.toml", &[2.0, 4.0, 6.0, 8.0]);
+    // 18.4 % measured (59.7 % before the split between pieces, issue 16's
+    // goal is 20 %).
+    measure("knot.toml", &[2.0, 4.0, 6.0, 8.0], 0.20);
 }

@@ -246,8 +246,22 @@ fn sphere_pushes_blades_outwards_at_every_precision() {
         collide_segment(a, b, &tree, 1),
         "precision 0 is 1"
     );
-    // In the root box's corner but outside the sphere: precision 1 hits, depth does not.
-    let (a, b) = (Vec3::new(0.9, -0.95, 0.9), Vec3::new(0.9, -0.85, 0.9));
+    // In the root box's corner but outside the sphere: precision 1 hits, depth
+    // does not. (The corner towards (1, −1, 1), whatever the box's orientation.)
+    let root = tree.nodes[0].obb;
+    let corner = root
+        .corners()
+        .into_iter()
+        .max_by(|p, q| {
+            p.dot(Vec3::new(1.0, -1.0, 1.0))
+                .total_cmp(&q.dot(Vec3::new(1.0, -1.0, 1.0)))
+        })
+        .unwrap();
+    let (a, b) = (
+        root.center.lerp(corner, 0.93),
+        root.center.lerp(corner, 0.87),
+    );
+    assert!(a.length() > 1.3 && b.length() > 1.3, "outside the sphere");
     assert!(collide_segment(a, b, &tree, 1).is_some());
     assert!(collide_segment(a, b, &tree, 7).is_none());
     assert!(!segment_hits_exact(&tree, a, b));

@@ -23,12 +23,12 @@ use crate::object::Pose;
 /// Added to every `|R_ij|` of the SAT (Ericson §4.4.1): when an OBB edge is
 /// parallel to an AABB edge their cross product is ~0 and, unpadded, its
 /// rounding could report a false separation.
-const PARALLEL_PAD: f32 = 1e-6;
+pub const PARALLEL_PAD: f32 = 1e-6;
 
 /// Relative slack of every SAT comparison (of the sum of projected radii),
 /// so that boxes that touch, or overlap by a rounding error, count as
 /// overlapping: the broad phase must be conservative.
-const REL_SLACK: f32 = 1e-5;
+pub const REL_SLACK: f32 = 1e-5;
 
 /// The object-local box `local` moved to the world by `pose` (rotation and
 /// translation; the half extents are unchanged). A rotation that is not unit
@@ -150,7 +150,7 @@ impl PatchRect {
 /// [`REL_SLACK`] (the GPU path tests with twice it), so that every patch the
 /// slack lets through, and every rounding of the lookup's own arithmetic
 /// (a few ulps of the coordinates), is inside the rectangle.
-const LOOKUP_SLACK: f32 = 10.0 * REL_SLACK;
+pub const LOOKUP_SLACK: f32 = 10.0 * REL_SLACK;
 
 /// The patches whose box may meet `world_root` (world frame), found on the
 /// grid without visiting the others: those whose square, grown by

@@ -1,5 +1,5 @@
 //! Segment vs oriented box, four segments at once (issue 16, item 2): the
-//! test of [`super::segment_obb`] (paper §4.2, ref. [16]: Schneider &
+//! test of [`super::segment_obb`] (paper §4.2, ref. \[16\]: Schneider &
 //! Eberly's separating-axis form of the slab test) in structure-of-arrays
 //! form, one segment per lane of glam's SIMD `Vec4` (SSE2 on x86_64, NEON
 //! on aarch64, scalar elsewhere), no new dependency.

@@ -3,9 +3,10 @@
 //! direction a node pushes a blade (DESIGN §3 "EqN direction (ours)").
 //!
 //! Top-down, as in Gottschalk et al., *OBBTree* (SIGGRAPH 1996): fit a box to
-//! the node's triangles ([`fit_obb`]), split them by the plane through the
-//! mean of their centroids orthogonal to the box's longest axis, recurse;
-//! stop at one triangle or at the depth cap.
+//! the node's triangles ([`fit_obb`]), split them in two ([`super::split`]:
+//! between pieces that share no edge when there are such, else by the plane
+//! through the mean of their centroids orthogonal to the box's longest
+//! axis), recurse; stop at one triangle or at the depth cap.
 
 use crate::collision::exact::point_inside_by_ray;
 use crate::collision::inside_grid::InsideGrid;
@@ -15,6 +16,7 @@ use glam::{DVec3, Vec3};
 
 use super::fit::fit_obb;
 use super::node::{NO_CHILD, Obb, ObbNode, ObbTree};
+use super::split::{Topology, split};
 use crate::object::TriMesh;
 
 /// Default depth cap of [`ObbTree::build`]: deep enough that meshes of up to
@@ -50,10 +52,13 @@ impl ObbTree {
     ///   them, and by construction it contains its children's triangles; its
     ///   `eqn` is Eq. 3, `Σ S_i N_i / Σ S_i` (not normalised; zero when the
     ///   node's total area is zero).
-    /// - A node is split along its box's longest axis at the mean of its
-    ///   triangle centroids projected on it; if one side would be empty, along
-    ///   the other axes in order of decreasing extent; if still empty (all
-    ///   centroids equal), at the median. A node is a leaf when it holds one
+    /// - A node whose triangles form two or more pieces that share no edge
+    ///   (each with ≥ [`super::split::PIECE_SHARE`] of them) is split between
+    ///   pieces, at the cut of least segment-hit cost; any other along its
+    ///   box's longest axis at the mean of its triangle centroids projected
+    ///   on it; if one side would be empty, along the other axes in order of
+    ///   decreasing extent; if still empty (all centroids equal), at the
+    ///   median ([`super::split`]). A node is a leaf when it holds one
     ///   triangle or its depth is `max_depth` (clamped to
     ///   `1..=`[`MAX_TREE_DEPTH`]).
     /// - `triangles` are the mesh's triangles reordered so that every node's
@@ -80,6 +85,8 @@ impl ObbTree {
             }
         }
         let closed = all_valid && is_closed(mesh);
+        let mut topology = Topology::new(&triangles);
+        let mut ids: Vec<u32> = (0..triangles.len() as u32).collect();
 
         let mut nodes = vec![make_node(&triangles, 0, triangles.len())];
         let mut pending = vec![0usize];
@@ -95,7 +102,13 @@ impl ObbTree {
                 continue;
             }
             let (first, count) = (first_tri as usize, tri_count as usize);
-            let left_count = split(&mut triangles[first..first + count], &obb);
+            let range = first..first + count;
+            let left_count = split(
+                &mut triangles[range.clone()],
+                &mut ids[range],
+                &obb,
+                &mut topology,
+            );
             let left = nodes.len();
             nodes.push(make_node(&triangles, first, left_count));
             nodes.push(make_node(
@@ -121,6 +134,7 @@ impl ObbTree {
             triangles,
             closed,
             max_depth,
+            nested: false,
             inside: None,
             reach: Vec::new(),
         };
@@ -273,42 +287,6 @@ pub(crate) fn equivalent_normal_from_sums(weighted: DVec3, area: f64) -> Vec3 {
     } else {
         Vec3::ZERO
     }
-}
-
-/// Reorders `tris` (at least two) into a left and a right part, both
-/// non-empty, and returns the size of the left part. See [`ObbTree::build`].
-fn split(tris: &mut [[Vec3; 3]], obb: &Obb) -> usize {
-    let centroid = |t: &[Vec3; 3]| (t[0] + t[1] + t[2]) / 3.0;
-    let mut axes = [0usize, 1, 2];
-    axes.sort_by(|&a, &b| obb.half[b].total_cmp(&obb.half[a]));
-    for &k in &axes {
-        let axis = obb.axes[k];
-        let mean = tris.iter().map(|t| centroid(t).dot(axis)).sum::<f32>() / tris.len() as f32;
-        let left = partition(tris, |t| centroid(t).dot(axis) < mean);
-        if left > 0 && left < tris.len() {
-            return left;
-        }
-    }
-    // All centroids project to the same value on every axis: median split.
-    let axis = obb.axes[axes[0]];
-    let mid = tris.len() / 2;
-    tris.select_nth_unstable_by(mid, |a, b| {
-        centroid(a).dot(axis).total_cmp(&centroid(b).dot(axis))
-    });
-    mid
-}
-
-/// Moves the elements for which `is_left` holds to the front (order not
-/// kept, deterministic) and returns how many there are.
-fn partition(tris: &mut [[Vec3; 3]], is_left: impl Fn(&[Vec3; 3]) -> bool) -> usize {
-    let mut left = 0;
-    for i in 0..tris.len() {
-        if is_left(&tris[i]) {
-            tris.swap(left, i);
-            left += 1;
-        }
-    }
-    left
 }
 
 /// True when every undirected edge, vertices identified by position, is used

@@ -11,13 +11,18 @@
 //! axes towards itself as it would with vertex covariance). The extents are
 //! then exact: every triangle corner is projected on the axes.
 //!
-//! Two additions (ours):
+//! Three additions (ours):
 //! - the world-axis box of the same corners is fitted too and the one with
 //!   the smaller surface area is kept. By Cauchy–Crofton, the probability
 //!   that a random line meets a convex body is proportional to its surface
 //!   area, so this is the box that fewer blade segments hit; it also fixes
 //!   the classic failure of covariance fitting on shapes whose covariance is
 //!   isotropic (a cube, a sphere), where any basis is an eigenbasis.
+//! - around each covariance axis and each world axis, the other two axes
+//!   that give the smallest surface ([`super::calipers`]: the rectangle
+//!   flush with a hull edge of the corners projected on the plane ⊥ that
+//!   axis) are tried too (issue 16). Measured on the knot at depth 7 it
+//!   cut false positives by 5 points with the old splits (60 → 55 %).
 //! - a tiny padding, see [`padding`].
 //!
 //! The covariance and its eigen-decomposition are computed in `f64` (this is
@@ -25,6 +30,7 @@
 
 use glam::{DVec3, Vec3};
 
+use super::calipers::min_surface_axes;
 use super::node::Obb;
 
 /// Relative padding of every half extent, as a fraction of the box's largest
@@ -57,10 +63,12 @@ pub fn padding(max_half: f32, center: Vec3) -> f32 {
 
 /// Fits an oriented bounding box to `triangles` (object-local frame).
 ///
-/// Axes: eigenvectors of the area-weighted continuous covariance of the
-/// triangles (Gottschalk et al. 1996), ordered by decreasing variance,
-/// orthonormalised and right-handed (`w = u × v`); or the world axes when
-/// that box has the smaller surface area, when all triangles have zero area
+/// Axes: of the boxes with the eigenvectors of the area-weighted continuous
+/// covariance of the triangles (Gottschalk et al. 1996; ordered by
+/// decreasing variance, orthonormalised, right-handed `w = u × v`), with
+/// the world axes, and with [`super::calipers::min_surface_axes`] around
+/// each of those six axes, the one of smallest surface area (the first of
+/// them on a tie). The world axes alone when all triangles have zero area
 /// and the corners do not define a covariance, or when the decomposition is
 /// not finite. Extents: exact projection of all corners, plus [`padding`].
 ///
@@ -79,17 +87,23 @@ pub fn fit_obb(triangles: &[[Vec3; 3]]) -> Obb {
         };
     }
     let reference = corner_bounds_centre(triangles);
-    let world = extents_along(triangles, WORLD_AXES, reference);
     let Some(axes) = covariance_axes(triangles, reference) else {
-        return world.padded();
+        return extents_along(triangles, WORLD_AXES, reference).padded();
     };
-    let fitted = extents_along(triangles, axes, reference);
-    // Strictly smaller only: on a tie the covariance box is kept.
-    if world.surface_area() < fitted.surface_area() {
-        world.padded()
-    } else {
-        fitted.padded()
+    let points: Vec<Vec3> = triangles.iter().flatten().map(|p| *p - reference).collect();
+    let turned = axes
+        .into_iter()
+        .chain(WORLD_AXES)
+        .filter_map(|u| min_surface_axes(&points, u));
+    // Strictly smaller only: on a tie the earlier box (covariance first) is kept.
+    let mut best = extents_along(triangles, axes, reference);
+    for candidate in std::iter::once(WORLD_AXES).chain(turned) {
+        let b = extents_along(triangles, candidate, reference);
+        if b.surface_area() < best.surface_area() {
+            best = b;
+        }
     }
+    best.padded()
 }
 
 /// The world axes x, y, z.
@@ -240,7 +254,7 @@ fn symmetric_from_upper(f: impl Fn(usize, usize) -> f64) -> [[f64; 3]; 3] {
 const JACOBI_TOLERANCE: f64 = 1e-6;
 
 /// Most Jacobi sweeps; a 3×3 matrix converges quadratically in 4–6.
-const JACOBI_MAX_SWEEPS: usize = 32;
+pub const JACOBI_MAX_SWEEPS: usize = 32;
 
 /// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations
 /// (Golub & Van Loan, *Matrix Computations*, §8.5). Returns the eigenvalues

@@ -256,7 +256,9 @@ impl ObbTree {
     /// The boxes are padded as [`super::fit::fit_obb`] pads them, so
     /// [`ObbTree::validate`] holds afterwards; topology, triangle ranges,
     /// depths and `closed` are unchanged; the reach boxes
-    /// ([`super::reach`]) are recomputed from the new boxes.
+    /// ([`super::reach`]) are recomputed from the new boxes, and a
+    /// [`ObbTree::nested`] tree has its boxes grown again
+    /// ([`ObbTree::nest_boxes`]).
     ///
     /// The inside grid is dropped (`inside = None`): rebuilding it casts one
     /// ray per empty voxel (≈ 14 k rays, milliseconds: a whole step's
@@ -348,7 +350,12 @@ impl ObbTree {
                 scratch.sums[i as usize] = sum;
             }
         }
-        self.reach = super::reach::reach_boxes(&self.nodes);
+        if self.nested {
+            // A nested tree stays nested (the refitted boxes grown again).
+            self.nest_boxes();
+        } else {
+            self.reach = super::reach::reach_boxes(&self.nodes);
+        }
         Ok(())
     }
 }
