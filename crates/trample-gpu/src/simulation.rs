@@ -502,6 +502,8 @@ impl GpuSimulation {
             };
             cells.slope[c] = glam::Vec3::new(slopes[c][0], slopes[c][1], slopes[c][2]);
         }
+        // The levels were written here, not by `classify_cells`.
+        cells.levels_written(&self.sim.field.layout);
         self.sync_counters(device, queue)?;
         // The CPU step recovers only the blades and billboards it knows are
         // away from rest: rebuild those sets from the field read back.

@@ -11,7 +11,7 @@ use common::Rng;
 use glam::Vec3;
 use glam::camera::rh::{proj::directx::perspective, view::look_at_mat4};
 use trample::field::{
-    Field, FieldParams, Frustum, LodParams, Terrain, classify_cells, classify_cells_by_patch,
+    Field, FieldParams, Frustum, Lod, LodParams, Terrain, classify_cells, classify_cells_by_patch,
     cull_patches, cull_patches_each,
 };
 
@@ -79,6 +79,44 @@ fn lod_by_strips_equals_lod_by_patch() {
         changed > 10_000 && settled_steps > 100,
         "{changed} changes, {settled_steps} still steps"
     );
+}
+
+/// Every cell at the level of its own distance to `eye` (the specification).
+fn assert_levels(f: &Field, eye: Vec3, lod: &LodParams, what: &str) {
+    for (c, base) in f.cells.base.iter().enumerate() {
+        assert_eq!(f.cells.lod[c], lod.level(base.distance(eye)), "{what}: cell {c}");
+    }
+}
+
+/// The last classification is reused only for the same viewpoint and the
+/// same distances: new distances at the same eye classify again, and
+/// levels written another way (as a GPU read-back writes them) followed by
+/// `Cells::levels_written` are put right by the next classification, even
+/// where a patch or strip looked settled before.
+#[test]
+fn reuse_is_keyed_by_viewpoint_and_distances() {
+    let mut f = field();
+    let eye = Vec3::new(0.5, 1.0, -0.3);
+    let near = LodParams {
+        geometry_m: 2.0,
+        billboard_m: 5.0,
+    };
+    let far = LodParams {
+        geometry_m: 6.0,
+        billboard_m: 12.0,
+    };
+    let mut changes = Vec::new();
+    classify_cells(&f.layout, &mut f.cells, eye, &near, &mut changes);
+    assert_levels(&f, eye, &near, "first pass");
+    changes.clear();
+    classify_cells(&f.layout, &mut f.cells, eye, &far, &mut changes);
+    assert!(!changes.is_empty());
+    assert_levels(&f, eye, &far, "same eye, new distances");
+    f.cells.lod.fill(Lod::Geometry);
+    f.cells.levels_written(&f.layout);
+    changes.clear();
+    classify_cells(&f.layout, &mut f.cells, eye, &far, &mut changes);
+    assert_levels(&f, eye, &far, "after levels written elsewhere");
 }
 
 #[test]

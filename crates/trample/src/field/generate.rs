@@ -322,6 +322,7 @@ fn rest_cells(layout: &FieldLayout, blades: &Blades, terrain: &Terrain) -> Cells
         lod: vec![Lod::Texture; layout.cell_count()],
         patch_lod: vec![Some(Lod::Texture); layout.patch_list.len()],
         strip_lod: vec![Some(Lod::Texture); strip_bounds.len()],
+        last_classified: None,
         strip_bounds,
         patch_bounds,
         base,

@@ -143,9 +143,10 @@ impl LodParams {
 /// storage order. Strips of patches ([`super::strips`]) and patches wholly
 /// inside one distance band are settled without visiting their cells, so
 /// the cost follows the band edges, not the field size: on a 128 × 128-patch
-/// field a settled step looks at 1,024 strip boxes. The result is the same,
-/// bit for bit, as [`classify_cells_by_patch`]'s, which visits every patch
-/// (tested).
+/// field a settled step looks at 1,024 strip boxes. The same viewpoint and
+/// distances as the last call cost nothing (`Cells::last_classified`). The
+/// result is the same, bit for bit, as [`classify_cells_by_patch`]'s, which
+/// visits every patch (tested).
 pub fn classify_cells(
     layout: &FieldLayout,
     cells: &mut Cells,
@@ -153,6 +154,12 @@ pub fn classify_cells(
     params: &LodParams,
     changes: &mut Vec<LodChange>,
 ) -> LodCounts {
+    if let Some((v, p, counts)) = &cells.last_classified
+        && *v == viewpoint
+        && p == params
+    {
+        return *counts;
+    }
     let per_patch = layout.cells_in_patch();
     let row_patches = layout.patches[0] as usize;
     let row_strips = strips_per_row(layout.patches[0]);
@@ -217,7 +224,9 @@ pub fn classify_cells(
             },
         )
         .collect();
-    merge(results, &mut cells.changed, changes)
+    let counts = merge(results, &mut cells.changed, changes);
+    cells.last_classified = Some((viewpoint, params.clone(), counts));
+    counts
 }
 
 /// [`classify_cells`] visiting every patch (no strips): the reference it is
@@ -232,6 +241,7 @@ pub fn classify_cells_by_patch(
     changes: &mut Vec<LodChange>,
 ) -> LodCounts {
     let per_patch = layout.cells_in_patch();
+    cells.last_classified = None;
     let results: Vec<(LodCounts, Vec<LodChange>)> = cells
         .lod
         .par_chunks_mut(per_patch)
