@@ -12,8 +12,8 @@
 //! is the box's surface `w·v + h·(w + v)` (rectangle sides `w`, `v`, extent
 //! `h` along `u`), and every hull edge's orientation is evaluated.
 //!
-//! [`super::fit::fit_obb`] calls it around the covariance and world axes
-//! and keeps the smallest of all the boxes it gets; the extents are then
+//! [`super::fit::fit_obb`] calls it around the covariance axes and keeps
+//! the smallest of all the boxes it gets; the extents are then
 //! computed exactly from every corner, so the search only proposes axes and
 //! may work on a subsample.
 

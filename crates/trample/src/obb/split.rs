@@ -67,27 +67,40 @@ pub(super) struct Topology {
     slot: Vec<u32>,
     /// Nodes split so far.
     visits: u32,
+    /// Every undirected edge is used by exactly two triangles, no triangle
+    /// has two equal corners, and there is at least one triangle.
+    pub(super) every_edge_twice: bool,
 }
 
 impl Topology {
     /// The edge neighbours of `triangles` (mesh order), vertices identified
-    /// by position (−0.0 = +0.0).
+    /// by position (−0.0 = +0.0), and whether they close a surface.
     pub(super) fn new(triangles: &[[Vec3; 3]]) -> Self {
         let key = |p: Vec3| (p + Vec3::ZERO).to_array().map(f32::to_bits);
-        let mut edges: HashMap<(VertexKey, VertexKey), Vec<(u32, usize)>> =
+        // Per undirected edge: its first two (triangle, edge) uses and how
+        // many triangles use it (no allocation per edge).
+        type Uses = ([(u32, usize); 2], u32);
+        let mut edges: HashMap<(VertexKey, VertexKey), Uses> =
             HashMap::with_capacity(triangles.len() * 2);
+        let mut every_edge_twice = !triangles.is_empty();
         for (t, tri) in triangles.iter().enumerate() {
             for e in 0..3 {
                 let (a, b) = (key(tri[e]), key(tri[(e + 1) % 3]));
+                every_edge_twice &= a != b;
                 if a != b {
                     let edge = if a < b { (a, b) } else { (b, a) };
-                    edges.entry(edge).or_default().push((t as u32, e));
+                    let uses = edges.entry(edge).or_insert(([(0, 0); 2], 0));
+                    if uses.1 < 2 {
+                        uses.0[uses.1 as usize] = (t as u32, e);
+                    }
+                    uses.1 += 1;
                 }
             }
         }
         let mut neighbours = vec![[NONE; 3]; triangles.len()];
-        for list in edges.values() {
-            if let [(a, ea), (b, eb)] = list[..] {
+        for ([(a, ea), (b, eb)], count) in edges.into_values() {
+            every_edge_twice &= count == 2;
+            if count == 2 {
                 neighbours[a as usize][ea] = b;
                 neighbours[b as usize][eb] = a;
             }
@@ -97,6 +110,7 @@ impl Topology {
             stamp: vec![u32::MAX; triangles.len()],
             slot: vec![0; triangles.len()],
             visits: 0,
+            every_edge_twice,
         }
     }
 
