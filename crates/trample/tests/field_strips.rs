@@ -84,7 +84,11 @@ fn lod_by_strips_equals_lod_by_patch() {
 /// Every cell at the level of its own distance to `eye` (the specification).
 fn assert_levels(f: &Field, eye: Vec3, lod: &LodParams, what: &str) {
     for (c, base) in f.cells.base.iter().enumerate() {
-        assert_eq!(f.cells.lod[c], lod.level(base.distance(eye)), "{what}: cell {c}");
+        assert_eq!(
+            f.cells.lod[c],
+            lod.level(base.distance(eye)),
+            "{what}: cell {c}"
+        );
     }
 }
 

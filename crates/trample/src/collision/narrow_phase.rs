@@ -219,9 +219,15 @@ pub fn contact_segment(
             // The below-patch depth only matters where it can raise the
             // weight: the box depth is short of `full` (weight < 1).
             let reach = match tree.eqn_unit(i) {
-                Some(n) if depth < full => {
-                    depth.max(below_patch(node.obb.center, n, p0, p1, shell, depth, &mut pen))
-                }
+                Some(n) if depth < full => depth.max(below_patch(
+                    node.obb.center,
+                    n,
+                    p0,
+                    p1,
+                    shell,
+                    depth,
+                    &mut pen,
+                )),
                 _ => depth,
             };
             let w = (reach / full).min(1.0);

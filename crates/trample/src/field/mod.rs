@@ -24,7 +24,9 @@ pub use changes::ChangeSet;
 pub use field::Field;
 pub use frustum::{Frustum, cull_patches, cull_patches_each};
 pub use layout::{FieldLayout, NO_NEIGHBOUR, Patch};
-pub use lod::{Lod, LodChange, LodCounts, LodError, LodParams, classify_cells, classify_cells_by_patch};
+pub use lod::{
+    Lod, LodChange, LodCounts, LodError, LodParams, classify_cells, classify_cells_by_patch,
+};
 pub use maps::{GrassMap, GrassMapParams, GrassMaps, MapError};
 pub use params::{FieldError, FieldParams, TerrainParams};
 pub use terrain::{Terrain, TerrainError};

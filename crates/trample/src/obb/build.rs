@@ -32,6 +32,15 @@ pub const SEARCH_DEPTH: u32 = 12;
 /// See [`SEARCH_DEPTH`].
 pub const SEARCH_TRIANGLES: usize = 4;
 
+/// Whether a node at `depth` (root = 1) of `count` triangles gets the
+/// orientation search ([`SEARCH_DEPTH`], [`SEARCH_TRIANGLES`]): the rule
+/// of the build and of [`ObbTree::refit`] with `AxisRule::Fit`, so that a
+/// refit at the bind pose fits the boxes the build fitted.
+#[must_use]
+pub fn searched_at(depth: u32, count: usize) -> bool {
+    depth <= SEARCH_DEPTH || count <= SEARCH_TRIANGLES
+}
+
 /// Default depth cap of [`ObbTree::build`]: deep enough that meshes of up to
 /// 2³¹ triangles get one triangle per leaf with balanced splits, and well past
 /// the paper's precision range 1–7 (§7, Fig. 12).
@@ -251,7 +260,7 @@ fn smallest_axis_up(obb: &Obb) -> Vec3 {
 fn make_node(triangles: &[[Vec3; 3]], first: usize, count: usize, depth: u32) -> ObbNode {
     let tris = &triangles[first..first + count];
     ObbNode {
-        obb: fit_obb_searched(tris, depth <= SEARCH_DEPTH || count <= SEARCH_TRIANGLES),
+        obb: fit_obb_searched(tris, searched_at(depth, count)),
         eqn: equivalent_normal(tris),
         children: [NO_CHILD; 2],
         first_tri: first as u32,

@@ -101,7 +101,16 @@ pub fn fit_obb_searched(triangles: &[[Vec3; 3]], search: bool) -> Obb {
     let Some(axes) = covariance_axes(triangles, reference) else {
         return extents_along(triangles, WORLD_AXES, reference).padded();
     };
-    let turned: Vec<[Vec3; 3]> = if search {
+    let covariance = extents_along(triangles, axes, reference);
+    // A flat node (its covariance box as thin as rounding) keeps its
+    // covariance rectangle: the search would only turn it in its plane,
+    // flush with a hull edge, which puts box edges exactly on the
+    // neighbouring boxes' and makes ties of grazing segments common
+    // (measured, GPU against CPU on the busy scene, 200 frames on
+    // llvmpipe: worst vertex 3.6e-3 m with flat nodes searched, 3.5e-5 m
+    // without; the accuracy goals hold either way).
+    let flat = covariance.half.min_element() <= FLAT * covariance.half.max_element();
+    let turned: Vec<[Vec3; 3]> = if search && !flat {
         let points: Vec<Vec3> = triangles.iter().flatten().map(|p| *p - reference).collect();
         axes.into_iter()
             .filter_map(|u| min_surface_axes(&points, u))
@@ -110,7 +119,7 @@ pub fn fit_obb_searched(triangles: &[[Vec3; 3]], search: bool) -> Obb {
         Vec::new()
     };
     // Strictly smaller only: on a tie the earlier box (covariance first) is kept.
-    let mut best = extents_along(triangles, axes, reference);
+    let mut best = covariance;
     for candidate in std::iter::once(WORLD_AXES).chain(turned) {
         let b = extents_along(triangles, candidate, reference);
         if b.surface_area() < best.surface_area() {
@@ -119,6 +128,10 @@ pub fn fit_obb_searched(triangles: &[[Vec3; 3]], search: bool) -> Obb {
     }
     best.padded()
 }
+
+/// Thickness, relative to the largest extent, below which a covariance box
+/// counts as flat in [`fit_obb_searched`] (a few ulps of the projections).
+const FLAT: f32 = 1e-5;
 
 /// The world axes x, y, z.
 const WORLD_AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];

@@ -45,7 +45,11 @@ pub fn reach_boxes(nodes: &[ObbNode]) -> Vec<Obb> {
 /// tolerance. Shared by the reach boxes and [`super::ObbTree::nest_boxes`].
 #[must_use]
 pub fn box_holding(own: &Obb, points: &[Vec3]) -> Obb {
-    let holds = |o: &Obb| points.iter().all(|p| o.to_box(*p).abs().cmple(o.half).all());
+    let holds = |o: &Obb| {
+        points
+            .iter()
+            .all(|p| o.to_box(*p).abs().cmple(o.half).all())
+    };
     let (mut lo, mut hi) = (-own.half, own.half);
     for p in points {
         let q = own.to_box(*p);
