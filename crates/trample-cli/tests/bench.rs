@@ -3,7 +3,8 @@
 //! never grow with precision), `--render` adds simulation + rendering frame
 //! rates, `--backend both` times the GPU path beside the CPU path on the
 //! same frames, `--scaling --backend both` puts GPU points beside the CPU
-//! ones, and bad flags fail in one line.
+//! ones, `--objects --backend both` times the step against the object
+//! count on both paths, and bad flags fail in one line.
 
 mod common;
 
@@ -102,8 +103,13 @@ fn paths_not_built_yet_and_bad_flags_fail_in_one_line() {
     let d = dir("errors");
     let out = d.join("out");
     let out = out.to_str().unwrap();
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 9] = [
         (&["--render", "--scaling"], "--render: not with --scaling"),
+        (
+            &["--render", "--objects"],
+            "--render: not with --scaling or --objects",
+        ),
+        (&["--scaling", "--objects"], "--objects"),
         (
             &["--max-blades", "1000"],
             "--max-blades / --max-triangles: only with --scaling",
@@ -293,5 +299,105 @@ fn scaling_with_both_backends_has_gpu_points_beside_the_cpu_ones() {
     );
     assert_chart(&out.join("scaling_blades.png"));
     assert_chart(&out.join("scaling_triangles.png"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn objects_series_times_each_count_on_both_paths() {
+    let d = dir("objects");
+    let out = d.join("out");
+    let scene = d.join("three.toml");
+    // Three objects circling in the grass near the camera.
+    std::fs::write(
+        &scene,
+        r#"
+name = "three"
+[field]
+patches = [6, 6]
+cells_per_patch = 8
+[lod]
+geometry_m = 100.0
+billboard_m = 200.0
+[sim]
+precision = 3
+[camera]
+path = { kind = "static", position = [0.0, 3.0, -4.0] }
+look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
+[[objects]]
+name = "ball"
+shape = { kind = "sphere", radius_m = 0.3 }
+orientation = "rolling"
+path = { kind = "circle", center = [-1.0, 0.3, 0.0], radius_m = 0.6, period_s = 2.0 }
+[[objects]]
+name = "crate"
+shape = { kind = "box", half_extents_m = [0.2, 0.2, 0.3] }
+orientation = "face_motion"
+path = { kind = "circle", center = [1.0, 0.2, 0.5], radius_m = 0.5, period_s = 2.5 }
+[[objects]]
+name = "knot"
+shape = { kind = "knot", size_m = 0.8 }
+path = { kind = "circle", center = [0.0, 0.25, -1.2], radius_m = 0.5, period_s = 3.0 }
+"#,
+    )
+    .unwrap();
+    let o = trample(&[
+        "bench",
+        scene.to_str().unwrap(),
+        "--objects",
+        "--frames",
+        "6",
+        "--backend",
+        "both",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("Step time against objects"), "{table}");
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("objects.json")).unwrap()).unwrap();
+    assert_eq!(r["backend"], "both");
+    assert_eq!(r["blades"], 6 * 6 * 64);
+    let points = r["points"].as_array().unwrap();
+    let got: Vec<(&str, u64)> = points
+        .iter()
+        .map(|p| {
+            (
+                p["backend"].as_str().unwrap(),
+                p["objects"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            ("cpu", 1),
+            ("gpu", 1),
+            ("cpu", 2),
+            ("gpu", 2),
+            ("cpu", 3),
+            ("gpu", 3)
+        ]
+    );
+    let mut last_tris = 0;
+    for pair in points.chunks(2) {
+        // The same frames on both paths: the same blades hit directly.
+        assert_eq!(
+            pair[0]["dbg_blades_mean"], pair[1]["dbg_blades_mean"],
+            "{pair:?}"
+        );
+        assert!(
+            pair[0]["dbg_blades_mean"].as_f64().unwrap() > 0.0,
+            "{pair:?}"
+        );
+        assert_eq!(pair[0]["precision"], 7, "the series' default precision");
+        for p in pair {
+            assert!(p["step_ms"]["median"].as_f64().unwrap() > 0.0, "{p}");
+        }
+        let tris = pair[0]["triangles"].as_u64().unwrap();
+        assert!(tris > last_tris);
+        last_tris = tris;
+    }
+    assert_chart(&out.join("objects.png"));
     std::fs::remove_dir_all(&d).unwrap();
 }

@@ -1,15 +1,22 @@
 //! Broad phase on the GPU (paper §4 stage 2, DESIGN §4.1): dispatches
-//! `broad_phase.wgsl`. One thread per patch tests its AABB against every
-//! object's root box (`trample::collision::obb_overlaps_aabb`, with twice
-//! its slack, so the GPU's list holds every patch the CPU's does); hit
-//! patches are listed per chunk, and a second pass writes each chunk's
-//! indirect dispatch for the narrow phase, which then runs only over the
-//! blades of listed patches (no read-back). The narrow phase's root-box test
-//! and the CPU's reach-rectangle filter are both conservative, so the hits
-//! are the same as the CPU's.
+//! `broad_phase.wgsl`. As on the CPU (`trample::collision::patches_under`),
+//! each object's world root box gives the rectangle of patches under it by
+//! a grid lookup (`trample::collision::patch_rect`, on the CPU with the
+//! poses, a few numbers per object uploaded each sub-step); one thread per
+//! (object, patch of its rectangle) tests the patch's AABB against the box
+//! (`trample::collision::obb_overlaps_aabb`, with twice its slack, so the
+//! GPU's list holds every patch the CPU's does). The cost follows what the
+//! objects cover, not patches × objects (issue 16). A hit patch is listed
+//! once per chunk (a per-patch mark dedups objects that share it), and a
+//! second pass writes each chunk's indirect dispatch for the narrow phase,
+//! which then runs only over the blades of listed patches (no read-back).
+//! The narrow phase's root-box test and the CPU's reach-rectangle filter
+//! are both conservative, so the hits are the same as the CPU's.
 
 use bytemuck::{Pod, Zeroable};
+use trample::collision::patch_rect;
 use trample::field::FieldLayout;
+use trample::obb::Obb;
 use wgpu::util::DeviceExt;
 
 use crate::field::GpuField;
@@ -26,7 +33,7 @@ pub fn source() -> String {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct GpuBroadParams {
-    /// Patches, patches per chunk (all but the last), chunks, objects.
+    /// Patches, patches per chunk (all but the last), chunks, patches along x.
     pub counts: [u32; 4],
     /// Blades per patch, max workgroups per dimension, unused ×2.
     pub dispatch: [u32; 4],
@@ -37,21 +44,57 @@ pub struct BroadPhase {
     kernel: Kernel,
     params: wgpu::Buffer,
     patch_aabbs: wgpu::Buffer,
-    /// The per-chunk patch lists, then the per-chunk counts (see the WGSL).
+    /// Per sub-step: the candidate count and each object's patch rectangle
+    /// (see [`GpuPatchRect`]).
+    rects: wgpu::Buffer,
+    /// The per-chunk patch lists, then the per-chunk counts, then a mark
+    /// per patch (see the WGSL).
     pub(crate) lists: wgpu::Buffer,
     /// Per chunk: the narrow phase's indirect dispatch (x, y, z).
     pub(crate) args: wgpu::Buffer,
     chunks: u32,
     patches: u32,
     per_chunk: u32,
+    objects: u32,
 }
 
-const PATCHES: usize = 0;
+const CANDIDATES: usize = 0;
 const DISPATCH_ARGS: usize = 1;
+
+/// One object's rectangle of candidate patches, as `broad_phase.wgsl`
+/// reads it: first column and row, width in patches, and the index of its
+/// first candidate among all objects' (a prefix sum). Entry 0 of the buffer
+/// is the header: (candidates of all objects, objects, 0, 0). An object off
+/// the field has no candidates (width 1, the next object's first).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
+pub struct GpuPatchRect {
+    /// x0, z0, width, first candidate.
+    pub rect: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuPatchRect>() == 16);
+
+/// The header and the rectangles of `roots` (world root boxes, one per
+/// object) for `broad_phase.wgsl`, and the total candidate count.
+#[must_use]
+pub fn patch_rects(layout: &FieldLayout, roots: &[Obb]) -> (Vec<GpuPatchRect>, u32) {
+    let mut out = vec![GpuPatchRect::default()];
+    let mut first = 0u32;
+    for root in roots {
+        let rect = patch_rect(layout, root);
+        let (x0, z0, width) = rect.map_or((0, 0, 1), |r| (r.x[0], r.z[0], r.x[1] - r.x[0] + 1));
+        out.push(GpuPatchRect {
+            rect: [x0, z0, width, first],
+        });
+        first += rect.map_or(0, |r| r.patch_count() as u32);
+    }
+    out[0].rect = [first, roots.len() as u32, 0, 0];
+    (out, first)
+}
 
 impl BroadPhase {
     /// Compiles the kernels and uploads `layout`'s patch boxes for `field`
-    /// (whose chunks are whole patches) and `objects` objects.
+    /// (whose chunks are whole patches) and up to `objects` objects.
     ///
     /// # Errors
     /// [`crate::GpuError::Layout`] when a chunk is not a whole number of
@@ -89,7 +132,7 @@ impl BroadPhase {
             .collect();
         let chunks = field.chunks.len() as u32;
         let params = GpuBroadParams {
-            counts: [patches, per_chunk, chunks, objects],
+            counts: [patches, per_chunk, chunks, layout.patches[0]],
             dispatch: [
                 per_patch,
                 device.limits().max_compute_workgroups_per_dimension,
@@ -111,8 +154,8 @@ impl BroadPhase {
                 device,
                 "trample-gpu broad phase",
                 &source(),
-                &[Uniform, Read, Read, ReadWrite, ReadWrite],
-                &["patches", "dispatch_args"],
+                &[Uniform, Read, Read, ReadWrite, ReadWrite, Read],
+                &["candidates", "dispatch_args"],
             ),
             params: init(
                 "trample-gpu broad phase params",
@@ -124,9 +167,14 @@ impl BroadPhase {
                 bytemuck::cast_slice(&aabbs),
                 U::STORAGE,
             ),
+            rects: init(
+                "trample-gpu broad phase rectangles",
+                bytemuck::cast_slice(&vec![GpuPatchRect::default(); objects as usize + 1]),
+                U::STORAGE | U::COPY_DST,
+            ),
             lists: init(
                 "trample-gpu broad phase lists",
-                bytemuck::cast_slice(&vec![0u32; (chunks + patches) as usize]),
+                bytemuck::cast_slice(&vec![0u32; (chunks + 2 * patches) as usize]),
                 U::STORAGE | U::COPY_DST | U::COPY_SRC,
             ),
             args: init(
@@ -137,23 +185,29 @@ impl BroadPhase {
             chunks,
             patches,
             per_chunk,
+            objects,
         })
     }
 
-    /// Records the broad phase against the objects' world root boxes
-    /// (`world_roots`, written for this sub-step): clears the lists, lists
-    /// the hit patches, writes the dispatches.
+    /// Records the broad phase against the objects' world root boxes:
+    /// `roots` on the CPU, the same as `world_roots` on the GPU (written for
+    /// this sub-step). Uploads the objects' patch rectangles
+    /// ([`patch_rects`]), clears the counts and marks, lists the hit
+    /// patches, writes the dispatches. Objects past the number
+    /// [`BroadPhase::new`] was given are ignored.
     pub fn record(
         &self,
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         world_roots: &wgpu::Buffer,
+        layout: &FieldLayout,
+        roots: &[Obb],
     ) {
-        encoder.clear_buffer(
-            &self.lists,
-            u64::from(self.patches) * 4,
-            Some(u64::from(self.chunks) * 4),
-        );
+        let roots = &roots[..roots.len().min(self.objects as usize)];
+        let (rects, candidates) = patch_rects(layout, roots);
+        queue.write_buffer(&self.rects, 0, bytemuck::cast_slice(&rects));
+        encoder.clear_buffer(&self.lists, u64::from(self.patches) * 4, None);
         let group = self.kernel.bind(
             device,
             &[
@@ -162,11 +216,14 @@ impl BroadPhase {
                 &self.patch_aabbs,
                 &self.lists,
                 &self.args,
+                &self.rects,
             ],
         );
         let max = device.limits().max_compute_workgroups_per_dimension;
-        self.kernel
-            .dispatch(encoder, PATCHES, &group, grid(self.patches, max));
+        if candidates > 0 {
+            self.kernel
+                .dispatch(encoder, CANDIDATES, &group, grid(candidates, max));
+        }
         self.kernel
             .dispatch(encoder, DISPATCH_ARGS, &group, grid(self.chunks, max));
     }
@@ -182,7 +239,8 @@ impl BroadPhase {
     ) -> Result<Vec<u32>, crate::GpuError> {
         let all: Vec<u32> =
             crate::readback::read_buffer(device, queue, &self.lists, "patch lists")?;
-        let (lists, counts) = all.split_at(self.patches as usize);
+        let (lists, rest) = all.split_at(self.patches as usize);
+        let counts = &rest[..self.chunks as usize];
         let mut out: Vec<u32> = counts
             .iter()
             .enumerate()

@@ -1,14 +1,17 @@
 // Broad phase (paper §4 stage 2, DESIGN §4.1): which patches the objects
-// may touch. One thread per patch tests the patch's AABB (blade heights
-// included) against every object's root box in the world by the separating
-// axis theorem on the 15 axes, as `trample::collision::obb_overlaps_aabb`,
-// with twice its slack (the GPU's list must hold every patch the CPU's
-// does). A hit patch is appended to its chunk's list; `args` then turns
-// each chunk's count into the indirect dispatch of the narrow phase.
+// may touch. Each object's rectangle of candidate patches comes from the
+// CPU's grid lookup (`trample::collision::patch_rect`, in `rects`); one
+// thread per (object, candidate patch) tests the patch's AABB (blade
+// heights included) against the object's root box in the world by the
+// separating axis theorem on the 15 axes, as
+// `trample::collision::obb_overlaps_aabb`, with twice its slack (the GPU's
+// list must hold every patch the CPU's does). A hit patch is appended to
+// its chunk's list by the first thread to mark it; `args` then turns each
+// chunk's count into the indirect dispatch of the narrow phase.
 //
 // `lists` layout: the list of chunk i starts at entry `first patch of chunk
 // i`; entry `patches + i` is its count (the narrow phase finds it through
-// its chunk uniform).
+// its chunk uniform); entry `patches + chunks + p` marks patch p listed.
 
 // Layout-compatible with `GpuWorldObb` in cells.rs.
 struct WorldObb {
@@ -21,7 +24,7 @@ struct WorldObb {
 
 // Layout-compatible with `GpuBroadParams` in broad_phase.rs.
 struct BroadParams {
-    // patches, patches per chunk (all but the last), chunks, objects
+    // patches, patches per chunk (all but the last), chunks, patches along x
     counts: vec4<u32>,
     // blades per patch, max workgroups per dimension, unused ×2
     dispatch: vec4<u32>,
@@ -34,6 +37,11 @@ struct BroadParams {
 @group(0) @binding(3) var<storage, read_write> lists: array<atomic<u32>>;
 // Per chunk: workgroups x, y, z of its narrow-phase dispatch.
 @group(0) @binding(4) var<storage, read_write> args: array<u32>;
+// `GpuPatchRect` in broad_phase.rs: entry 0 = (candidates, objects, 0, 0);
+// entry 1 + i = object i's (x0, z0, width, first candidate). In a storage
+// buffer, not a uniform: it changes every sub-step, and lavapipe recompiles
+// a kernel whose branches read a changed uniform (see narrow_phase.wgsl).
+@group(0) @binding(5) var<storage, read> rects: array<vec4<u32>>;
 
 // `broad_phase::PARALLEL_PAD`.
 const PARALLEL_PAD: f32 = 1e-6;
@@ -87,23 +95,36 @@ fn overlaps(o: WorldObb, lo: vec3<f32>, hi: vec3<f32>) -> bool {
     return true;
 }
 
+// One thread per (object, candidate patch), objects in order, each
+// object's rectangle row by row.
 @compute @workgroup_size(64)
-fn patches(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let p = gid.x + gid.y * groups.x * 64u;
-    if p >= broad.counts.x {
+fn candidates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let t = gid.x + gid.y * groups.x * 64u;
+    let head = rects[0];
+    if t >= head.x {
         return;
     }
-    let lo = patch_aabbs[2u * p].xyz;
-    let hi = patch_aabbs[2u * p + 1u].xyz;
-    var hit = false;
-    for (var i = 0u; i < broad.counts.w; i++) {
-        if overlaps(world_roots[i], lo, hi) {
-            hit = true;
-            break;
+    // The object whose candidates hold t: the last whose first is ≤ t
+    // (an object without candidates shares its first with the next one).
+    var lo = 0u;
+    var hi = head.y;
+    while hi - lo > 1u {
+        let mid = (lo + hi) / 2u;
+        if rects[1u + mid].w <= t {
+            lo = mid;
+        } else {
+            hi = mid;
         }
     }
-    if !hit {
+    let r = rects[1u + lo];
+    let local = t - r.w;
+    let width = max(r.z, 1u);
+    let p = (r.y + local / width) * broad.counts.w + r.x + local % width;
+    if p >= broad.counts.x || !overlaps(world_roots[lo], patch_aabbs[2u * p].xyz, patch_aabbs[2u * p + 1u].xyz) {
         return;
+    }
+    if atomicExchange(&lists[broad.counts.x + broad.counts.z + p], 1u) != 0u {
+        return; // listed by another object
     }
     let per = max(broad.counts.y, 1u);
     let chunk = p / per;

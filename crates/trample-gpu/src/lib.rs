@@ -14,7 +14,7 @@
 //! | --- | --- |
 //! | poses | **CPU** (pure function of time), uploaded per object ([`object::GpuObject::set_pose`]) |
 //! | LOD per cell, billboards (Eq. 8), transitions (Eq. 9–13), billboard recovery | **done** ([`cells`]), whole-run parity-tested |
-//! | broad phase | **done** ([`broad_phase`]): one thread per patch against every object's root box (the CPU's SAT, twice its slack), per-chunk lists, indirect dispatch of the narrow phase over the listed patches' blades; lists equal to the CPU's (`tests/broad_phase_parity.rs`) |
+//! | broad phase | **done** ([`broad_phase`]): each object's rectangle of patches from the CPU's grid lookup, one thread per object and candidate patch (the CPU's SAT, twice its slack; a mark per patch lists it once), per-chunk lists, indirect dispatch of the narrow phase over the listed patches' blades; lists equal to the CPU's (`tests/broad_phase_parity.rs`) |
 //! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested |
 //! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
 //! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested |

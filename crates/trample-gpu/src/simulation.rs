@@ -348,7 +348,15 @@ impl GpuSimulation {
             self.cells.record_classify(&mut encoder, &cell_groups);
             laps.lap(device, queue, &mut encoder, Stage::Lod);
             if !self.objects.is_empty() {
-                self.broad.record(device, &mut encoder, &self.world_roots);
+                let obbs: Vec<_> = self.sim.bodies.iter().map(|b| b.world_root).collect();
+                self.broad.record(
+                    device,
+                    queue,
+                    &mut encoder,
+                    &self.world_roots,
+                    &self.sim.field.layout,
+                    &obbs,
+                );
                 laps.lap(device, queue, &mut encoder, Stage::Broad);
                 self.narrow.record(
                     device,
@@ -494,6 +502,8 @@ impl GpuSimulation {
             };
             cells.slope[c] = glam::Vec3::new(slopes[c][0], slopes[c][1], slopes[c][2]);
         }
+        // The levels were written here, not by `classify_cells`.
+        cells.levels_written(&self.sim.field.layout);
         self.sync_counters(device, queue)?;
         // The CPU step recovers only the blades and billboards it knows are
         // away from rest: rebuild those sets from the field read back.

@@ -21,7 +21,8 @@ use common::peer::ParryObbTree;
 use criterion::{BenchmarkId, Criterion, Throughput};
 use std::hint::black_box;
 use std::time::SystemTime;
-use trample::collision::collide_segment;
+use trample::collision::{Segments4, collide_segment, segment_hits_obb};
+use trample::obb::Obb;
 
 const PRECISION: u32 = 7;
 
@@ -80,6 +81,62 @@ fn bench(c: &mut Criterion) -> Vec<(String, String)> {
                 format!("narrow_phase/parry3d/{input}"),
             ));
         }
+    }
+    group.finish();
+    pairs.extend(bench_box_test(c));
+    pairs
+}
+
+/// Hits of `segments` against `boxes`, one segment at a time.
+fn scalar_hits(segments: &[(glam::Vec3, glam::Vec3)], boxes: &[Obb]) -> u32 {
+    let mut n = 0;
+    for &(a, b) in segments {
+        for o in boxes {
+            n += u32::from(segment_hits_obb(black_box(a), black_box(b), o));
+        }
+    }
+    n
+}
+
+/// Hits of `segments` (a multiple of four) against `boxes`, four at a time.
+fn wide_hits(segments: &[(glam::Vec3, glam::Vec3)], boxes: &[Obb]) -> u32 {
+    let mut n = 0;
+    for four in segments.chunks_exact(4) {
+        let s = Segments4::new(
+            std::array::from_fn(|i| black_box(four[i].0)),
+            std::array::from_fn(|i| black_box(four[i].1)),
+        );
+        for o in boxes {
+            n += s.hit_mask(o).count_ones();
+        }
+    }
+    n
+}
+
+fn bench_box_test(c: &mut Criterion) -> Vec<(String, String)> {
+    let mut pairs = Vec::new();
+    let mut group = c.benchmark_group("segment_obb");
+    for (shape, scene) in [("sphere", "default.toml"), ("knot", "knot.toml")] {
+        let sim = common::sim(scene);
+        let tree = &sim.bodies[0].tree;
+        let field = common::field_segments(&sim, common::pose_times());
+        let mut near = common::near_segments(&sim, &field);
+        near.truncate(near.len() / 4 * 4);
+        let boxes: Vec<Obb> = tree.nodes.iter().take(15).map(|n| n.obb).collect();
+        assert_eq!(scalar_hits(&near, &boxes), wide_hits(&near, &boxes));
+        let tests = (near.len() * boxes.len()) as u64;
+        group.throughput(Throughput::Elements(tests));
+        let input = format!("{shape}_near_x{}", boxes.len());
+        group.bench_with_input(BenchmarkId::new("wide4", &input), &near, |b, segs| {
+            b.iter(|| wide_hits(segs, &boxes));
+        });
+        group.bench_with_input(BenchmarkId::new("scalar", &input), &near, |b, segs| {
+            b.iter(|| scalar_hits(segs, &boxes));
+        });
+        pairs.push((
+            format!("segment_obb/wide4/{input}"),
+            format!("segment_obb/scalar/{input}"),
+        ));
     }
     group.finish();
     pairs

@@ -18,8 +18,12 @@ const SEGMENTS: usize = 4000;
 /// these meshes and segments: at depth 7 a 2–4k-triangle mesh has 64 boxes,
 /// each as thick as the sagitta of its ~0.5 m patch).
 const MAX_FP_AT_DEPTH_7: f64 = 0.25;
-/// Upper bound at full depth, one triangle per leaf (measured ≤ 0.2 %).
-const MAX_FP_AT_FULL_DEPTH: f64 = 0.01;
+/// Upper bound at full depth, one triangle per leaf. Measured ≤ 0.2 % with
+/// the covariance boxes and mean splits; 2026-11-23 with the piece splits
+/// of issue 16 and flat nodes (single triangles included) kept at their
+/// covariance rectangle (`obb::fit`: the edge-flush search there cost the
+/// GPU's parity), 1.08 % on the torus, ≤ 0.35 % on the others.
+const MAX_FP_AT_FULL_DEPTH: f64 = 0.015;
 
 /// Seeded segments around a surface: centres from `centre`, half-vectors of
 /// random direction and 1–25 cm (blade segments are ~10 cm); a quarter are
@@ -246,8 +250,22 @@ fn sphere_pushes_blades_outwards_at_every_precision() {
         collide_segment(a, b, &tree, 1),
         "precision 0 is 1"
     );
-    // In the root box's corner but outside the sphere: precision 1 hits, depth does not.
-    let (a, b) = (Vec3::new(0.9, -0.95, 0.9), Vec3::new(0.9, -0.85, 0.9));
+    // In the root box's corner but outside the sphere: precision 1 hits, depth
+    // does not. (The corner towards (1, −1, 1), whatever the box's orientation.)
+    let root = tree.nodes[0].obb;
+    let corner = root
+        .corners()
+        .into_iter()
+        .max_by(|p, q| {
+            p.dot(Vec3::new(1.0, -1.0, 1.0))
+                .total_cmp(&q.dot(Vec3::new(1.0, -1.0, 1.0)))
+        })
+        .unwrap();
+    let (a, b) = (
+        root.center.lerp(corner, 0.93),
+        root.center.lerp(corner, 0.87),
+    );
+    assert!(a.length() > 1.3 && b.length() > 1.3, "outside the sphere");
     assert!(collide_segment(a, b, &tree, 1).is_some());
     assert!(collide_segment(a, b, &tree, 7).is_none());
     assert!(!segment_hits_exact(&tree, a, b));

@@ -526,7 +526,13 @@ fn patch_grid() -> Vec<Patch> {
 #[test]
 fn broad_phase_hand_placed_patches() {
     let patches = patch_grid();
-    let root = ObbTree::build(&uv_sphere(0.4, 12, 24), DEFAULT_MAX_DEPTH).nodes[0].obb;
+    // A ball's root box, world-aligned (the fit may turn it: a 24-gon's
+    // smallest box is flush with an edge), so the placements below are exact.
+    let root = Obb {
+        center: Vec3::ZERO,
+        axes: [Vec3::X, Vec3::Y, Vec3::Z],
+        half: Vec3::splat(0.4),
+    };
     let mut out = vec![99];
     let mut hit = |pos: Vec3, rot: Quat| {
         let pose = Pose {

@@ -9,7 +9,7 @@ use collision_meshes::*;
 use glam::{Quat, Vec3};
 use proptest::prelude::*;
 use trample::obb::{DEFAULT_MAX_DEPTH, EQN_EPSILON, MAX_TREE_DEPTH, NO_CHILD, ObbTree, fit_obb};
-use trample::object::TriMesh;
+use trample::object::{TriMesh, shapes};
 
 fn triangles(mesh: &TriMesh) -> Vec<[Vec3; 3]> {
     (0..mesh.triangle_count())
@@ -313,6 +313,107 @@ fn eqn_direction_uses_eq3_when_it_is_long_enough() {
     assert!(checked > tree.nodes.len() / 2);
 }
 
+/// Three icospheres apart, as one mesh, and the sphere each triangle of the
+/// tree belongs to (by its centroid).
+fn three_balls() -> (TriMesh, [Vec3; 3]) {
+    let centres = [
+        Vec3::new(-3.0, 0.0, 0.0),
+        Vec3::new(0.5, 0.0, 2.0),
+        Vec3::new(2.5, 1.0, -1.0),
+    ];
+    let mut mesh = TriMesh::default();
+    for (i, c) in centres.iter().enumerate() {
+        // Different sizes, so the pieces hold different shares of triangles.
+        let ball = shapes::sphere(0.5 + 0.25 * i as f32, 2 + (i as u32 % 2));
+        let base = mesh.positions.len() as u32;
+        mesh.positions
+            .extend(ball.positions.iter().map(|p| *p + *c));
+        mesh.indices
+            .extend(ball.indices.iter().map(|t| t.map(|k| k + base)));
+    }
+    (mesh, centres)
+}
+
+#[test]
+fn apart_pieces_stay_whole() {
+    let (mesh, centres) = three_balls();
+    let tree = ObbTree::build(&mesh, DEFAULT_MAX_DEPTH);
+    tree.assert_well_formed();
+    let ball = |t: &[Vec3; 3]| {
+        let c = (t[0] + t[1] + t[2]) / 3.0;
+        (0..3)
+            .min_by(|&a, &b| c.distance(centres[a]).total_cmp(&c.distance(centres[b])))
+            .unwrap()
+    };
+    let balls_in = |node: usize| {
+        let n = &tree.nodes[node];
+        let range = n.first_tri as usize..(n.first_tri + n.tri_count) as usize;
+        let mut set: Vec<usize> = tree.triangles[range].iter().map(ball).collect();
+        set.sort_unstable();
+        set.dedup();
+        set
+    };
+    // A node over several balls splits between them: no ball in both children.
+    let mut mixed = 0;
+    for (i, n) in tree.nodes.iter().enumerate() {
+        if n.is_leaf() || balls_in(i).len() < 2 {
+            continue;
+        }
+        mixed += 1;
+        let (l, r) = (
+            balls_in(n.children[0] as usize),
+            balls_in(n.children[1] as usize),
+        );
+        assert!(
+            l.iter().all(|b| !r.contains(b)),
+            "node {i}: children hold balls {l:?} and {r:?}"
+        );
+    }
+    assert_eq!(mixed, 2, "three balls take two splits to separate");
+}
+
+#[test]
+fn nested_trees_hold_their_children() {
+    let mut refused = 0;
+    for (name, mesh) in all_meshes()
+        .into_iter()
+        .chain([("knot", shapes::knot(2.4))])
+    {
+        let tight = ObbTree::build(&mesh, DEFAULT_MAX_DEPTH);
+        assert!(!tight.nested);
+        let mut nested = tight.clone();
+        nested.nest_boxes();
+        nested.assert_well_formed();
+        // Grown, never shrunk, and only where a child stuck out.
+        let mut grown = 0;
+        for (a, b) in tight.nodes.iter().zip(&nested.nodes) {
+            assert_eq!(a.obb.axes, b.obb.axes, "{name}");
+            for c in a.obb.corners() {
+                let slack = Vec3::splat(1e-5 * b.obb.half.max_element());
+                assert!(
+                    b.obb.to_box(c).abs().cmple(b.obb.half + slack).all(),
+                    "{name}: {} vs {}",
+                    b.obb.to_box(c),
+                    b.obb.half
+                );
+            }
+            grown += usize::from(a.obb != b.obb);
+        }
+        // Where a tight child sticks out, the tight tree marked nested is refused.
+        let mut claimed = tight.clone();
+        claimed.nested = true;
+        match claimed.validate() {
+            Err(e) => {
+                assert!(grown > 0 && e.contains("child"), "{name}: {e}");
+                refused += 1;
+            }
+            Ok(()) => assert_eq!(grown, 0, "{name}"),
+        }
+    }
+    // Curved meshes have children that stick out of their parents.
+    assert!(refused >= 4, "{refused}");
+}
+
 /// A triangle soup: random corners in a cube of side 2·10^k, some triangles
 /// nearly degenerate (corners within 1e-6 of each other, or collinear).
 fn soup() -> impl Strategy<Value = TriMesh> {
@@ -344,6 +445,9 @@ proptest! {
     fn random_soups_build_well_formed_trees(mesh in soup(), depth in 1u32..=40) {
         let tree = ObbTree::build(&mesh, depth);
         prop_assert!(tree.validate().is_ok(), "{:?}", tree.validate());
+        let mut nested = tree.clone();
+        nested.nest_boxes();
+        prop_assert!(nested.validate().is_ok(), "nested: {:?}", nested.validate());
         prop_assert_eq!(tree.triangles.len(), mesh.triangle_count());
         for i in 0..tree.nodes.len() as u32 {
             prop_assert!(tree.eqn_direction(i, Vec3::ZERO, Vec3::ONE).is_normalized());

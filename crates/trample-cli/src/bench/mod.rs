@@ -1,9 +1,11 @@
 //! `trample bench`: the paper's pressure test (Fig. 12) on the simulation
-//! alone, collision accuracy against the exact reference, and (with
-//! `--scaling`) step time against blade and triangle counts.
+//! alone, collision accuracy against the exact reference, (with
+//! `--scaling`) step time against blade and triangle counts, and (with
+//! `--objects`) step time against the number of objects.
 
 mod chart;
 mod machine;
+mod objects;
 mod precisions;
 mod pressure;
 mod scaling;
@@ -74,7 +76,8 @@ pub struct Args {
     #[arg(long, default_value = "1280x720", value_parser = crate::common::parse_size)]
     pub size: (u32, u32),
     /// Output folder: bench.json, bench.png, accuracy.png (with --scaling:
-    /// scaling.json, scaling_blades.png, scaling_triangles.png).
+    /// scaling.json, scaling_blades.png, scaling_triangles.png; with
+    /// --objects: objects.json, objects.png).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Instead of the pressure test: step time against blade count (a larger
@@ -89,6 +92,12 @@ pub struct Args {
     /// triangles (default: all, up to 1,310,720).
     #[arg(long)]
     pub max_triangles: Option<usize>,
+    /// Instead of the pressure test: step time against the number of
+    /// objects, the scene's first 1, 2, 4, … of them up to all (for
+    /// `scenes/herd.toml`: 1 … 128), on --backend (default 300 frames a
+    /// point, precision 7).
+    #[arg(long, conflicts_with = "scaling")]
+    pub objects: bool,
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -99,10 +108,11 @@ pub fn run(a: &Args) -> Result<()> {
     if !a.scaling && (a.max_blades.is_some() || a.max_triangles.is_some()) {
         bail!("--max-blades / --max-triangles: only with --scaling");
     }
-    if a.render && a.scaling {
-        bail!("--render: not with --scaling (scaling times the simulation alone)");
+    if a.render && (a.scaling || a.objects) {
+        bail!("--render: not with --scaling or --objects (they time the simulation alone)");
     }
-    let frames = a.frames.unwrap_or(if a.scaling {
+    let series = a.scaling || a.objects;
+    let frames = a.frames.unwrap_or(if series {
         SCALING_FRAMES
     } else {
         PRESSURE_FRAMES
@@ -114,7 +124,7 @@ pub fn run(a: &Args) -> Result<()> {
         parse_precisions(
             a.precisions
                 .as_deref()
-                .unwrap_or(if a.scaling { "7" } else { "1..7" }),
+                .unwrap_or(if series { "7" } else { "1..7" }),
         )?;
     let threads = set_threads(a.threads)?;
     let scene = load_scene(a.scene.as_deref(), SimOverrides::default())?;
@@ -131,6 +141,8 @@ pub fn run(a: &Args) -> Result<()> {
     };
     if a.scaling {
         scaling::run(&scene, &setup)
+    } else if a.objects {
+        objects::run(&scene, &setup)
     } else {
         pressure::run(&scene, &setup)
     }
@@ -197,6 +209,37 @@ fn lap_frames(sim: &Simulation) -> Option<u64> {
     let end = motion_end_s(sim)?;
     let frames = (f64::from(end) / f64::from(sim.params.dt_s)).ceil() as u64;
     (frames > 0).then_some(frames)
+}
+
+/// Times `sim` for `frames` frames on `backend` (`cpu`, or `gpu` on
+/// `gpu`'s device), advancing `bar` by one a step. `None`, with the reason
+/// pushed to `skipped` (`what` names the scene) and `bar` advanced by
+/// `frames`, when the GPU path refuses the scene.
+fn time_on(
+    backend: &str,
+    gpu: Option<&trample_render::headless::Gpu>,
+    sim: Simulation,
+    frames: u64,
+    what: &str,
+    skipped: &mut Vec<String>,
+    bar: &ProgressBar,
+) -> Result<Option<crate::summary::Recorder>> {
+    let tick = |_: Stepped<'_>, _: &StepTimings| {
+        bar.inc(1);
+        Ok(())
+    };
+    let steps = match (backend, gpu) {
+        ("gpu", Some(g)) => {
+            if let Err(e) = trample_gpu::GpuSimulation::supports(&g.device, &sim) {
+                skipped.push(format!("gpu {what}: {e}"));
+                bar.inc(frames);
+                return Ok(None);
+            }
+            time_frames_gpu(g, sim, frames, tick)?
+        }
+        _ => time_frames(sim, frames, tick)?,
+    };
+    Ok(Some(crate::summary::Recorder { steps }))
 }
 
 /// What a bench sees after a step: the simulation on the path that

@@ -22,7 +22,7 @@
 
 use super::chart::{COLORS, Chart, Series, line_chart};
 use super::machine::Machine;
-use super::{Setup, progress, time_frames, time_frames_gpu};
+use super::{Setup, progress};
 use crate::summary::{Recorder, Stats, write_json};
 use anyhow::{Result, bail};
 use glam::Vec3;
@@ -152,22 +152,15 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
                 what: &str,
                 skipped: &mut Vec<String>|
      -> Result<Option<Recorder>> {
-        let tick = |_: super::Stepped<'_>, _: &trample::StepTimings| {
-            bar.inc(1);
-            Ok(())
-        };
-        let steps = match (backend, &gpu) {
-            ("gpu", Some(g)) => {
-                if let Err(e) = trample_gpu::GpuSimulation::supports(&g.device, &sim) {
-                    skipped.push(format!("gpu {what}: {e}"));
-                    bar.inc(setup.frames);
-                    return Ok(None);
-                }
-                time_frames_gpu(g, sim, setup.frames, tick)?
-            }
-            _ => time_frames(sim, setup.frames, tick)?,
-        };
-        Ok(Some(Recorder { steps }))
+        super::time_on(
+            backend,
+            gpu.as_ref(),
+            sim,
+            setup.frames,
+            what,
+            skipped,
+            &bar,
+        )
     };
 
     let mut blades = Vec::new();

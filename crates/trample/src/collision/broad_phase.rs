@@ -6,22 +6,29 @@
 //! (which includes the blades' maximum height), by the separating axis
 //! theorem on the 15 candidate axes (Gottschalk et al., *OBBTree*, 1996;
 //! C. Ericson, *Real-Time Collision Detection*, 2005, §4.4.1).
+//!
+//! Which patches to test is a grid lookup (issue 16, item 1): the root box's
+//! world extent in x and z, widened by how far a patch's box reaches beyond
+//! its square, is a rectangle of patches ([`patch_rect`]); only those meet
+//! the SAT test ([`patches_under`]). The cost follows what the objects
+//! cover, not patches × objects. [`patches_hit`], which tests every patch,
+//! is the reference the lookup is tested against (same lists, bit for bit).
 
 use glam::{Quat, Vec3};
 
-use crate::field::Patch;
+use crate::field::{FieldLayout, Patch};
 use crate::obb::Obb;
 use crate::object::Pose;
 
 /// Added to every `|R_ij|` of the SAT (Ericson §4.4.1): when an OBB edge is
 /// parallel to an AABB edge their cross product is ~0 and, unpadded, its
 /// rounding could report a false separation.
-const PARALLEL_PAD: f32 = 1e-6;
+pub const PARALLEL_PAD: f32 = 1e-6;
 
 /// Relative slack of every SAT comparison (of the sum of projected radii),
 /// so that boxes that touch, or overlap by a rounding error, count as
 /// overlapping: the broad phase must be conservative.
-const REL_SLACK: f32 = 1e-5;
+pub const REL_SLACK: f32 = 1e-5;
 
 /// The object-local box `local` moved to the world by `pose` (rotation and
 /// translation; the half extents are unchanged). A rotation that is not unit
@@ -101,7 +108,8 @@ pub fn obb_overlaps_aabb(obb: &Obb, min: Vec3, max: Vec3) -> bool {
 /// Writes to `out` (cleared first) the indices, ascending, of the patches
 /// whose AABB overlaps `world_root`, the object's root OBB in the world
 /// frame ([`world_obb`]): paper §4 stage 2, DESIGN §4.1. Reuses `out`'s
-/// allocation.
+/// allocation. Tests every patch: the reference of [`patches_under`],
+/// which finds the same list at the cost of the patches under the box.
 pub fn patches_hit(patches: &[Patch], world_root: &Obb, out: &mut Vec<u32>) {
     out.clear();
     out.extend(
@@ -111,4 +119,89 @@ pub fn patches_hit(patches: &[Patch], world_root: &Obb, out: &mut Vec<u32>) {
             .filter(|(_, p)| obb_overlaps_aabb(world_root, p.aabb_min, p.aabb_max))
             .map(|(i, _)| i as u32),
     );
+}
+
+/// A rectangle of patches, inclusive: `x[0] ..= x[1]` by `z[0] ..= z[1]`
+/// (patch coordinates).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PatchRect {
+    /// First and last patch column.
+    pub x: [u32; 2],
+    /// First and last patch row.
+    pub z: [u32; 2],
+}
+
+impl PatchRect {
+    /// Number of patches in the rectangle (≥ 1: an empty one is `None` in
+    /// [`patch_rect`]).
+    #[must_use]
+    pub fn patch_count(&self) -> usize {
+        (self.x[1] - self.x[0] + 1) as usize * (self.z[1] - self.z[0] + 1) as usize
+    }
+
+    /// The patch indices of the rectangle, ascending (storage order).
+    pub fn patches(&self, patches_x: u32) -> impl Iterator<Item = u32> + '_ {
+        (self.z[0]..=self.z[1])
+            .flat_map(move |z| (self.x[0]..=self.x[1]).map(move |x| z * patches_x + x))
+    }
+}
+
+/// Relative widening of the lookup rectangle: ten times the SAT's
+/// [`REL_SLACK`] (the GPU path tests with twice it), so that every patch the
+/// slack lets through, and every rounding of the lookup's own arithmetic
+/// (a few ulps of the coordinates), is inside the rectangle.
+pub const LOOKUP_SLACK: f32 = 10.0 * REL_SLACK;
+
+/// The patches whose box may meet `world_root` (world frame), found on the
+/// grid without visiting the others: those whose square, grown by
+/// `layout.patch_overhang_m`, meets the box's world x–z extent, widened by
+/// [`LOOKUP_SLACK`]. A superset of the patches [`obb_overlaps_aabb`]
+/// accepts (with up to ten times its slack); `None` when it is empty (the
+/// box is off the field) or the box is not finite. Cost O(1).
+#[must_use]
+pub fn patch_rect(layout: &FieldLayout, world_root: &Obb) -> Option<PatchRect> {
+    let o = world_root;
+    let finite = o.center.is_finite() && o.half.is_finite() && o.axes.iter().all(|a| a.is_finite());
+    if !finite {
+        return None;
+    }
+    // World half extent along x and z, as the SAT's first axes measure it.
+    let reach = |i: usize| {
+        (0..3)
+            .map(|j| o.half[j] * (o.axes[j][i].abs() + PARALLEL_PAD))
+            .sum::<f32>()
+    };
+    let size = layout.patch_size();
+    let range = |i: usize, origin: f32, count: u32| -> Option<[u32; 2]> {
+        let (c, r) = (o.center[i], reach(i));
+        let margin = layout.patch_overhang_m
+            + LOOKUP_SLACK * (r + size + layout.patch_overhang_m + c.abs() + origin.abs());
+        let lo = ((c - r - margin - origin) / size).floor();
+        let hi = ((c + r + margin - origin) / size).floor();
+        if !(lo.is_finite() && hi.is_finite()) || hi < 0.0 || lo >= count as f32 {
+            return None;
+        }
+        // In range now, so the casts are exact.
+        let last = count.saturating_sub(1) as f32;
+        Some([lo.clamp(0.0, last) as u32, hi.clamp(0.0, last) as u32])
+    };
+    let x = range(0, layout.origin[0], layout.patches[0])?;
+    let z = range(2, layout.origin[1], layout.patches[1])?;
+    Some(PatchRect { x, z })
+}
+
+/// Writes to `out` (cleared first) the indices, ascending, of the patches
+/// whose AABB overlaps `world_root`, the object's root OBB in the world
+/// frame ([`world_obb`]): paper §4 stage 2, DESIGN §4.1. The same list as
+/// [`patches_hit`], found by testing only the patches of [`patch_rect`].
+/// Reuses `out`'s allocation.
+pub fn patches_under(layout: &FieldLayout, world_root: &Obb, out: &mut Vec<u32>) {
+    out.clear();
+    let Some(rect) = patch_rect(layout, world_root) else {
+        return;
+    };
+    out.extend(rect.patches(layout.patches[0]).filter(|&p| {
+        let patch = &layout.patch_list[p as usize];
+        obb_overlaps_aabb(world_root, patch.aabb_min, patch.aabb_max)
+    }));
 }

@@ -10,13 +10,17 @@ pub mod exact;
 pub mod inside_grid;
 pub mod narrow_phase;
 pub mod segment_obb;
+pub mod segment_obb_wide;
 pub mod segment_triangle;
 
-pub use broad_phase::{obb_overlaps_aabb, patches_hit, world_obb};
+pub use broad_phase::{
+    PatchRect, obb_overlaps_aabb, patch_rect, patches_hit, patches_under, world_obb,
+};
 pub use exact::{point_inside, segment_hits_exact};
 pub use narrow_phase::{
     BladeContacts, LocalMotion, SegmentContact, collide_blade, collide_segment, contact_blade,
     contact_segment,
 };
 pub use segment_obb::{segment_hits_box_local, segment_hits_obb};
+pub use segment_obb_wide::Segments4;
 pub use segment_triangle::{segment_crosses_triangle_interior, segment_hits_triangle};

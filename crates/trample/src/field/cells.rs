@@ -33,6 +33,20 @@ pub struct Cells {
     /// Cells whose level or slope the last step set
     /// ([`super::Field::changed_cells`]).
     pub(crate) changed: ChangeSet,
+    /// Per strip of patches ([`super::strips`]): the level shared by all its
+    /// patches' cells, if they share one (lets
+    /// [`super::lod::classify_cells`] skip settled strips).
+    pub strip_lod: Vec<Option<Lod>>,
+    /// Per strip: bounds of its patches' `patch_bounds`.
+    pub strip_bounds: Vec<(Vec3, Vec3)>,
+    /// The viewpoint, distances and counts of the last
+    /// [`super::lod::classify_cells`]: called again with the same
+    /// viewpoint and distances it returns the counts without a pass (a
+    /// still camera costs nothing). Keyed by the viewpoint and the
+    /// distances themselves, so whatever moves the eye (scene camera or
+    /// host view) or changes the distances makes the next call classify.
+    /// Writing `lod` any other way must call [`Cells::levels_written`].
+    pub(crate) last_classified: Option<(Vec3, super::lod::LodParams, super::lod::LodCounts)>,
 }
 
 impl Cells {
@@ -40,6 +54,37 @@ impl Cells {
     #[must_use]
     pub fn slope_at_rest(&self, c: usize) -> bool {
         self.slope[c] == self.slope_origin[c]
+    }
+
+    /// After `lod` was written other than by
+    /// [`super::lod::classify_cells`] (e.g. read back from the GPU): forgets
+    /// the last classification and recomputes the levels each patch and
+    /// strip shares from the cells themselves, so the next classification
+    /// skips only what is really settled. `layout` is the field's. O(cells).
+    pub fn levels_written(&mut self, layout: &super::FieldLayout) {
+        self.last_classified = None;
+        let shared = |levels: &mut dyn Iterator<Item = Option<Lod>>| {
+            let first = levels.next().flatten();
+            let mut all = first.is_some();
+            for l in levels {
+                all &= l == first;
+            }
+            first.filter(|_| all)
+        };
+        for (uniform, lod) in self
+            .patch_lod
+            .iter_mut()
+            .zip(self.lod.chunks(layout.cells_in_patch()))
+        {
+            *uniform = shared(&mut lod.iter().map(|l| Some(*l)));
+        }
+        for (uniform, range) in self
+            .strip_lod
+            .iter_mut()
+            .zip(super::strips::strip_ranges(layout.patches))
+        {
+            *uniform = shared(&mut self.patch_lod[range].iter().copied());
+        }
     }
 
     /// Sets cell `c`'s billboard slope and records the cell as changed in

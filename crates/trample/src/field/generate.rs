@@ -87,7 +87,8 @@ impl Field {
 
         let mut layout = layout;
         layout.neighbours = neighbour_table(&layout, &blades);
-        layout.patch_list = patch_boxes(&layout, &blades);
+        let patches = patch_boxes(&layout, &blades);
+        layout.set_patches(patches);
         let cells = rest_cells(&layout, &blades, &terrain);
         let max_blade_length = blades.seg_len.iter().fold(0.0f32, |m, &l| m.max(l)) * n as f32;
         let absent_blades = (0..count).filter(|&b| !blades.is_present(b)).count() as u64;
@@ -131,6 +132,8 @@ fn make_layout(p: &FieldParams) -> FieldLayout {
         cell_size: p.cell_size_m,
         origin: [-ex * 0.5, -ez * 0.5],
         patch_list: Vec::new(),
+        patch_overhang_m: 0.0,
+        strip_aabbs: Vec::new(),
         neighbours: Vec::new(),
     }
 }
@@ -307,16 +310,20 @@ fn rest_cells(layout: &FieldLayout, blades: &Blades, terrain: &Terrain) -> Cells
         })
         .unzip();
     let (height, slope_origin): (Vec<f32>, Vec<Vec3>) = rest.into_iter().unzip();
-    let patch_bounds = base
+    let patch_bounds: Vec<(Vec3, Vec3)> = base
         .chunks(layout.cells_in_patch())
         .map(|c| {
             c.iter()
                 .fold((c[0], c[0]), |(lo, hi), b| (lo.min(*b), hi.max(*b)))
         })
         .collect();
+    let strip_bounds = super::strips::strip_bounds(layout.patches, |p| patch_bounds[p]);
     Cells {
         lod: vec![Lod::Texture; layout.cell_count()],
         patch_lod: vec![Some(Lod::Texture); layout.patch_list.len()],
+        strip_lod: vec![Some(Lod::Texture); strip_bounds.len()],
+        last_classified: None,
+        strip_bounds,
         patch_bounds,
         base,
         height,

@@ -43,6 +43,16 @@ pub struct FieldLayout {
     pub origin: [f32; 2],
     /// Every patch, in storage order.
     pub patch_list: Vec<Patch>,
+    /// How far any patch's box reaches beyond the patch's square in x or z,
+    /// metres (≥ 0; the blades' roots are jittered and their length is added
+    /// sideways, see `generate::patch_boxes`). Lets the broad phase find the
+    /// patches under an object by a grid lookup
+    /// ([`crate::collision::broad_phase::patch_rect`]). Set with
+    /// `patch_list`; a box changed later must stay within it.
+    pub patch_overhang_m: f32,
+    /// Per strip of patches ([`super::strips`]): the union of its patches'
+    /// boxes, for frustum culling by strips ([`super::cull_patches`]).
+    pub strip_aabbs: Vec<(Vec3, Vec3)>,
     /// For each blade: the blades in the same slot of the 4-neighbour cells
     /// (Definition 6), in the fixed order −x, +x, −z, +z; [`NO_NEIGHBOUR`] at
     /// the field border.
@@ -73,6 +83,37 @@ impl FieldLayout {
     pub fn cell_count(&self) -> usize {
         let [gx, gz] = self.grid_size();
         gx as usize * gz as usize
+    }
+
+    /// Side of a patch's square, metres.
+    #[must_use]
+    pub fn patch_size(&self) -> f32 {
+        self.cells_per_patch as f32 * self.cell_size
+    }
+
+    /// Sets `patch_list` and what follows from it: [`Self::patch_overhang_m`]
+    /// and [`Self::strip_aabbs`].
+    pub fn set_patches(&mut self, patches: Vec<Patch>) {
+        let size = self.patch_size();
+        self.patch_overhang_m = patches.iter().fold(0.0f32, |m, p| {
+            let lo = [
+                self.origin[0] + p.coord[0] as f32 * size,
+                self.origin[1] + p.coord[1] as f32 * size,
+            ];
+            let reach = [
+                lo[0] - p.aabb_min.x,
+                lo[1] - p.aabb_min.z,
+                p.aabb_max.x - (lo[0] + size),
+                p.aabb_max.z - (lo[1] + size),
+            ];
+            reach
+                .iter()
+                .fold(m, |m, &r| if r.is_finite() { m.max(r) } else { m })
+        });
+        self.strip_aabbs = super::strips::strip_bounds(self.patches, |i| {
+            (patches[i].aabb_min, patches[i].aabb_max)
+        });
+        self.patch_list = patches;
     }
 
     /// Number of blades.

@@ -90,7 +90,9 @@ pub enum Lod {
 }
 
 use super::cells::Cells;
+use super::changes::ChangeSet;
 use super::layout::FieldLayout;
+use super::strips::{STRIP_PATCHES, strips_per_row};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -138,9 +140,13 @@ impl LodParams {
 
 /// Sets every cell's level from its centre's distance to `viewpoint`
 /// (paper Fig. 1) and appends the cells that changed level to `changes`, in
-/// storage order. Patches wholly inside one distance band are settled
-/// without visiting their cells, so the cost follows the band edges, not the
-/// field size.
+/// storage order. Strips of patches ([`super::strips`]) and patches wholly
+/// inside one distance band are settled without visiting their cells, so
+/// the cost follows the band edges, not the field size: on a 128 × 128-patch
+/// field a settled step looks at 1,024 strip boxes. The same viewpoint and
+/// distances as the last call cost nothing (`Cells::last_classified`). The
+/// result is the same, bit for bit, as [`classify_cells_by_patch`]'s, which
+/// visits every patch (tested).
 pub fn classify_cells(
     layout: &FieldLayout,
     cells: &mut Cells,
@@ -148,7 +154,94 @@ pub fn classify_cells(
     params: &LodParams,
     changes: &mut Vec<LodChange>,
 ) -> LodCounts {
+    if let Some((v, p, counts)) = &cells.last_classified
+        && *v == viewpoint
+        && p == params
+    {
+        return *counts;
+    }
     let per_patch = layout.cells_in_patch();
+    let row_patches = layout.patches[0] as usize;
+    let row_strips = strips_per_row(layout.patches[0]);
+    let strip_cells = STRIP_PATCHES * per_patch;
+    let Cells {
+        lod,
+        base,
+        patch_lod,
+        patch_bounds,
+        strip_lod,
+        strip_bounds,
+        ..
+    } = cells;
+    // Parallel over rows of patches, each a contiguous range of cells;
+    // within a row, strip by strip.
+    let results: Vec<(LodCounts, Vec<LodChange>)> = lod
+        .par_chunks_mut(row_patches * per_patch)
+        .zip(base.par_chunks(row_patches * per_patch))
+        .zip(patch_lod.par_chunks_mut(row_patches))
+        .zip(patch_bounds.par_chunks(row_patches))
+        .zip(strip_lod.par_chunks_mut(row_strips))
+        .zip(strip_bounds.par_chunks(row_strips))
+        .enumerate()
+        .map(
+            |(row, (((((lod, base), uniform), bounds), s_uniform), s_bounds))| {
+                let mut counts = LodCounts::default();
+                let mut local = Vec::new();
+                let strips = lod
+                    .chunks_mut(strip_cells)
+                    .zip(base.chunks(strip_cells))
+                    .zip(uniform.chunks_mut(STRIP_PATCHES))
+                    .zip(bounds.chunks(STRIP_PATCHES))
+                    .zip(s_uniform.iter_mut().zip(s_bounds));
+                for (s, ((((lod, base), uniform), bounds), (s_uniform, &s_bounds))) in
+                    strips.enumerate()
+                {
+                    let band = band_of(viewpoint, s_bounds, params);
+                    if let Some(level) = band.filter(|l| *s_uniform == Some(*l)) {
+                        add(&mut counts, level, lod.len() as u32);
+                        continue;
+                    }
+                    let first_patch = row * row_patches + s * STRIP_PATCHES;
+                    let patches = lod
+                        .chunks_mut(per_patch)
+                        .zip(base.chunks(per_patch))
+                        .zip(uniform.iter_mut().zip(bounds));
+                    for (i, ((lod, base), (uniform, &bounds))) in patches.enumerate() {
+                        let first = (first_patch + i) * per_patch;
+                        let patch = PatchCells {
+                            lod,
+                            base,
+                            uniform,
+                            bounds,
+                            first,
+                        };
+                        classify_patch(patch, viewpoint, params, &mut counts, &mut local);
+                    }
+                    let shared = uniform[0];
+                    *s_uniform = shared.filter(|_| uniform.iter().all(|u| *u == shared));
+                }
+                (counts, local)
+            },
+        )
+        .collect();
+    let counts = merge(results, &mut cells.changed, changes);
+    cells.last_classified = Some((viewpoint, params.clone(), counts));
+    counts
+}
+
+/// [`classify_cells`] visiting every patch (no strips): the reference it is
+/// tested against, and what it did before strips (issue 16). Leaves the
+/// strips' shared levels as they were: do not mix it with
+/// [`classify_cells`] on the same cells.
+pub fn classify_cells_by_patch(
+    layout: &FieldLayout,
+    cells: &mut Cells,
+    viewpoint: Vec3,
+    params: &LodParams,
+    changes: &mut Vec<LodChange>,
+) -> LodCounts {
+    let per_patch = layout.cells_in_patch();
+    cells.last_classified = None;
     let results: Vec<(LodCounts, Vec<LodChange>)> = cells
         .lod
         .par_chunks_mut(per_patch)
@@ -156,44 +249,95 @@ pub fn classify_cells(
         .zip(cells.patch_lod.par_iter_mut())
         .zip(cells.patch_bounds.par_iter())
         .enumerate()
-        .map(|(p, (((lod, base), uniform), &(lo, hi)))| {
-            let mut counts = LodCounts::default();
-            let mut local = Vec::new();
-            let near = viewpoint.clamp(lo, hi).distance(viewpoint);
-            let far = (viewpoint - lo).abs().max((viewpoint - hi).abs()).length();
-            let (l_near, l_far) = (params.level(near), params.level(far));
+        .map(|(p, (((lod, base), uniform), &bounds))| {
+            let (mut counts, mut local) = (LodCounts::default(), Vec::new());
             let first = p * per_patch;
-            if l_near == l_far && *uniform == Some(l_near) {
-                add(&mut counts, l_near, per_patch as u32);
-                return (counts, local);
-            }
-            for (i, (l, b)) in lod.iter_mut().zip(base).enumerate() {
-                let new = if l_near == l_far {
-                    l_near
-                } else {
-                    params.level_squared(b.distance_squared(viewpoint))
-                };
-                if new != *l {
-                    local.push(LodChange {
-                        cell: (first + i) as u32,
-                        from: *l,
-                        to: new,
-                    });
-                    *l = new;
-                }
-                add(&mut counts, new, 1);
-            }
-            *uniform = (l_near == l_far).then_some(l_near);
+            let patch = PatchCells {
+                lod,
+                base,
+                uniform,
+                bounds,
+                first,
+            };
+            classify_patch(patch, viewpoint, params, &mut counts, &mut local);
             (counts, local)
         })
         .collect();
+    merge(results, &mut cells.changed, changes)
+}
+
+/// The level of every point of the box `bounds` (min, max) seen from
+/// `viewpoint`, if they all share one: the nearest and the farthest point
+/// of the box are in the same distance band.
+fn band_of(viewpoint: Vec3, (lo, hi): (Vec3, Vec3), params: &LodParams) -> Option<Lod> {
+    let near = viewpoint.clamp(lo, hi).distance(viewpoint);
+    let far = (viewpoint - lo).abs().max((viewpoint - hi).abs()).length();
+    let (l_near, l_far) = (params.level(near), params.level(far));
+    (l_near == l_far).then_some(l_near)
+}
+
+/// One patch's cells for [`classify_patch`].
+struct PatchCells<'a> {
+    lod: &'a mut [Lod],
+    base: &'a [Vec3],
+    /// The level all its cells share, if any.
+    uniform: &'a mut Option<Lod>,
+    /// Bounds of its cells' base centres.
+    bounds: (Vec3, Vec3),
+    /// Storage index of its first cell.
+    first: usize,
+}
+
+/// Levels of one patch's cells: settled without visiting them when the
+/// whole patch is in one band and already at that level, else cell by cell.
+fn classify_patch(
+    patch: PatchCells<'_>,
+    viewpoint: Vec3,
+    params: &LodParams,
+    counts: &mut LodCounts,
+    changes: &mut Vec<LodChange>,
+) {
+    let PatchCells {
+        lod,
+        base,
+        uniform,
+        bounds,
+        first,
+    } = patch;
+    let band = band_of(viewpoint, bounds, params);
+    if let Some(level) = band.filter(|l| *uniform == Some(*l)) {
+        add(counts, level, lod.len() as u32);
+        return;
+    }
+    for (i, (l, b)) in lod.iter_mut().zip(base).enumerate() {
+        let new = band.unwrap_or_else(|| params.level_squared(b.distance_squared(viewpoint)));
+        if new != *l {
+            changes.push(LodChange {
+                cell: (first + i) as u32,
+                from: *l,
+                to: new,
+            });
+            *l = new;
+        }
+        add(counts, new, 1);
+    }
+    *uniform = band;
+}
+
+/// Sums the counts and concatenates the changes of each part, in order;
+/// marks the changed cells in `changed` ([`super::Field::changed_cells`]).
+fn merge(
+    results: Vec<(LodCounts, Vec<LodChange>)>,
+    changed: &mut ChangeSet,
+    changes: &mut Vec<LodChange>,
+) -> LodCounts {
     let mut total = LodCounts::default();
     for (c, local) in results {
         total.geometry += c.geometry;
         total.billboard += c.billboard;
         total.texture += c.texture;
         for ch in &local {
-            cells.changed.mark(ch.cell as usize);
+            changed.mark(ch.cell as usize);
         }
         changes.extend(local);
     }

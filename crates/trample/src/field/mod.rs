@@ -15,15 +15,18 @@ pub mod lod;
 pub mod maps;
 pub mod params;
 pub mod rng;
+pub mod strips;
 pub mod terrain;
 
 pub use blades::{BladeVertex, Blades, MAX_SEGMENTS};
 pub use cells::Cells;
 pub use changes::ChangeSet;
 pub use field::Field;
-pub use frustum::{Frustum, cull_patches};
+pub use frustum::{Frustum, cull_patches, cull_patches_each};
 pub use layout::{FieldLayout, NO_NEIGHBOUR, Patch};
-pub use lod::{Lod, LodChange, LodCounts, LodError, LodParams, classify_cells};
+pub use lod::{
+    Lod, LodChange, LodCounts, LodError, LodParams, classify_cells, classify_cells_by_patch,
+};
 pub use maps::{GrassMap, GrassMapParams, GrassMaps, MapError};
 pub use params::{FieldError, FieldParams, TerrainParams};
 pub use terrain::{Terrain, TerrainError};

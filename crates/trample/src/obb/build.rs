@@ -3,19 +3,43 @@
 //! direction a node pushes a blade (DESIGN §3 "EqN direction (ours)").
 //!
 //! Top-down, as in Gottschalk et al., *OBBTree* (SIGGRAPH 1996): fit a box to
-//! the node's triangles ([`fit_obb`]), split them by the plane through the
-//! mean of their centroids orthogonal to the box's longest axis, recurse;
-//! stop at one triangle or at the depth cap.
+//! the node's triangles ([`super::fit::fit_obb`]), split them in two ([`super::split`]:
+//! between pieces that share no edge when there are such, else by the plane
+//! through the mean of their centroids orthogonal to the box's longest
+//! axis), recurse; stop at one triangle or at the depth cap.
 
 use crate::collision::exact::point_inside_by_ray;
 use crate::collision::inside_grid::InsideGrid;
-use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
 
-use super::fit::fit_obb;
+use super::fit::fit_obb_searched;
 use super::node::{NO_CHILD, Obb, ObbNode, ObbTree};
+use super::split::{Topology, split};
 use crate::object::TriMesh;
+
+/// Deepest nodes whose box [`ObbTree::build`] fits with the orientation
+/// search of [`super::fit::fit_obb`]; deeper ones get the covariance or world box
+/// ([`super::fit::fit_obb_searched`] without search). The search triples
+/// the fit's cost and pays where queries stop: precisions up to 12 cover the
+/// paper's 1–7 and the accuracy tables' 1–10. A 327,680-triangle sphere is
+/// 22 levels deep: the cap halves its build time. Nodes of at most
+/// [`SEARCH_TRIANGLES`] triangles are searched at any depth (cheap, and the
+/// leaves decide the hits at full depth: without it the torus of the
+/// precision tests went from 0.0 % to 1.1 % false positives there).
+pub const SEARCH_DEPTH: u32 = 12;
+
+/// See [`SEARCH_DEPTH`].
+pub const SEARCH_TRIANGLES: usize = 4;
+
+/// Whether a node at `depth` (root = 1) of `count` triangles gets the
+/// orientation search ([`SEARCH_DEPTH`], [`SEARCH_TRIANGLES`]): the rule
+/// of the build and of [`ObbTree::refit`] with `AxisRule::Fit`, so that a
+/// refit at the bind pose fits the boxes the build fitted.
+#[must_use]
+pub fn searched_at(depth: u32, count: usize) -> bool {
+    depth <= SEARCH_DEPTH || count <= SEARCH_TRIANGLES
+}
 
 /// Default depth cap of [`ObbTree::build`]: deep enough that meshes of up to
 /// 2³¹ triangles get one triangle per leaf with balanced splits, and well past
@@ -46,14 +70,17 @@ impl ObbTree {
     /// - Binary; the root is node 0 with depth 1; children are stored after
     ///   their parent, siblings next to each other (`children[1] ==
     ///   children[0] + 1`).
-    /// - Each node's box is [`fit_obb`] of its triangles, so it contains
+    /// - Each node's box is [`super::fit::fit_obb`] of its triangles, so it contains
     ///   them, and by construction it contains its children's triangles; its
     ///   `eqn` is Eq. 3, `Σ S_i N_i / Σ S_i` (not normalised; zero when the
     ///   node's total area is zero).
-    /// - A node is split along its box's longest axis at the mean of its
-    ///   triangle centroids projected on it; if one side would be empty, along
-    ///   the other axes in order of decreasing extent; if still empty (all
-    ///   centroids equal), at the median. A node is a leaf when it holds one
+    /// - A node whose triangles form two or more pieces that share no edge
+    ///   (each with ≥ [`super::split::PIECE_SHARE`] of them) is split between
+    ///   pieces, at the cut of least segment-hit cost; any other along its
+    ///   box's longest axis at the mean of its triangle centroids projected
+    ///   on it; if one side would be empty, along the other axes in order of
+    ///   decreasing extent; if still empty (all centroids equal), at the
+    ///   median ([`super::split`]). A node is a leaf when it holds one
     ///   triangle or its depth is `max_depth` (clamped to
     ///   `1..=`[`MAX_TREE_DEPTH`]).
     /// - `triangles` are the mesh's triangles reordered so that every node's
@@ -79,9 +106,11 @@ impl ObbTree {
                 _ => all_valid = false,
             }
         }
-        let closed = all_valid && is_closed(mesh);
+        let mut topology = Topology::new(&triangles);
+        let closed = all_valid && topology.every_edge_twice;
+        let mut ids: Vec<u32> = (0..triangles.len() as u32).collect();
 
-        let mut nodes = vec![make_node(&triangles, 0, triangles.len())];
+        let mut nodes = vec![make_node(&triangles, 0, triangles.len(), 1)];
         let mut pending = vec![0usize];
         while let Some(i) = pending.pop() {
             let ObbNode {
@@ -95,17 +124,21 @@ impl ObbTree {
                 continue;
             }
             let (first, count) = (first_tri as usize, tri_count as usize);
-            let left_count = split(&mut triangles[first..first + count], &obb);
+            let range = first..first + count;
+            let left_count = split(
+                &mut triangles[range.clone()],
+                &mut ids[range],
+                &obb,
+                &mut topology,
+            );
             let left = nodes.len();
-            nodes.push(make_node(&triangles, first, left_count));
+            nodes.push(make_node(&triangles, first, left_count, depth + 1));
             nodes.push(make_node(
                 &triangles,
                 first + left_count,
                 count - left_count,
+                depth + 1,
             ));
-            for child in &mut nodes[left..] {
-                child.depth = depth + 1;
-            }
             nodes[i].children = [left as u32, left as u32 + 1];
             pending.push(left + 1);
             pending.push(left);
@@ -121,6 +154,7 @@ impl ObbTree {
             triangles,
             closed,
             max_depth,
+            nested: false,
             inside: None,
             reach: Vec::new(),
         };
@@ -223,16 +257,15 @@ fn smallest_axis_up(obb: &Obb) -> Vec3 {
 
 /// A leaf node over `triangles[first .. first + count]` at depth 1; the
 /// caller sets depth and children.
-fn make_node(triangles: &[[Vec3; 3]], first: usize, count: usize) -> ObbNode {
+fn make_node(triangles: &[[Vec3; 3]], first: usize, count: usize, depth: u32) -> ObbNode {
     let tris = &triangles[first..first + count];
-    let obb = fit_obb(tris);
     ObbNode {
-        obb,
+        obb: fit_obb_searched(tris, searched_at(depth, count)),
         eqn: equivalent_normal(tris),
         children: [NO_CHILD; 2],
         first_tri: first as u32,
         tri_count: count as u32,
-        depth: 1,
+        depth,
     }
 }
 
@@ -273,72 +306,4 @@ pub(crate) fn equivalent_normal_from_sums(weighted: DVec3, area: f64) -> Vec3 {
     } else {
         Vec3::ZERO
     }
-}
-
-/// Reorders `tris` (at least two) into a left and a right part, both
-/// non-empty, and returns the size of the left part. See [`ObbTree::build`].
-fn split(tris: &mut [[Vec3; 3]], obb: &Obb) -> usize {
-    let centroid = |t: &[Vec3; 3]| (t[0] + t[1] + t[2]) / 3.0;
-    let mut axes = [0usize, 1, 2];
-    axes.sort_by(|&a, &b| obb.half[b].total_cmp(&obb.half[a]));
-    for &k in &axes {
-        let axis = obb.axes[k];
-        let mean = tris.iter().map(|t| centroid(t).dot(axis)).sum::<f32>() / tris.len() as f32;
-        let left = partition(tris, |t| centroid(t).dot(axis) < mean);
-        if left > 0 && left < tris.len() {
-            return left;
-        }
-    }
-    // All centroids project to the same value on every axis: median split.
-    let axis = obb.axes[axes[0]];
-    let mid = tris.len() / 2;
-    tris.select_nth_unstable_by(mid, |a, b| {
-        centroid(a).dot(axis).total_cmp(&centroid(b).dot(axis))
-    });
-    mid
-}
-
-/// Moves the elements for which `is_left` holds to the front (order not
-/// kept, deterministic) and returns how many there are.
-fn partition(tris: &mut [[Vec3; 3]], is_left: impl Fn(&[Vec3; 3]) -> bool) -> usize {
-    let mut left = 0;
-    for i in 0..tris.len() {
-        if is_left(&tris[i]) {
-            tris.swap(left, i);
-            left += 1;
-        }
-    }
-    left
-}
-
-/// True when every undirected edge, vertices identified by position, is used
-/// by exactly two triangles, no triangle has two equal corners, and the mesh
-/// has at least one triangle. Out-of-range indices give `false`.
-fn is_closed(mesh: &TriMesh) -> bool {
-    // Position bits with −0.0 folded onto +0.0, so equal points get equal keys.
-    let key = |i: u32| -> Option<[u32; 3]> {
-        let p = mesh.positions.get(i as usize)?;
-        Some((*p + Vec3::ZERO).to_array().map(f32::to_bits))
-    };
-    if mesh.indices.is_empty() {
-        return false;
-    }
-    let mut edges: HashMap<([u32; 3], [u32; 3]), u32> =
-        HashMap::with_capacity(mesh.indices.len() * 2);
-    for tri in &mesh.indices {
-        let [Some(k0), Some(k1), Some(k2)] = tri.map(key) else {
-            return false;
-        };
-        let k = [k0, k1, k2];
-        for e in 0..3 {
-            let (a, b) = (k[e], k[(e + 1) % 3]);
-            if a == b {
-                return false;
-            }
-            *edges
-                .entry(if a < b { (a, b) } else { (b, a) })
-                .or_insert(0) += 1;
-        }
-    }
-    edges.values().all(|&n| n == 2)
 }

@@ -6,10 +6,13 @@
 //! the contact walk), [`validation`] (invariants); the types are in [`node`].
 
 pub mod build;
+pub mod calipers;
 pub mod fit;
+pub mod nest;
 pub mod node;
 pub mod reach;
 pub mod refit;
+pub mod split;
 pub mod validation;
 
 pub use build::{DEFAULT_MAX_DEPTH, EQN_EPSILON, MAX_TREE_DEPTH, equivalent_normal};

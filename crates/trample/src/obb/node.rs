@@ -89,6 +89,10 @@ pub struct ObbTree {
     pub closed: bool,
     /// Depth of the deepest leaf (root = 1).
     pub max_depth: u32,
+    /// True when every node's box contains its children's boxes
+    /// ([`ObbTree::nest_boxes`]); [`ObbTree::validate`] then checks it.
+    /// False after [`ObbTree::build`].
+    pub nested: bool,
     /// Voxel classification that answers most inside tests of a closed mesh
     /// without a ray cast (`None` for open meshes).
     pub inside: Option<crate::collision::inside_grid::InsideGrid>,

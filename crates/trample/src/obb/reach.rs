@@ -31,30 +31,49 @@ pub fn reach_boxes(nodes: &[ObbNode]) -> Vec<Obb> {
         if nodes[i].is_leaf() || l as usize >= nodes.len() || r as usize >= nodes.len() {
             continue;
         }
-        let own = nodes[i].obb;
-        let (mut lo, mut hi) = (-own.half, own.half);
-        for c in reach[l as usize]
-            .corners()
-            .into_iter()
-            .chain(reach[r as usize].corners())
-        {
-            let q = own.to_box(c);
-            lo = lo.min(q);
-            hi = hi.max(q);
-        }
-        if lo.cmpge(-own.half).all() && hi.cmple(own.half).all() {
-            continue;
-        }
-        let mid = (lo + hi) * 0.5;
-        let center = own.center + own.axes[0] * mid.x + own.axes[1] * mid.y + own.axes[2] * mid.z;
-        let half = (hi - lo) * 0.5;
-        reach[i] = Obb {
-            center,
-            axes: own.axes,
-            half: half + Vec3::splat(padding(half.max_element(), center)),
-        };
+        let corners = [reach[l as usize].corners(), reach[r as usize].corners()];
+        reach[i] = box_holding(&nodes[i].obb, corners.as_flattened());
     }
     reach
+}
+
+/// `own` grown (same axes; centre and extents moved) to hold `points` as
+/// [`Obb::to_box`] measures them, plus the fit's padding; `own` itself when
+/// it holds them already. Moving the centre rounds the points' box
+/// coordinates anew: the padding covers that, and more padding is added in
+/// the unlikely case it does not, so every point is inside with no
+/// tolerance. Shared by the reach boxes and [`super::ObbTree::nest_boxes`].
+#[must_use]
+pub fn box_holding(own: &Obb, points: &[Vec3]) -> Obb {
+    let holds = |o: &Obb| {
+        points
+            .iter()
+            .all(|p| o.to_box(*p).abs().cmple(o.half).all())
+    };
+    let (mut lo, mut hi) = (-own.half, own.half);
+    for p in points {
+        let q = own.to_box(*p);
+        lo = lo.min(q);
+        hi = hi.max(q);
+    }
+    if lo.cmpge(-own.half).all() && hi.cmple(own.half).all() {
+        return *own;
+    }
+    let mid = (lo + hi) * 0.5;
+    let center = own.center + own.axes[0] * mid.x + own.axes[1] * mid.y + own.axes[2] * mid.z;
+    let half = (hi - lo) * 0.5;
+    let mut out = Obb {
+        center,
+        axes: own.axes,
+        half: half + Vec3::splat(padding(half.max_element(), center)),
+    };
+    for _ in 0..8 {
+        if holds(&out) {
+            break;
+        }
+        out.half += Vec3::splat(padding(out.half.max_element(), center));
+    }
+    out
 }
 
 #[cfg(test)]

@@ -19,7 +19,8 @@
 //!   it gives the built boxes back; where a limb turns, boxes along the old
 //!   axes grow.
 //! - [`AxisRule::Fit`] fits every node again as the build does
-//!   ([`fit_obb`]: covariance axes or world axes): boxes as tight as a
+//!   ([`fit_obb_searched`]: covariance axes, world axes, and the orientation
+//!   search where the build searches, [`searched_at`]): boxes as tight as a
 //!   rebuilt tree's, with the old topology, at the cost of the fits.
 //!
 //! Whether a parent must also contain its children's boxes is [`Nesting`].
@@ -44,8 +45,9 @@ use std::collections::HashMap;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
+use super::build::searched_at;
 use super::build::{equivalent_normal_from_sums, equivalent_normal_sums};
-use super::fit::{fit_obb, padding};
+use super::fit::{fit_obb_searched, padding};
 use super::node::{Obb, ObbTree};
 use crate::object::TriMesh;
 
@@ -59,10 +61,10 @@ pub enum AxisRule {
     /// built tree back, box for box.
     #[default]
     Fixed,
-    /// Every node is fitted again as [`super::fit::fit_obb`] fits it
-    /// (covariance axes of its triangles, or the world axes): the boxes a
-    /// build would give these triangles, for about the cost of a build's
-    /// fitting (no sorting).
+    /// Every node is fitted again as the build fits it
+    /// ([`super::fit::fit_obb_searched`] with the build's search rule,
+    /// [`super::build::searched_at`]): the boxes a build would give these
+    /// triangles, for about the cost of a build's fitting (no sorting).
     Fit,
 }
 
@@ -256,7 +258,9 @@ impl ObbTree {
     /// The boxes are padded as [`super::fit::fit_obb`] pads them, so
     /// [`ObbTree::validate`] holds afterwards; topology, triangle ranges,
     /// depths and `closed` are unchanged; the reach boxes
-    /// ([`super::reach`]) are recomputed from the new boxes.
+    /// ([`super::reach`]) are recomputed from the new boxes, and a
+    /// [`ObbTree::nested`] tree has its boxes grown again
+    /// ([`ObbTree::nest_boxes`]).
     ///
     /// The inside grid is dropped (`inside = None`): rebuilding it casts one
     /// ray per empty voxel (≈ 14 k rays, milliseconds: a whole step's
@@ -329,14 +333,16 @@ impl ObbTree {
                     let first = node.first_tri as usize;
                     let tris = &tree.triangles[first..first + node.tri_count as usize];
                     let points = map.node_points(i, positions);
+                    let search = searched_at(node.depth, tris.len());
                     if node.is_leaf() {
                         let sum = equivalent_normal_sums(tris);
-                        (leaf_box(tris, points, &node.obb, rule), sum)
+                        (leaf_box(tris, points, &node.obb, rule, search), sum)
                     } else {
                         let [l, r] = node.children.map(|c| c as usize);
                         let sum = (sums[l].0 + sums[r].0, sums[l].1 + sums[r].1);
                         let children = (&tree.nodes[l].obb, &tree.nodes[r].obb);
-                        let obb = parent_box(tris, points, children, &node.obb, rule, nesting);
+                        let obb =
+                            parent_box(tris, points, children, &node.obb, (rule, search), nesting);
                         (obb, sum)
                     }
                 })
@@ -348,7 +354,12 @@ impl ObbTree {
                 scratch.sums[i as usize] = sum;
             }
         }
-        self.reach = super::reach::reach_boxes(&self.nodes);
+        if self.nested {
+            // A nested tree stays nested (the refitted boxes grown again).
+            self.nest_boxes();
+        } else {
+            self.reach = super::reach::reach_boxes(&self.nodes);
+        }
         Ok(())
     }
 }
@@ -357,23 +368,38 @@ impl ObbTree {
 const WORLD_AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
 
 /// A leaf's new box around `tris`, whose vertices are `points`. `Fixed`:
-/// one triangle: the box in its own frame; several: the smallest of the boxes
+/// one triangle: the smaller of the boxes in its own frame and along
+/// `old`'s axes; several: the smallest of the boxes
 /// along `old`'s axes, the first triangle's frame (longest edge, normal)
-/// and the world axes. `Fit`: [`fit_obb`].
+/// and the world axes. `Fit`: [`fit_obb_searched`] (with the orientation
+/// search when `search`: the build's rule, [`searched_at`]).
 fn leaf_box(
     tris: &[[Vec3; 3]],
     points: impl Iterator<Item = Vec3> + Clone,
     old: &Obb,
     rule: AxisRule,
+    search: bool,
 ) -> Obb {
     if rule == AxisRule::Fit {
-        return fit_obb(tris);
+        return fit_obb_searched(tris, search);
     }
     let own = tris.first().and_then(triangle_frame);
     if let (Some(axes), 1) = (own, tris.len()) {
-        // One triangle: its own frame gives a box of zero thickness, the
-        // smallest there is.
-        return Extents::along(points, axes).padded();
+        // One triangle: its own frame gives a box of zero thickness; the
+        // build's orientation search may have found a rectangle in the
+        // plane a little smaller than the one flush with the longest edge,
+        // so the old axes compete (at the bind pose they win back the
+        // built box).
+        // Compared padded: on a near tie the padding, which grows with the
+        // longest extent, decides.
+        let surface = |o: &Obb| o.half.x * o.half.y + o.half.y * o.half.z + o.half.z * o.half.x;
+        let own = Extents::along(points.clone(), axes).padded();
+        let kept = Extents::along(points, old.axes).padded();
+        return if surface(&kept) < surface(&own) {
+            kept
+        } else {
+            own
+        };
     }
     let mut best = Extents::along(points.clone(), old.axes);
     for axes in own.into_iter().chain([WORLD_AXES]) {
@@ -383,8 +409,8 @@ fn leaf_box(
 }
 
 /// A parent's new box: the exact extents of its vertices `points` (those of
-/// its triangles `tris`) along `old`'s axes (`Fixed`) or [`fit_obb`] of
-/// `tris` (`Fit`); with
+/// its triangles `tris`) along `old`'s axes (`Fixed`) or
+/// [`fit_obb_searched`] of `tris` (`Fit`, searched as `rule.1` says); with
 /// [`Nesting::Contain`], grown to the corners of its children's boxes
 /// `left` and `right` too.
 fn parent_box(
@@ -392,12 +418,12 @@ fn parent_box(
     points: impl Iterator<Item = Vec3> + Clone,
     (left, right): (&Obb, &Obb),
     old: &Obb,
-    rule: AxisRule,
+    (rule, search): (AxisRule, bool),
     nesting: Nesting,
 ) -> Obb {
     let axes = match (rule, nesting) {
-        (AxisRule::Fit, Nesting::Tight) => return fit_obb(tris),
-        (AxisRule::Fit, Nesting::Contain) => fit_obb(tris).axes,
+        (AxisRule::Fit, Nesting::Tight) => return fit_obb_searched(tris, search),
+        (AxisRule::Fit, Nesting::Contain) => fit_obb_searched(tris, search).axes,
         (AxisRule::Fixed, _) => old.axes,
     };
     match nesting {

@@ -32,6 +32,9 @@ impl ObbTree {
     ///   parent's range (left first).
     /// - Every leaf holds ≥ 1 triangle (unless the tree is empty); the
     ///   deepest leaf's depth is `max_depth`.
+    /// - When the tree is [`ObbTree::nested`]: every corner of each child's
+    ///   box lies in its parent's box, as [`crate::obb::Obb::to_box`]
+    ///   measures it, with no tolerance (parents contain their children).
     ///
     /// Cost: O(triangles × depth).
     pub fn validate(&self) -> Result<(), String> {
@@ -112,6 +115,23 @@ impl ObbTree {
                             == u64::from(b.first_tri)
                         && u64::from(a.tri_count) + u64::from(b.tri_count)
                             == u64::from(node.tri_count);
+                    if self.nested {
+                        for (c, child) in [(l, a), (r, b)] {
+                            if let Some(corner) = child
+                                .obb
+                                .corners()
+                                .into_iter()
+                                .find(|p| !obb.to_box(*p).abs().cmple(obb.half).all())
+                            {
+                                return Err(format!(
+                                    "node {i}: corner {corner} of child {c}'s box is outside its box \
+                                     (box coordinates {}, half extents {})",
+                                    obb.to_box(corner),
+                                    obb.half
+                                ));
+                            }
+                        }
+                    }
                     if !partitions {
                         return Err(format!(
                             "node {i}: children ranges {}..+{} and {}..+{} do not partition {}..+{}",

@@ -2,7 +2,7 @@
 //! which segments of which blades an object hits at a given time.
 
 use super::simulation::Simulation;
-use crate::collision::broad_phase::{patches_hit, world_obb};
+use crate::collision::broad_phase::{patches_under, world_obb};
 use crate::collision::exact::segment_hits_exact;
 use crate::collision::narrow_phase::collide_segment;
 use glam::Vec3;
@@ -30,7 +30,7 @@ impl Simulation {
             let pose = body.object.pose_at(t);
             let root = world_obb(&body.tree.nodes[0].obb, &pose);
             let mut patches = Vec::new();
-            patches_hit(&self.field.layout.patch_list, &root, &mut patches);
+            patches_under(&self.field.layout, &root, &mut patches);
             for p in patches {
                 let patch = &self.field.layout.patch_list[p as usize];
                 let range = patch.first_blade as usize..(patch.first_blade + patch.blades) as usize;

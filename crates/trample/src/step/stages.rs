@@ -13,7 +13,7 @@ use super::deform::{
 use super::recover::recover;
 use super::simulation::{Simulation, ms};
 use super::timings::StepTimings;
-use crate::collision::broad_phase::patches_hit;
+use crate::collision::broad_phase::patches_under;
 use crate::field::classify_cells;
 use crate::force::propagation::{
     NO_GENERATION, PropagationParams, THRESHOLD_FADE, propagate_forces,
@@ -115,7 +115,7 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
         .iter()
         .map(|b| {
             let mut out = Vec::new();
-            patches_hit(&sim.field.layout.patch_list, &b.world_root, &mut out);
+            patches_under(&sim.field.layout, &b.world_root, &mut out);
             out
         })
         .collect();

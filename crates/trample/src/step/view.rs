@@ -216,7 +216,7 @@ impl Simulation {
     /// kept in `timings.visible_patches`).
     pub fn cull(&mut self) -> u32 {
         let frustum = self.frustum();
-        let n = cull_patches(&self.field.layout.patch_list, &frustum, &mut self.visible);
+        let n = cull_patches(&self.field.layout, &frustum, &mut self.visible);
         self.timings.visible_patches = n;
         n
     }

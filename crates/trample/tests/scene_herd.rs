@@ -1,0 +1,81 @@
+//! The many-object scenes (issue 16, item 4): `scenes/herd.toml`, 128 mixed
+//! objects circling over a 16.8 M-blade field, parses, validates and fits
+//! its memory limit (it is not built here: 7.8 GiB estimated); its smaller twin
+//! `scenes/herd_small.toml` (1 M blades) builds and steps, and every object
+//! is over the field (the broad phase lists patches under each).
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use trample::collision::patches_under;
+use trample::object::ShapeParams;
+use trample::scene::Scene;
+
+fn load(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    Scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Objects per kind of shape (mesh files by their file name).
+fn kinds(s: &Scene) -> BTreeMap<String, usize> {
+    let mut out = BTreeMap::new();
+    for o in &s.file.objects {
+        let kind = match &o.shape {
+            ShapeParams::Sphere { .. } => "sphere".to_string(),
+            ShapeParams::Box { .. } => "box".to_string(),
+            ShapeParams::Knot { .. } => "knot".to_string(),
+            ShapeParams::Mesh { path, .. } => path.file_name().unwrap().to_string_lossy().into(),
+            other => format!("{other:?}"),
+        };
+        *out.entry(kind).or_insert(0) += 1;
+    }
+    out
+}
+
+#[test]
+fn herd_is_128_mixed_objects_over_16_8_m_blades_within_its_memory_limit() {
+    let s = load("herd.toml");
+    s.validate().expect("herd.toml is valid");
+    let f = &s.file.field;
+    assert_eq!(f.blade_count(), 16_777_216);
+    assert_eq!(s.file.sim.precision, 7);
+    assert_eq!(s.file.objects.len(), 128);
+    let want: BTreeMap<String, usize> = [
+        ("beetle.obj", 20),
+        ("box", 32),
+        ("knot", 24),
+        ("sphere", 32),
+        ("spot.obj", 20),
+    ]
+    .into_iter()
+    .map(|(k, n)| (k.to_string(), n))
+    .collect();
+    assert_eq!(kinds(&s), want);
+    // Several GiB, within the scene's limit (the default 8 GiB).
+    let gib = f.memory_estimate_bytes() as f64 / f64::from(1u32 << 30);
+    assert!(
+        gib > 4.0 && gib <= f64::from(s.file.sim.memory_limit_gib),
+        "{gib:.2} GiB"
+    );
+}
+
+#[test]
+fn herd_small_builds_steps_and_every_object_is_over_the_field() {
+    let s = load("herd_small.toml");
+    assert_eq!(s.file.field.blade_count(), 1_048_576);
+    assert_eq!(kinds(&s), kinds(&load("herd.toml")));
+    let mut sim = s.build().expect("herd_small builds");
+    assert_eq!(sim.bodies.len(), 128);
+    for _ in 0..3 {
+        sim.step(sim.params.dt_s).unwrap();
+    }
+    let mut patches = Vec::new();
+    for b in &sim.bodies {
+        patches_under(&sim.field.layout, &b.world_root, &mut patches);
+        assert!(!patches.is_empty(), "{} is off the field", b.object.name);
+    }
+    assert!(sim.timings.total_ms > 0.0);
+}

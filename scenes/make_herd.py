@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""Writes scenes/herd.toml and scenes/herd_small.toml: 128 mixed objects
+(balls, boxes, knots, the beetle car, the cow) each circling somewhere on a
+large field (issue 16). Run from the repository root:
+
+    python3 scenes/make_herd.py
+
+The positions, sizes and speeds come from a fixed seed, so the files are
+reproducible; edit the constants below and run it again rather than editing
+the TOML by hand.
+"""
+
+import math
+import random
+
+KINDS = ["ball"] * 32 + ["box"] * 32 + ["knot"] * 24 + ["car"] * 20 + ["cow"] * 20
+assert len(KINDS) == 128
+
+
+def objects(extent_m, seed, radius_range):
+    """One [[objects]] block per object, on a jittered 16 x 8 grid over a
+    square field of side extent_m centred on the origin."""
+    rng = random.Random(seed)
+    kinds = KINDS[:]
+    rng.shuffle(kinds)
+    cols, rows = 16, 8
+    out = []
+    for i, kind in enumerate(kinds):
+        cx = (-0.5 + (i % cols + 0.5) / cols) * extent_m * 0.9
+        cz = (-0.5 + (i // cols + 0.5) / rows) * extent_m * 0.9
+        cx += rng.uniform(-0.15, 0.15) * extent_m / cols
+        cz += rng.uniform(-0.15, 0.15) * extent_m / rows
+        r = rng.uniform(*radius_range)
+        speed = rng.uniform(1.5, 4.0)
+        period = 2.0 * math.pi * r / speed
+        phase = rng.uniform(0.0, 2.0 * math.pi)
+        name = f"{kind}{i}"
+        if kind == "ball":
+            rad = round(rng.uniform(0.4, 1.0), 2)
+            shape = f'{{ kind = "sphere", radius_m = {rad} }}'
+            extra = 'orientation = "rolling"'
+            y = rad
+        elif kind == "box":
+            h = [round(rng.uniform(0.3, 0.8), 2) for _ in range(3)]
+            shape = f'{{ kind = "box", half_extents_m = [{h[0]}, {h[1]}, {h[2]}] }}'
+            extra = 'orientation = "face_motion"'
+            y = h[1]
+        elif kind == "knot":
+            size = round(rng.uniform(1.2, 2.4), 2)
+            shape = f'{{ kind = "knot", size_m = {size} }}'
+            extra = 'rotation_deg = [0.0, 90.0, 0.0]\norientation = "face_motion"'
+            y = round(0.7 * size / 2.4, 3)
+        elif kind == "car":
+            shape = '{ kind = "mesh", path = "meshes/beetle.obj", anchor = "bottom" }'
+            extra = 'scale = 4.5\norientation = "face_motion"'
+            y = 0.0
+        else:
+            shape = '{ kind = "mesh", path = "meshes/spot.obj", anchor = "bottom" }'
+            extra = 'scale = 1.4\norientation = "face_motion"'
+            y = 0.0
+        out.append(
+            f'[[objects]]\nname = "{name}"\nshape = {shape}\n{extra}\n'
+            f'path = {{ kind = "circle", center = [{cx:.2f}, {y}, {cz:.2f}], '
+            f"radius_m = {r:.2f}, period_s = {period:.2f}, phase_rad = {phase:.3f} }}\n"
+        )
+    return "\n".join(out)
+
+
+def scene(name, description, patches, extent_m, radius_range, comment):
+    return f"""# {comment}
+# Written by scenes/make_herd.py (seeded): edit that and run it again.
+name = "{name}"
+description = "{description}"
+
+[field]
+patches = [{patches}, {patches}]
+
+[sim]
+precision = 7
+
+[camera]
+path = {{ kind = "static", position = [0.0, 8.0, -6.0] }}
+look_at = {{ kind = "point", at = [0.0, 0.0, 10.0] }}
+
+{objects(extent_m, 128, radius_range)}"""
+
+
+# The default field's patches are 32 x 32 cells of 0.1 m: 3.2 m.
+with open("scenes/herd.toml", "w") as f:
+    f.write(
+        scene(
+            "herd",
+            "128 objects (balls, boxes, knots, cars, cows) circling over 16.8 M blades",
+            128,
+            128 * 3.2,
+            (3.0, 8.0),
+            "128 mixed objects, each circling somewhere on a 128 x 128-patch field\n"
+            "# (16,777,216 blades, 409.6 m square), precision 7, camera at the centre:\n"
+            "# issue 16's scene. Memory: the estimate is 7.8 GiB, within the default\n"
+            "# sim.memory_limit_gib of 8 (the estimate is the worst case, every blade\n"
+            "# bent; a run peaks at about half).",
+        )
+    )
+with open("scenes/herd_small.toml", "w") as f:
+    f.write(
+        scene(
+            "herd_small",
+            "herd.toml's 128 objects on a 32 x 32-patch field (1 M blades), for tests",
+            32,
+            32 * 3.2,
+            (1.0, 2.5),
+            "herd.toml on a smaller field (32 x 32 patches, 1,048,576 blades,\n"
+            "# 102.4 m square) with tighter circles: for CI and tests.",
+        )
+    )
