@@ -50,7 +50,7 @@ impl BillboardPass {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         globals: &wgpu::BindGroupLayout,
-        samples: u32,
+        target: &crate::TargetFormat,
     ) -> Self {
         let clump = crate::textures::upload(
             device,
@@ -82,8 +82,8 @@ impl BillboardPass {
                 buffers: &[],
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 cull: None,
-                depth_write: true,
-                samples,
+                depth: crate::pipeline::DepthUse::Write,
+                target,
                 alpha_to_coverage: false,
             },
         );
@@ -138,13 +138,14 @@ impl BillboardPass {
 
     /// Builds and uploads this frame's billboards: Billboard-LOD cells of
     /// visible patches. `debug` is the billboards' debug colour (0 = textured).
+    /// Returns the bytes written.
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         sim: &Simulation,
         debug: u32,
-    ) {
+    ) -> u64 {
         let layout = &sim.field.layout;
         let cells = &sim.field.cells;
         let half = half_width(layout.cell_size);
@@ -192,6 +193,7 @@ impl BillboardPass {
             );
         }
         queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.list));
+        bytes
     }
 
     /// Billboards drawn by the last [`BillboardPass::prepare`].
@@ -210,27 +212,37 @@ impl BillboardPass {
         pass.draw(0..VERTICES, 0..self.list.len() as u32);
     }
 
-    /// Records the GPU path's billboards into `pass`: one indirect draw
-    /// from `lists` (made by `GpuSimulation::record_draw_lists` earlier in
-    /// the same encoder; its billboard arguments follow `chunks` blade ones).
-    pub fn draw_gpu(
+    /// The bind group of the GPU path's billboards (`lists`, made by
+    /// `GpuSimulation::record_draw_lists` earlier in the same encoder), for
+    /// [`BillboardPass::draw_gpu`].
+    #[must_use]
+    pub fn bind_gpu(
         &self,
         device: &wgpu::Device,
-        pass: &mut wgpu::RenderPass<'_>,
         lists: &trample_gpu::draw_lists::DrawLists,
-        chunks: usize,
-    ) {
-        let group = Self::bind(
+    ) -> wgpu::BindGroup {
+        Self::bind(
             device,
             &self.layout,
             &lists.billboards,
             &self.clump,
             &self.sampler,
-        );
+        )
+    }
+
+    /// Records the GPU path's billboards into `pass`: one indirect draw
+    /// whose arguments follow the `chunks` blade ones in `args`.
+    pub fn draw_gpu(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        group: &wgpu::BindGroup,
+        args: &wgpu::Buffer,
+        chunks: usize,
+    ) {
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(1, &group, &[]);
+        pass.set_bind_group(1, group, &[]);
         pass.draw_indirect(
-            &lists.args,
+            args,
             chunks as u64 * trample_gpu::draw_lists::DRAW_ARGS_BYTES,
         );
     }

@@ -72,5 +72,5 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     if (v.debug != 0u) {
         c = unpack4x8unorm(v.debug).rgb * (0.6 + 0.4 * (1.0 - v.uv.y));
     }
-    return vec4<f32>(fog(c, v.world), 1.0);
+    return out_color(fog(c, v.world));
 }

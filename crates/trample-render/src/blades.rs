@@ -34,7 +34,6 @@ pub struct BladePass {
     /// Per chunk of the GPU path: `(first blade, blades)`.
     gpu_chunks: Vec<wgpu::Buffer>,
     bind_group: Option<wgpu::BindGroup>,
-    staging: Vec<[f32; 4]>,
     list: Vec<BladeInstance>,
     segments: u32,
 }
@@ -50,9 +49,9 @@ impl BladePass {
         queue: &wgpu::Queue,
         globals: &wgpu::BindGroupLayout,
         sim: &Simulation,
-        samples: u32,
+        target: &crate::TargetFormat,
     ) -> Result<Self, crate::RenderError> {
-        let mut pass = Self::new_gpu(device, queue, globals, sim, samples)?;
+        let mut pass = Self::new_gpu(device, queue, globals, sim, target)?;
         pass.pos = Some(Self::cpu_positions(device, sim)?);
         pass.bind_group = Some(pass.bind_cpu(device));
         Ok(pass)
@@ -86,7 +85,7 @@ impl BladePass {
         queue: &wgpu::Queue,
         globals: &wgpu::BindGroupLayout,
         sim: &Simulation,
-        samples: u32,
+        target: &crate::TargetFormat,
     ) -> Result<Self, crate::RenderError> {
         let limits = device.limits();
         if limits.max_storage_buffers_per_shader_stage < 3 {
@@ -130,8 +129,8 @@ impl BladePass {
                 buffers: &[],
                 topology: wgpu::PrimitiveTopology::TriangleStrip,
                 cull: None,
-                depth_write: true,
-                samples,
+                depth: crate::pipeline::DepthUse::Write,
+                target,
                 alpha_to_coverage: false,
             },
         );
@@ -144,7 +143,6 @@ impl BladePass {
             whole,
             gpu_chunks: Vec::new(),
             bind_group: None,
-            staging: Vec::new(),
             list: Vec::new(),
             segments: blades.segments as u32,
         })
@@ -190,34 +188,32 @@ impl BladePass {
 
     /// Uploads the blade vertices and this frame's instance list: the blades
     /// of Geometry-LOD cells in visible patches. `debug` gives a blade's debug
-    /// colour (0 = normal shading).
+    /// colour (0 = normal shading). `upload` says which vertices to write;
+    /// returns the bytes of blade vertices and of the instance list written.
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         sim: &Simulation,
         debug: impl Fn(usize) -> u32,
-    ) {
+        upload: Upload,
+    ) -> (u64, u64) {
         let blades = &sim.field.blades;
+        let mut upload = upload;
         if self.pos.is_none() {
             // A pass made for the GPU path drawing a CPU frame: a field
             // over one binding draws no blades rather than failing.
             let Ok(pos) = Self::cpu_positions(device, sim) else {
                 self.list.clear();
-                return;
+                return (0, 0);
             };
             self.pos = Some(pos);
             self.bind_group = Some(self.bind_cpu(device));
+            upload = Upload::All;
         }
-        self.staging.clear();
-        self.staging.extend(
-            blades
-                .pos
-                .iter()
-                .map(|v| [v.pos[0], v.pos[1], v.pos[2], 1.0]),
-        );
+        let mut bytes = 0;
         if let Some(pos) = &self.pos {
-            queue.write_buffer(pos, 0, bytemuck::cast_slice(&self.staging));
+            bytes += upload_positions(queue, pos, &sim.field, upload);
         }
 
         let layout = &sim.field.layout;
@@ -233,25 +229,29 @@ impl BladePass {
                     continue;
                 }
                 for b in c * per_cell..(c + 1) * per_cell {
-                    self.list.push(BladeInstance {
-                        blade: b as u32,
-                        debug_rgba: debug(b),
-                    });
+                    // Blades a grass map left out (zero height) draw nothing.
+                    if blades.seg_len[b] > 0.0 {
+                        self.list.push(BladeInstance {
+                            blade: b as u32,
+                            debug_rgba: debug(b),
+                        });
+                    }
                 }
             }
         }
-        let bytes = (self.list.len() * 8) as u64;
+        let list_bytes = (self.list.len() * 8) as u64;
         if let Some(b) = crate::pipeline::grown(
             device,
             Some(&self.instances),
             "blade instances",
             wgpu::BufferUsages::STORAGE,
-            bytes,
+            list_bytes,
         ) {
             self.instances = b;
             self.bind_group = Some(self.bind_cpu(device));
         }
         queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.list));
+        (bytes, list_bytes)
     }
 
     /// Blades drawn by the last [`BladePass::prepare`].
@@ -276,16 +276,15 @@ impl BladePass {
         2 * (self.segments + 1)
     }
 
-    /// Records the GPU path's blades into `pass`: one indirect draw per
-    /// chunk of `field`, from its positions and `lists` (made by
-    /// `GpuSimulation::record_draw_lists` earlier in the same encoder).
-    pub fn draw_gpu(
+    /// The bind groups of the GPU path's blades, one per chunk of `field`:
+    /// its positions and `lists` (made by `GpuSimulation::record_draw_lists`
+    /// earlier in the same encoder), for [`BladePass::draw_gpu`].
+    pub fn bind_gpu(
         &mut self,
         device: &wgpu::Device,
-        pass: &mut wgpu::RenderPass<'_>,
         field: &trample_gpu::GpuField,
         lists: &trample_gpu::draw_lists::DrawLists,
-    ) {
+    ) -> Vec<wgpu::BindGroup> {
         if self.gpu_chunks.len() != field.chunks.len() {
             self.gpu_chunks = field
                 .chunks
@@ -293,14 +292,26 @@ impl BladePass {
                 .map(|c| chunk_uniform(device, c.first_blade, c.blades))
                 .collect();
         }
+        field
+            .chunks
+            .iter()
+            .zip(&self.gpu_chunks)
+            .map(|(chunk, uniform)| self.bind(device, &chunk.pos, &lists.blade_instances, uniform))
+            .collect()
+    }
+
+    /// Records the GPU path's blades into `pass`: one indirect draw per
+    /// chunk, group k drawn with the arguments at `16 k` of `args`.
+    pub fn draw_gpu(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        groups: &[wgpu::BindGroup],
+        args: &wgpu::Buffer,
+    ) {
         pass.set_pipeline(&self.pipeline);
-        for (k, (chunk, uniform)) in field.chunks.iter().zip(&self.gpu_chunks).enumerate() {
-            let group = self.bind(device, &chunk.pos, &lists.blade_instances, uniform);
-            pass.set_bind_group(1, &group, &[]);
-            pass.draw_indirect(
-                &lists.args,
-                k as u64 * trample_gpu::draw_lists::DRAW_ARGS_BYTES,
-            );
+        for (k, group) in groups.iter().enumerate() {
+            pass.set_bind_group(1, group, &[]);
+            pass.draw_indirect(args, k as u64 * trample_gpu::draw_lists::DRAW_ARGS_BYTES);
         }
     }
 }
@@ -313,4 +324,60 @@ fn chunk_uniform(device: &wgpu::Device, first: u32, blades: u32) -> wgpu::Buffer
         contents: bytemuck::cast_slice(&[first, blades, 0, 0]),
         usage: wgpu::BufferUsages::UNIFORM,
     })
+}
+
+/// Which blade vertices a frame writes to the GPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Upload {
+    /// Every vertex of the field (the first frame, or after steps the
+    /// renderer did not see).
+    All,
+    /// The blades the last step changed ([`trample::field::Field::changed_blades`]),
+    /// which is everything that moved since the previous frame drawn.
+    Changed,
+    /// Nothing (no step since the previous frame drawn).
+    None,
+}
+
+/// Runs of changed blades closer than this many blades are written as one
+/// (fewer, larger writes; the blades between are written unchanged).
+pub const MERGE_GAP_BLADES: u32 = 32;
+
+/// Writes `field`'s blade vertices (vertex-major, [`trample::field::Blades::pos_bytes`])
+/// into `pos` as `upload` says; returns the bytes written.
+fn upload_positions(
+    queue: &wgpu::Queue,
+    pos: &wgpu::Buffer,
+    field: &trample::field::Field,
+    upload: Upload,
+) -> u64 {
+    let blades = &field.blades;
+    const VERTEX: usize = std::mem::size_of::<trample::field::BladeVertex>();
+    let bytes = blades.pos_bytes();
+    match upload {
+        Upload::None => 0,
+        Upload::All => {
+            queue.write_buffer(pos, 0, bytes);
+            bytes.len() as u64
+        }
+        Upload::Changed => {
+            let mut runs: Vec<std::ops::Range<u32>> = Vec::new();
+            for r in field.changed_blades().ranges() {
+                match runs.last_mut() {
+                    Some(last) if r.start - last.end <= MERGE_GAP_BLADES => last.end = r.end,
+                    _ => runs.push(r),
+                }
+            }
+            let mut written = 0;
+            for k in 0..=blades.segments {
+                for r in &runs {
+                    let first = (k * blades.count + r.start as usize) * VERTEX;
+                    let last = (k * blades.count + r.end as usize) * VERTEX;
+                    queue.write_buffer(pos, first as u64, &bytes[first..last]);
+                    written += (last - first) as u64;
+                }
+            }
+            written
+        }
+    }
 }

@@ -91,5 +91,5 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     if (globals.params.x != 0u) {
         c = v.albedo * (0.6 + 0.4 * max(dot(n, globals.sun_dir.xyz), 0.0));
     }
-    return vec4<f32>(fog(c, v.world), 1.0);
+    return out_color(fog(c, v.world));
 }

@@ -27,7 +27,8 @@ pub struct Globals {
     pub sky_horizon: Vec4,
     /// x fog start, y fog end, z `geometry_m`, w `billboard_m` (metres).
     pub fog: Vec4,
-    /// x debug view (0 none, 1 classes), y segments per blade, z blade count.
+    /// x debug view (0 none, 1 classes), y segments per blade, z blade
+    /// count, w 1 when the shaders encode sRGB (a non-sRGB target), else 0.
     pub params: UVec4,
     /// Wind ([`trample::wind`]): xz unit direction, y steady tip
     /// displacement (m), w gust amplitude (m).

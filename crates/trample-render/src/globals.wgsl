@@ -16,7 +16,8 @@ struct Globals {
     sky_horizon: vec4<f32>,
     // x: fog start (m), y: fog end (m), z: geometry_m, w: billboard_m.
     fog: vec4<f32>,
-    // x: debug view (0 none, 1 classes), y: segments per blade, z: blade count, w: unused.
+    // x: debug view (0 none, 1 classes), y: segments per blade, z: blade count,
+    // w: 1 = encode sRGB in the shader (a non-sRGB target).
     params: vec4<u32>,
     // xz: wind direction (unit), y: steady tip displacement (m), w: gust amplitude (m).
     wind: vec4<f32>,
@@ -39,6 +40,19 @@ fn fog(color: vec3<f32>, world: vec3<f32>) -> vec3<f32> {
     let d = distance(world, globals.eye.xyz);
     let f = clamp((d - globals.fog.x) / (globals.fog.y - globals.fog.x), 0.0, 1.0);
     return mix(color, globals.sky_horizon.rgb, f * f);
+}
+
+// What a fragment shader returns for the linear colour `c`: as is for an
+// sRGB target (the hardware encodes it), sRGB-encoded here for any other
+// (params.w = 1, `TargetFormat::shader_encodes_srgb`).
+fn out_color(c: vec3<f32>) -> vec4<f32> {
+    if (globals.params.w == 0u) {
+        return vec4<f32>(c, 1.0);
+    }
+    let x = clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
+    let lo = x * 12.92;
+    let hi = 1.055 * pow(x, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return vec4<f32>(select(hi, lo, x <= vec3<f32>(0.0031308)), 1.0);
 }
 
 // Small integer hash -> [0, 1).

@@ -1,7 +1,13 @@
 //! Renders a trample field with wgpu (DESIGN §8): geometric blades pulled
 //! from the core's vertex buffer, billboards whose top edge follows the
-//! cell's slope (Eq. 8), a textured ground, shaded objects, sky, fog, MSAA;
-//! offscreen to an image.
+//! cell's slope (Eq. 8), a textured ground, shaded objects, sky, fog, MSAA.
+//!
+//! Two ways in: [`FieldRenderer`] records the field into a render pass a
+//! host (a game) opened, with the host's formats, depth buffer and camera
+//! (wgpu middleware: `prepare`, then `render(&mut pass)`); [`Renderer`] is
+//! a small host of it that draws offscreen to an image (the CLI, the
+//! viewer, the tests). The examples `embed_headless` and `embed_window`
+//! show a host drawing its own geometry and the grass in one pass.
 //!
 //! Library functions take a `&wgpu::Device` and `&wgpu::Queue`; only
 //! [`headless::create_device`] makes one (for tools and tests).
@@ -18,20 +24,29 @@
 
 pub mod billboards;
 pub mod blades;
+mod classes;
 pub mod error;
+pub mod field_renderer;
+pub mod frame_camera;
 pub mod globals;
 pub mod headless;
 pub mod lines;
 pub mod objects;
+pub mod params;
 pub mod pipeline;
 pub mod renderer;
 pub mod sky;
 pub mod target;
+pub mod target_format;
 pub mod terrain;
 pub mod textures;
 
 pub use error::RenderError;
-pub use renderer::{DebugView, FrameCounts, RenderParams, Renderer};
+pub use field_renderer::{FieldRenderer, FrameCounts};
+pub use frame_camera::FrameCamera;
+pub use params::{DebugView, Layers, RenderParams};
+pub use renderer::Renderer;
+pub use target_format::TargetFormat;
 
 /// Colour format of the frame: sRGB, so shaders work in linear colour and
 /// the bytes read back are what a PNG stores.

@@ -142,7 +142,11 @@ pub struct LinePass {
 impl LinePass {
     /// Builds the pipeline.
     #[must_use]
-    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, samples: u32) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        target: &crate::TargetFormat,
+    ) -> Self {
         let module = shader_module(device, "lines.wgsl", include_str!("lines.wgsl"));
         let attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let pipeline = crate::pipeline::build(
@@ -159,8 +163,8 @@ impl LinePass {
                 topology: wgpu::PrimitiveTopology::LineList,
                 cull: None,
                 // Over everything: a debug view shows the hidden boxes too.
-                depth_write: false,
-                samples,
+                depth: crate::pipeline::DepthUse::Ignore,
+                target,
                 alpha_to_coverage: false,
             },
         );
@@ -173,7 +177,7 @@ impl LinePass {
     }
 
     /// Builds this frame's lines: OBB nodes when `obb`, the patch grid when
-    /// `grid`.
+    /// `grid`. Returns the bytes written.
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
@@ -181,7 +185,7 @@ impl LinePass {
         sim: &Simulation,
         obb: bool,
         grid: bool,
-    ) {
+    ) -> u64 {
         self.scratch.clear();
         if obb {
             for body in &sim.bodies {
@@ -194,7 +198,7 @@ impl LinePass {
         }
         self.count = self.scratch.len() as u32;
         if self.scratch.is_empty() {
-            return;
+            return 0;
         }
         let bytes: &[u8] = bytemuck::cast_slice(&self.scratch);
         if let Some(b) = crate::pipeline::grown(
@@ -209,6 +213,7 @@ impl LinePass {
         if let Some(b) = &self.vertices {
             queue.write_buffer(b, 0, bytes);
         }
+        bytes.len() as u64
     }
 
     /// Lines drawn by the last [`LinePass::prepare`].

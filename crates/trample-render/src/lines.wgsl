@@ -21,5 +21,5 @@ fn vs_main(v: VertexIn) -> VertexOut {
 
 @fragment
 fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(v.color, 1.0);
+    return out_color(v.color);
 }

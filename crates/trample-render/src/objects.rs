@@ -28,15 +28,18 @@ const PALETTE: [Vec3; 4] = [
 ];
 
 struct Drawn {
+    id: trample::BodyId,
     vertices: wgpu::Buffer,
     count: u32,
     uniform: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
 }
 
-/// The object pass: one vertex buffer and one uniform per body.
+/// The object pass: one vertex buffer and one uniform per body, made
+/// again when the simulation's bodies change (a host adds or removes one).
 pub struct ObjectPass {
     pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
     objects: Vec<Drawn>,
 }
 
@@ -65,9 +68,8 @@ impl ObjectPass {
         device: &wgpu::Device,
         globals: &wgpu::BindGroupLayout,
         sim: &Simulation,
-        samples: u32,
+        target: &crate::TargetFormat,
     ) -> Self {
-        use wgpu::util::DeviceExt;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("object"),
             entries: &[wgpu::BindGroupLayoutEntry {
@@ -81,38 +83,7 @@ impl ObjectPass {
                 count: None,
             }],
         });
-        let objects = sim
-            .bodies
-            .iter()
-            .map(|body| {
-                let verts = flat_vertices(&body.object.mesh);
-                let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&body.object.name),
-                    contents: bytemuck::cast_slice(&verts),
-                    usage: wgpu::BufferUsages::VERTEX,
-                });
-                let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(&body.object.name),
-                    size: std::mem::size_of::<ObjectUniform>() as u64,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some(&body.object.name),
-                    layout: &layout,
-                    entries: &[wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: uniform.as_entire_binding(),
-                    }],
-                });
-                Drawn {
-                    vertices,
-                    count: verts.len() as u32,
-                    uniform,
-                    bind_group,
-                }
-            })
-            .collect();
+        let objects = upload_bodies(device, &layout, sim);
         let module = shader_module(device, "objects.wgsl", include_str!("objects.wgsl"));
         let attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let pipeline = crate::pipeline::build(
@@ -129,16 +100,30 @@ impl ObjectPass {
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 // Meshes may be open or wound either way: draw both sides.
                 cull: None,
-                depth_write: true,
-                samples,
+                depth: crate::pipeline::DepthUse::Write,
+                target,
                 alpha_to_coverage: false,
             },
         );
-        Self { pipeline, objects }
+        Self {
+            pipeline,
+            layout,
+            objects,
+        }
     }
 
-    /// Writes each body's current pose.
-    pub fn prepare(&self, queue: &wgpu::Queue, sim: &Simulation) {
+    /// Writes each body's current pose (uploading the meshes again when
+    /// the bodies are not those of the last frame); returns the bytes written.
+    pub fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, sim: &Simulation) -> u64 {
+        let same = self.objects.len() == sim.bodies.len()
+            && self
+                .objects
+                .iter()
+                .zip(&sim.bodies)
+                .all(|(o, b)| o.id == b.id);
+        if !same {
+            self.objects = upload_bodies(device, &self.layout, sim);
+        }
         for (i, (drawn, body)) in self.objects.iter().zip(&sim.bodies).enumerate() {
             let model = Mat4::from_rotation_translation(body.pose.rotation, body.pose.position);
             let (lo, hi) = body.object.mesh.bounds().unwrap_or((Vec3::ZERO, Vec3::ONE));
@@ -150,6 +135,7 @@ impl ObjectPass {
             };
             queue.write_buffer(&drawn.uniform, 0, bytemuck::bytes_of(&u));
         }
+        (self.objects.len() * std::mem::size_of::<ObjectUniform>()) as u64
     }
 
     /// Records the draws into `pass`.
@@ -161,4 +147,45 @@ impl ObjectPass {
             pass.draw(0..o.count, 0..1);
         }
     }
+}
+
+/// Each body's mesh of `sim` in a vertex buffer, with its uniform.
+fn upload_bodies(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    sim: &Simulation,
+) -> Vec<Drawn> {
+    use wgpu::util::DeviceExt;
+    sim.bodies
+        .iter()
+        .map(|body| {
+            let verts = flat_vertices(&body.object.mesh);
+            let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&body.object.name),
+                contents: bytemuck::cast_slice(&verts),
+                usage: wgpu::BufferUsages::VERTEX,
+            });
+            let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(&body.object.name),
+                size: std::mem::size_of::<ObjectUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(&body.object.name),
+                layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                }],
+            });
+            Drawn {
+                id: body.id,
+                vertices,
+                count: verts.len() as u32,
+                uniform,
+                bind_group,
+            }
+        })
+        .collect()
 }

@@ -47,5 +47,5 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     // A little specular so the object reads as solid.
     let h = normalize(globals.sun_dir.xyz + normalize(globals.eye.xyz - v.world));
     c = c + globals.sun_color.rgb * pow(max(dot(n, h), 0.0), 40.0) * 0.25;
-    return vec4<f32>(fog(c, v.world), 1.0);
+    return out_color(fog(c, v.world));
 }

@@ -1,5 +1,20 @@
-//! The render-pipeline settings every pass shares (target formats, depth,
-//! MSAA), so each pass states only what differs.
+//! The render-pipeline settings every pass shares (the host's target
+//! formats, depth, MSAA: [`crate::TargetFormat`]), so each pass states only
+//! what differs.
+
+use crate::TargetFormat;
+
+/// How a pass uses the depth buffer (when the target has one).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthUse {
+    /// Tested (less) and written: solid geometry.
+    Write,
+    /// Tested (less or equal), not written: the sky at the far plane fills
+    /// only what nothing was drawn on.
+    TestOnly,
+    /// Neither: debug lines over everything.
+    Ignore,
+}
 
 /// What differs between the passes' pipelines.
 pub struct Spec<'a> {
@@ -15,15 +30,15 @@ pub struct Spec<'a> {
     pub topology: wgpu::PrimitiveTopology,
     /// Face culling (`None` = two-sided).
     pub cull: Option<wgpu::Face>,
-    /// Writes depth (the sky does not, and always passes).
-    pub depth_write: bool,
-    /// MSAA samples.
-    pub samples: u32,
+    /// How the pass uses depth.
+    pub depth: DepthUse,
+    /// The host's target (colour and depth formats, samples).
+    pub target: &'a TargetFormat,
     /// Alpha to coverage (alpha-tested billboards under MSAA).
     pub alpha_to_coverage: bool,
 }
 
-/// Builds the pipeline of `spec` for [`crate::COLOR_FORMAT`] / [`crate::DEPTH_FORMAT`].
+/// Builds the pipeline of `spec` for its target's formats and samples.
 #[must_use]
 pub fn build(device: &wgpu::Device, spec: &Spec<'_>) -> wgpu::RenderPipeline {
     let layouts: Vec<Option<&wgpu::BindGroupLayout>> =
@@ -47,28 +62,28 @@ pub fn build(device: &wgpu::Device, spec: &Spec<'_>) -> wgpu::RenderPipeline {
             cull_mode: spec.cull,
             ..Default::default()
         },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: crate::DEPTH_FORMAT,
-            depth_write_enabled: Some(spec.depth_write),
-            depth_compare: Some(if spec.depth_write {
-                wgpu::CompareFunction::Less
-            } else {
-                wgpu::CompareFunction::Always
+        depth_stencil: spec.target.depth.map(|format| wgpu::DepthStencilState {
+            format,
+            depth_write_enabled: Some(spec.depth == DepthUse::Write),
+            depth_compare: Some(match spec.depth {
+                DepthUse::Write => wgpu::CompareFunction::Less,
+                DepthUse::TestOnly => wgpu::CompareFunction::LessEqual,
+                DepthUse::Ignore => wgpu::CompareFunction::Always,
             }),
             stencil: wgpu::StencilState::default(),
             bias: wgpu::DepthBiasState::default(),
         }),
         multisample: wgpu::MultisampleState {
-            count: spec.samples,
+            count: spec.target.samples,
             mask: !0,
-            alpha_to_coverage_enabled: spec.alpha_to_coverage && spec.samples > 1,
+            alpha_to_coverage_enabled: spec.alpha_to_coverage && spec.target.samples > 1,
         },
         fragment: Some(wgpu::FragmentState {
             module: spec.module,
             entry_point: Some("fs_main"),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             targets: &[Some(wgpu::ColorTargetState {
-                format: crate::COLOR_FORMAT,
+                format: spec.target.color,
                 blend: None,
                 write_mask: wgpu::ColorWrites::ALL,
             })],

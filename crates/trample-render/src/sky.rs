@@ -10,7 +10,11 @@ pub struct SkyPass {
 impl SkyPass {
     /// Creates the pass.
     #[must_use]
-    pub fn new(device: &wgpu::Device, globals: &wgpu::BindGroupLayout, samples: u32) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        globals: &wgpu::BindGroupLayout,
+        target: &crate::TargetFormat,
+    ) -> Self {
         let module = shader_module(device, "sky.wgsl", include_str!("sky.wgsl"));
         let pipeline = crate::pipeline::build(
             device,
@@ -21,8 +25,8 @@ impl SkyPass {
                 buffers: &[],
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 cull: None,
-                depth_write: false,
-                samples,
+                depth: crate::pipeline::DepthUse::TestOnly,
+                target,
                 alpha_to_coverage: false,
             },
         );

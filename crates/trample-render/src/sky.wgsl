@@ -25,5 +25,5 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     var c = mix(globals.sky_horizon.rgb, globals.sky_zenith.rgb, pow(up, 0.6));
     let sun = max(dot(dir, globals.sun_dir.xyz), 0.0);
     c = c + globals.sun_color.rgb * (pow(sun, 800.0) * 4.0 + pow(sun, 12.0) * 0.15);
-    return vec4<f32>(c, 1.0);
+    return out_color(c);
 }

@@ -83,7 +83,7 @@ impl TerrainPass {
         queue: &wgpu::Queue,
         globals: &wgpu::BindGroupLayout,
         sim: &Simulation,
-        samples: u32,
+        target: &crate::TargetFormat,
     ) -> Self {
         use wgpu::util::DeviceExt;
         let (vertices, indices) = ground_mesh(sim);
@@ -138,8 +138,8 @@ impl TerrainPass {
                 })],
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 cull: None,
-                depth_write: true,
-                samples,
+                depth: crate::pipeline::DepthUse::Write,
+                target,
                 alpha_to_coverage: false,
             },
         );

@@ -38,5 +38,5 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
         let d = distance(v.world, globals.eye.xyz);
         c = select(vec3<f32>(0.05, 0.06, 0.04), vec3<f32>(0.35, 0.35, 0.35), d >= globals.fog.w);
     }
-    return vec4<f32>(fog(c, v.world), 1.0);
+    return out_color(fog(c, v.world));
 }

@@ -251,3 +251,63 @@ fn a_changed_frame_fails_the_comparison() {
         "mean {mean}, share {share}"
     );
 }
+
+/// The host of the `embed_headless` and `embed_window` examples.
+#[path = "../examples/embed/mod.rs"]
+mod embed;
+
+/// Whether `p` is the host cube's unlit pure magenta (255, 0, 255).
+fn is_magenta(p: &image::Rgba<u8>) -> bool {
+    p.0[..3] == [255, 0, 255]
+}
+
+/// Whether `p` reads as grass: green above red and blue.
+fn is_grass(p: &image::Rgba<u8>) -> bool {
+    let [r, g, b, _] = p.0;
+    g > r && g > b
+}
+
+#[test]
+fn golden_embed_headless_host_cube_in_the_grass() {
+    // The frame `embed_headless` writes (at a smaller size): the host's
+    // magenta cube and trample's grass in one pass with one depth buffer.
+    let gpu = gpu();
+    let (size, steps) = ([320, 180], 30);
+    let frame =
+        embed::render_headless(&gpu.device, &gpu.queue, &gpu.adapter, size, steps, true).unwrap();
+    let alone =
+        embed::render_headless(&gpu.device, &gpu.queue, &gpu.adapter, size, steps, false).unwrap();
+    let pixels = f64::from(size[0] * size[1]);
+    let cube_alone = alone.pixels().filter(|p| is_magenta(p)).count();
+    let cube = frame.pixels().filter(|p| is_magenta(p)).count();
+    let grass = frame.pixels().filter(|p| is_grass(p)).count();
+    // Cube pixels of the frame without grass that the grass covers (fully
+    // or partly: blades thinner than a pixel blend with the cube under MSAA).
+    let hidden = alone
+        .pixels()
+        .zip(frame.pixels())
+        .filter(|(a, f)| is_magenta(a) && !is_magenta(f))
+        .count();
+    eprintln!(
+        "embed: cube {cube_alone} px alone, {cube} px in the grass ({hidden} hidden by grass); grass {grass} px of {pixels}"
+    );
+    assert!(
+        cube_alone as f64 > 0.03 * pixels,
+        "the cube covers {cube_alone} px alone"
+    );
+    // Depth shared both ways: the cube hides the grass (and the sky)
+    // behind it, and grass in front of it hides part of it.
+    assert!(
+        cube as f64 > 0.5 * cube_alone as f64,
+        "the cube shows {cube} px of {cube_alone}: the grass or sky covers it"
+    );
+    assert!(
+        hidden as f64 > 0.03 * cube_alone as f64,
+        "grass in front hides only {hidden} px of the cube's {cube_alone}"
+    );
+    assert!(
+        grass as f64 > 0.2 * pixels,
+        "grass covers only {grass} px of {pixels}"
+    );
+    check("embed_headless", &frame);
+}

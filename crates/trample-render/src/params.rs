@@ -1,0 +1,118 @@
+//! Render settings: what the frame shows (debug views), light, fog and
+//! the optional layers around the grass.
+
+use glam::Vec3;
+
+/// What the frame shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DebugView {
+    /// The shaded scene.
+    #[default]
+    None,
+    /// Colour by class: DBG red, PBG blue (darker each generation), blades
+    /// touched in earlier frames dark red / dark blue, untouched green,
+    /// billboards yellow, Texture-LOD ground grey.
+    Classes,
+    /// The shaded scene with each object's OBB-tree nodes at the current
+    /// precision drawn over it (yellow; orange: leaves above the precision).
+    Obb,
+    /// The shaded scene with the patch grid over it (patch borders white,
+    /// cell lines grey on small grids).
+    Patches,
+}
+
+impl DebugView {
+    /// Every view, in the order a viewer cycles through them.
+    pub const ALL: [DebugView; 4] = [Self::None, Self::Classes, Self::Obb, Self::Patches];
+
+    /// The view after this one in [`DebugView::ALL`], wrapping round.
+    #[must_use]
+    pub fn next(self) -> Self {
+        let i = Self::ALL.iter().position(|&v| v == self).unwrap_or(0);
+        Self::ALL[(i + 1) % Self::ALL.len()]
+    }
+}
+
+impl std::str::FromStr for DebugView {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "none" => Ok(Self::None),
+            "classes" => Ok(Self::Classes),
+            "obb" => Ok(Self::Obb),
+            "patches" => Ok(Self::Patches),
+            _ => Err(format!(
+                "unknown debug view {s:?}: expected none, classes, obb or patches"
+            )),
+        }
+    }
+}
+
+/// Render settings (`RenderParams`, STYLE rule 4). `width`, `height` and
+/// `samples` size the offscreen frame of [`crate::Renderer`]; a
+/// [`crate::FieldRenderer`] drawing into a host's pass takes those from the
+/// host ([`crate::TargetFormat`], [`crate::FrameCamera`]) and uses the rest.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderParams {
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+    /// MSAA samples: 4 by default; ask the adapter first
+    /// ([`crate::headless::supported_msaa`]), 1 where it cannot.
+    pub samples: u32,
+    /// Debug view.
+    pub debug: DebugView,
+    /// Direction towards the sun (normalised on use). Default: high behind
+    /// the default camera's left shoulder, so the blades facing it are lit.
+    pub sun_dir: Vec3,
+    /// Fog starts at this distance, metres (default 25: past the billboards' near edge).
+    pub fog_start_m: f32,
+    /// Fog is complete at this distance, metres (default 140).
+    pub fog_end_m: f32,
+    /// Which of the scene's surroundings are drawn besides the grass
+    /// (default: all; a host drawing its own world turns them off).
+    pub layers: Layers,
+}
+
+/// What a [`crate::FieldRenderer`] draws besides the grass (blades and
+/// billboards, always drawn). A host with its own sky, ground or meshes
+/// turns the matching layer off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layers {
+    /// The sky gradient and sun disc, at the far plane: fills only the
+    /// pixels nothing else was drawn on (depth test at 1.0). Default on.
+    pub sky: bool,
+    /// The textured ground over the field's terrain (and one field size
+    /// around it): what shows between blades and at ground-texture level.
+    /// Default on.
+    pub terrain: bool,
+    /// The simulation's bodies, flat-shaded with a checker. Default on;
+    /// off for a host that draws its own meshes for them.
+    pub objects: bool,
+}
+
+impl Default for Layers {
+    fn default() -> Self {
+        Self {
+            sky: true,
+            terrain: true,
+            objects: true,
+        }
+    }
+}
+
+impl Default for RenderParams {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            samples: 4,
+            debug: DebugView::None,
+            sun_dir: Vec3::new(-0.35, 0.75, 0.55),
+            fog_start_m: 25.0,
+            fog_end_m: 140.0,
+            layers: Layers::default(),
+        }
+    }
+}

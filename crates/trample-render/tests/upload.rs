@@ -1,0 +1,96 @@
+//! Uploads only what changed (issue 14 items 2–3): a renderer that saw
+//! every step writes only the blades each step changed, and draws exactly
+//! the frame a fresh renderer (which writes every blade) draws of the same
+//! state. Runs on the adapter of `WGPU_BACKEND`; no adapter = failure.
+
+use trample::Simulation;
+use trample::scene::Scene;
+use trample_render::{RenderParams, Renderer};
+
+const W: u32 = 160;
+const H: u32 = 120;
+
+/// A 3.2 m field seen from above with a ball rolling through it.
+fn scene() -> Simulation {
+    let toml = format!(
+        r#"
+[field]
+patches = [4, 4]
+cells_per_patch = 8
+cell_size_m = 0.1
+blade_width_m = 0.03
+[lod]
+geometry_m = 50.0
+billboard_m = 60.0
+[sim]
+recovery_s = 1.0
+[camera]
+path = {{ kind = "static", position = [0.0, 3.0, 0.8] }}
+look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
+aspect = {aspect}
+[[objects]]
+name = "ball"
+shape = {{ kind = "sphere", radius_m = 0.3, subdivisions = 2 }}
+orientation = "rolling"
+path = {{ kind = "line", from = [-2.0, 0.3, 0.0], to = [2.0, 0.3, 0.0], duration_s = 1.0 }}
+"#,
+        aspect = W as f32 / H as f32
+    );
+    Scene::parse(&toml, "upload.toml", std::path::Path::new("."))
+        .unwrap()
+        .build()
+        .unwrap()
+}
+
+#[test]
+fn changed_blades_only_and_the_same_frame_as_a_full_upload() {
+    let gpu = trample_render::headless::create_device()
+        .unwrap_or_else(|e| panic!("the upload test needs an adapter: {e}"));
+    let params = RenderParams {
+        width: W,
+        height: H,
+        samples: gpu.msaa(4),
+        ..Default::default()
+    };
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut sim = scene();
+    let full_bytes = sim.field.blades.pos_bytes().len() as u64;
+    let mut follower = Renderer::new(device, queue, &sim, params).unwrap();
+    let first = follower.draw(device, queue, &sim);
+    assert!(
+        first.vertex_bytes == full_bytes,
+        "the first frame writes every vertex"
+    );
+    let mut most = 0;
+    for frame in 0..45 {
+        sim.step(1.0 / 60.0).unwrap();
+        let counts = follower.draw(device, queue, &sim);
+        // Every step of the run changes some blades (the ball is in the
+        // field), never all of them.
+        assert!(
+            counts.vertex_bytes > 0 && counts.vertex_bytes < full_bytes / 2,
+            "frame {frame}: {} bytes of vertices written of {full_bytes}",
+            counts.vertex_bytes
+        );
+        most = most.max(counts.vertex_bytes);
+    }
+    eprintln!("upload: at most {most} bytes a frame after the first, field {full_bytes} bytes");
+    assert!(sim.blades_away_from_rest() > 100, "the ball bent the grass");
+    let followed = follower.read_frame(device, queue).unwrap();
+    let fresh = Renderer::new(device, queue, &sim, params)
+        .unwrap()
+        .render(device, queue, &sim)
+        .unwrap();
+    let differing = followed
+        .pixels()
+        .zip(fresh.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels differ between the renderer that uploaded only changes and a fresh one"
+    );
+    // A frame without a step writes no blade vertex.
+    let again = follower.draw(device, queue, &sim);
+    assert_eq!(again.vertex_bytes, 0);
+}
