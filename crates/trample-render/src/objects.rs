@@ -1,5 +1,7 @@
-//! Objects: each mesh uploaded once (flat normals, triangles unshared), drawn
-//! with its pose each frame.
+//! Objects: each collider's mesh (a body's own, then its parts', see
+//! `trample::step::Body::colliders`) uploaded once (flat normals, triangles
+//! unshared), drawn with its pose each frame; an animated body's mesh is
+//! uploaded again every frame (its posed vertices).
 
 use crate::globals::shader_module;
 use crate::terrain::GroundVertex;
@@ -28,13 +30,16 @@ const PALETTE: [Vec3; 4] = [
 ];
 
 struct Drawn {
+    /// Index of the body in `sim.bodies` and of the collider in the body.
+    body: usize,
+    collider: usize,
     vertices: wgpu::Buffer,
     count: u32,
     uniform: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
 }
 
-/// The object pass: one vertex buffer and one uniform per body.
+/// The object pass: one vertex buffer and one uniform per collider.
 pub struct ObjectPass {
     pipeline: wgpu::RenderPipeline,
     objects: Vec<Drawn>,
@@ -59,7 +64,7 @@ pub fn flat_vertices(mesh: &trample::object::TriMesh) -> Vec<GroundVertex> {
 }
 
 impl ObjectPass {
-    /// Uploads every body's mesh of `sim`.
+    /// Uploads every collider's mesh of `sim`.
     #[must_use]
     pub fn new(
         device: &wgpu::Device,
@@ -84,12 +89,14 @@ impl ObjectPass {
         let objects = sim
             .bodies
             .iter()
-            .map(|body| {
-                let verts = flat_vertices(&body.object.mesh);
+            .enumerate()
+            .flat_map(|(i, body)| (0..body.collider_count()).map(move |k| (i, k, body)))
+            .map(|(i, k, body)| {
+                let verts = flat_vertices(body.collider(k).mesh);
                 let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(&body.object.name),
                     contents: bytemuck::cast_slice(&verts),
-                    usage: wgpu::BufferUsages::VERTEX,
+                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
                 });
                 let uniform = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(&body.object.name),
@@ -106,6 +113,8 @@ impl ObjectPass {
                     }],
                 });
                 Drawn {
+                    body: i,
+                    collider: k,
                     vertices,
                     count: verts.len() as u32,
                     uniform,
@@ -137,16 +146,30 @@ impl ObjectPass {
         Self { pipeline, objects }
     }
 
-    /// Writes each body's current pose.
+    /// Writes each collider's current pose, and an animated body's posed
+    /// vertices.
     pub fn prepare(&self, queue: &wgpu::Queue, sim: &Simulation) {
-        for (i, (drawn, body)) in self.objects.iter().zip(&sim.bodies).enumerate() {
-            let model = Mat4::from_rotation_translation(body.pose.rotation, body.pose.position);
+        for drawn in &self.objects {
+            let Some(body) = sim.bodies.get(drawn.body) else {
+                continue;
+            };
+            if drawn.collider >= body.collider_count() {
+                continue;
+            }
+            let c = body.collider(drawn.collider);
+            if drawn.collider == 0 && body.object.animated.is_some() {
+                let verts = flat_vertices(c.mesh);
+                if verts.len() as u32 == drawn.count {
+                    queue.write_buffer(&drawn.vertices, 0, bytemuck::cast_slice(&verts));
+                }
+            }
+            let model = Mat4::from_rotation_translation(c.pose.rotation, c.pose.position);
             let (lo, hi) = body.object.mesh.bounds().unwrap_or((Vec3::ZERO, Vec3::ONE));
-            // About six checker cells across the object.
+            // About six checker cells across the object (its body).
             let checker = 6.0 / (hi - lo).max_element().max(1e-3);
             let u = ObjectUniform {
                 model,
-                color: PALETTE[i % PALETTE.len()].extend(checker),
+                color: PALETTE[drawn.body % PALETTE.len()].extend(checker),
             };
             queue.write_buffer(&drawn.uniform, 0, bytemuck::bytes_of(&u));
         }

@@ -38,17 +38,28 @@ fn tractor_wheels_roll_at_v_over_r_with_their_ground_contact_at_rest() {
     assert!(v > 2.5, "the tractor drives (v = {v} m/s)");
     for (part, radius) in body.parts.iter().zip([0.7, 0.7, 0.45, 0.45]) {
         let pose = part.pose;
-        let spin = pose.angular_velocity.length();
+        // The wheel centre's own speed (on a curve, the outer wheels run
+        // faster than the body's origin).
+        let vc = pose.velocity.length();
+        assert!((vc - v).abs() < 0.2 * v, "wheel centre at {vc} m/s, body {v}");
+        // Spin about the axle (the body's own turn on the curve is about
+        // the vertical, which does not move the contact point along).
+        let spin = pose.angular_velocity.reject_from(Vec3::Y).length();
         assert!(
-            (spin - v / radius).abs() < 0.03 * v / radius,
+            (spin - vc / radius).abs() < 0.02 * vc / radius,
             "spin {spin} rad/s, v/r = {}",
-            v / radius
+            vc / radius
         );
+        // The contact point does not move along the rolling direction (it
+        // may scrub sideways: a rear wheel on a curve slides by the body's
+        // turn rate times its distance from the body's origin).
         let ground = pose.position - Vec3::Y * radius;
-        let contact = pose.point_velocity(ground).length();
-        assert!(contact < 0.03 * v, "contact point moves at {contact} m/s");
+        let axle = pose.angular_velocity.reject_from(Vec3::Y).normalize();
+        let forward = axle.cross(Vec3::Y);
+        let contact = pose.point_velocity(ground).dot(forward).abs();
+        assert!(contact < 0.01 * vc, "contact point rolls at {contact} m/s");
         let top = pose.point_velocity(pose.position + Vec3::Y * radius).length();
-        assert!((top - 2.0 * v).abs() < 0.05 * v, "top at {top} m/s, 2v = {}", 2.0 * v);
+        assert!((top - 2.0 * vc).abs() < 0.02 * vc, "top at {top} m/s, 2v = {}", 2.0 * vc);
     }
 }
 
@@ -59,7 +70,7 @@ fn tractor_wheels_roll_at_v_over_r_with_their_ground_contact_at_rest() {
 #[test]
 fn tractor_leaves_two_separate_wheel_tracks_with_untouched_grass_between() {
     let mut sim = scene("tractor.toml").build().unwrap();
-    let frames = 150;
+    let frames = 180;
     run(&mut sim, frames);
     let t_end = frames as f32 * sim.params.dt_s;
     let object = &sim.bodies[0].object;
@@ -101,7 +112,7 @@ fn tractor_leaves_two_separate_wheel_tracks_with_untouched_grass_between() {
             right += 1;
         }
     }
-    assert!(middle > 500, "{middle} blades between the tracks checked");
+    assert!(middle > 250, "{middle} blades between the tracks checked");
     assert_eq!(
         middle_touched, 0,
         "{middle_touched} of {middle} blades between the tracks were touched"
@@ -152,7 +163,8 @@ fn walker_exact_hits_agree_with_the_dumped_deformed_triangles_at_several_times()
                 disagree += usize::from(reference != flag);
             }
         }
-        assert!(hits > 20, "the walker touches grass at t = {t} ({hits})");
+        // Two legs in grass of 100 blades a square metre: a few blades.
+        assert!(hits >= 3, "the walker touches grass at t = {t} ({hits})");
         assert_eq!(disagree, 0, "t = {t}: {disagree} of {hits} hits disagree");
         for d in 1..=7 {
             let at_d = sim.segment_hits_at_rest(t, HitMode::Precision(d));
