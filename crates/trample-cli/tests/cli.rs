@@ -184,12 +184,19 @@ fn collide_dumps_animated_and_articulated_objects_posed_at_t() {
             .iter()
             .map(|o| {
                 o.mesh.triangle_count()
-                    + o.parts.parts.iter().map(|p| p.mesh.triangle_count()).sum::<usize>()
+                    + o.parts
+                        .parts
+                        .iter()
+                        .map(|p| p.mesh.triangle_count())
+                        .sum::<usize>()
             })
             .sum();
         let mut dumps = Vec::new();
         for t in ["1.0", "1.5"] {
-            let (hits, obj) = (d.join(format!("{name}_hits_{t}.npy")), d.join(format!("{name}_obj_{t}.npy")));
+            let (hits, obj) = (
+                d.join(format!("{name}_hits_{t}.npy")),
+                d.join(format!("{name}_obj_{t}.npy")),
+            );
             let o = trample(&[
                 "collide",
                 scene.to_str().unwrap(),
@@ -203,11 +210,21 @@ fn collide_dumps_animated_and_articulated_objects_posed_at_t() {
             ]);
             assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
             let o = npy(&obj);
-            assert_eq!((o.dtype, o.shape.clone()), (Dtype::F32, vec![triangles, 3, 3]), "{name}");
-            assert!(npy(&hits).data.contains(&1), "{name}: no exact hit at t = {t}");
+            assert_eq!(
+                (o.dtype, o.shape.clone()),
+                (Dtype::F32, vec![triangles, 3, 3]),
+                "{name}"
+            );
+            assert!(
+                npy(&hits).data.contains(&1),
+                "{name}: no exact hit at t = {t}"
+            );
             dumps.push(o.data);
         }
-        assert_ne!(dumps[0], dumps[1], "{name}: the same triangles at two times");
+        assert_ne!(
+            dumps[0], dumps[1],
+            "{name}: the same triangles at two times"
+        );
     }
 }
 

@@ -41,7 +41,10 @@ fn tractor_wheels_roll_at_v_over_r_with_their_ground_contact_at_rest() {
         // The wheel centre's own speed (on a curve, the outer wheels run
         // faster than the body's origin).
         let vc = pose.velocity.length();
-        assert!((vc - v).abs() < 0.2 * v, "wheel centre at {vc} m/s, body {v}");
+        assert!(
+            (vc - v).abs() < 0.2 * v,
+            "wheel centre at {vc} m/s, body {v}"
+        );
         // Spin about the axle (the body's own turn on the curve is about
         // the vertical, which does not move the contact point along).
         let spin = pose.angular_velocity.reject_from(Vec3::Y).length();
@@ -58,8 +61,14 @@ fn tractor_wheels_roll_at_v_over_r_with_their_ground_contact_at_rest() {
         let forward = axle.cross(Vec3::Y);
         let contact = pose.point_velocity(ground).dot(forward).abs();
         assert!(contact < 0.01 * vc, "contact point rolls at {contact} m/s");
-        let top = pose.point_velocity(pose.position + Vec3::Y * radius).length();
-        assert!((top - 2.0 * vc).abs() < 0.02 * vc, "top at {top} m/s, 2v = {}", 2.0 * vc);
+        let top = pose
+            .point_velocity(pose.position + Vec3::Y * radius)
+            .length();
+        assert!(
+            (top - 2.0 * vc).abs() < 0.02 * vc,
+            "top at {top} m/s, 2v = {}",
+            2.0 * vc
+        );
     }
 }
 
@@ -117,7 +126,10 @@ fn tractor_leaves_two_separate_wheel_tracks_with_untouched_grass_between() {
         middle_touched, 0,
         "{middle_touched} of {middle} blades between the tracks were touched"
     );
-    assert!(left > 200 && right > 200, "tracks: left {left}, right {right}");
+    assert!(
+        left > 200 && right > 200,
+        "tracks: left {left}, right {right}"
+    );
 }
 
 /// `trample collide scenes/walker.toml --time T --dump-object` at several
@@ -173,7 +185,10 @@ fn walker_exact_hits_agree_with_the_dumped_deformed_triangles_at_several_times()
                 .zip(&at_d)
                 .filter(|(e, p)| **e == 1 && **p == 0)
                 .count();
-            assert_eq!(missed, 0, "precision {d} misses {missed} exact hits at t = {t}");
+            assert_eq!(
+                missed, 0,
+                "precision {d} misses {missed} exact hits at t = {t}"
+            );
         }
         if let Some(before) = previous {
             let moved = tris

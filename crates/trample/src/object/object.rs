@@ -9,11 +9,11 @@
 use super::animated::{AnimatedMesh, AnimationParams};
 use super::error::MeshError;
 use super::mesh::TriMesh;
-use super::parts::{Articulation, PartError, PartParams};
-use super::rig_error::RigError;
 use super::motion::{Motion, MotionError};
+use super::parts::{Articulation, PartError, PartParams};
 use super::path::{Path, PathError, PathParams};
 use super::pose::{Pose, rotation_from_euler_deg};
+use super::rig_error::RigError;
 use super::sanitize::{SanitizeReport, sanitize};
 use super::shapes::{self, MAX_SPHERE_SUBDIVISIONS};
 use glam::Vec3;

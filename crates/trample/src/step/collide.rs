@@ -78,14 +78,7 @@ pub(crate) fn narrow_phase(
             for (k, v) in local.iter_mut().enumerate().take(n + 1) {
                 *v = pose.to_local(Vec3::from(blades.vertex(b as usize, k)));
             }
-            contact_blade(
-                &local[..=n],
-                tree,
-                precision,
-                shell,
-                &motion,
-                contacts,
-            );
+            contact_blade(&local[..=n], tree, precision, shell, &motion, contacts);
             if contacts.mask == 0 {
                 return None;
             }

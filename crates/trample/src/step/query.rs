@@ -32,7 +32,11 @@ impl Simulation {
             let pose = *collider.pose;
             let tree = collider.tree;
             let mut patches = Vec::new();
-            patches_hit(&self.field.layout.patch_list, collider.world_root, &mut patches);
+            patches_hit(
+                &self.field.layout.patch_list,
+                collider.world_root,
+                &mut patches,
+            );
             for p in patches {
                 let patch = &self.field.layout.patch_list[p as usize];
                 let range = patch.first_blade as usize..(patch.first_blade + patch.blades) as usize;
@@ -45,9 +49,7 @@ impl Simulation {
                             let p0 = pose.to_local(Vec3::from(bl.rest_vertex(b, k)));
                             let p1 = pose.to_local(Vec3::from(bl.rest_vertex(b, k + 1)));
                             let hit = match mode {
-                                HitMode::Precision(d) => {
-                                    collide_segment(p0, p1, tree, d).is_some()
-                                }
+                                HitMode::Precision(d) => collide_segment(p0, p1, tree, d).is_some(),
                                 HitMode::Exact => segment_hits_exact(tree, p0, p1),
                             };
                             *f |= u8::from(hit);

@@ -20,11 +20,11 @@
 use super::bodies::BodyError;
 use super::body::{Body, BodyId};
 use super::simulation::Simulation;
-use crate::object::parts::Joint;
 use crate::collision::broad_phase::world_obb;
 use crate::obb::refit::{AxisRule, Nesting, RefitMap, RefitScratch};
 use crate::obb::{Obb, ObbTree};
 use crate::object::animated::AnimatedScratch;
+use crate::object::parts::Joint;
 use crate::object::parts::{PartPose, PartsInput, WheelOdometer};
 use crate::object::{Articulation, Object, Pose, TriMesh};
 use glam::Vec3;

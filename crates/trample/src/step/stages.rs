@@ -63,7 +63,11 @@ pub fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
     let (mut needed, mut fastest) = (1u32, None);
     for (i, body) in sim.bodies.iter().enumerate() {
         // The body's own mesh, then each part with its own motion.
-        let mut ends = vec![(body.pose_at(t0), body.pose_at(t0 + dt), body.tree.nodes[0].obb)];
+        let mut ends = vec![(
+            body.pose_at(t0),
+            body.pose_at(t0 + dt),
+            body.tree.nodes[0].obb,
+        )];
         let (a, b) = (body.part_poses_at(t0), body.part_poses_at(t0 + dt));
         ends.extend(
             a.into_iter()
