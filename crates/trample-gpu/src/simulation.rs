@@ -122,6 +122,16 @@ impl GpuSimulation {
             limit,
         )?;
         for body in &sim.bodies {
+            if !body.parts.is_empty() {
+                return Err(GpuError::Unsupported(
+                    "articulated objects (objects with parts, issue 13): run the scene with --backend cpu",
+                ));
+            }
+            if body.object.animated.is_some() {
+                return Err(GpuError::Unsupported(
+                    "animated objects (a skinned glTF playing an animation, issue 13): run the scene with --backend cpu",
+                ));
+            }
             GpuObject::fits(device, &body.tree)?;
         }
         Ok(())

@@ -188,9 +188,9 @@ impl LinePass {
     ) -> u64 {
         self.scratch.clear();
         if obb {
-            for body in &sim.bodies {
-                let model = Mat4::from_rotation_translation(body.pose.rotation, body.pose.position);
-                obb_lines(&body.tree, sim.params.precision, model, &mut self.scratch);
+            for c in sim.bodies.iter().flat_map(trample::Body::colliders) {
+                let model = Mat4::from_rotation_translation(c.pose.rotation, c.pose.position);
+                obb_lines(c.tree, sim.params.precision, model, &mut self.scratch);
             }
         }
         if grid {

@@ -1,5 +1,7 @@
-//! Objects: each mesh uploaded once (flat normals, triangles unshared), drawn
-//! with its pose each frame.
+//! Objects: each collider's mesh (a body's own, then its parts', see
+//! `trample::step::Body::colliders`) uploaded once (flat normals, triangles
+//! unshared), drawn with its pose each frame; an animated body's mesh is
+//! uploaded again every frame (its posed vertices).
 
 use crate::globals::shader_module;
 use crate::terrain::GroundVertex;
@@ -28,15 +30,20 @@ const PALETTE: [Vec3; 4] = [
 ];
 
 struct Drawn {
+    /// The body's stable id (the drawn list is made again when the ids change).
     id: trample::BodyId,
+    /// Index of the body in `sim.bodies` and of the collider in the body.
+    body: usize,
+    collider: usize,
     vertices: wgpu::Buffer,
     count: u32,
     uniform: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
 }
 
-/// The object pass: one vertex buffer and one uniform per body, made
-/// again when the simulation's bodies change (a host adds or removes one).
+/// The object pass: one vertex buffer and one uniform per collider (a
+/// body's own mesh, then its parts'), made again when the simulation's
+/// bodies change (a host adds or removes one).
 pub struct ObjectPass {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
@@ -62,7 +69,7 @@ pub fn flat_vertices(mesh: &trample::object::TriMesh) -> Vec<GroundVertex> {
 }
 
 impl ObjectPass {
-    /// Uploads every body's mesh of `sim`.
+    /// Uploads every collider's mesh of `sim`.
     #[must_use]
     pub fn new(
         device: &wgpu::Device,
@@ -112,30 +119,48 @@ impl ObjectPass {
         }
     }
 
-    /// Writes each body's current pose (uploading the meshes again when
-    /// the bodies are not those of the last frame); returns the bytes written.
+    /// Writes each collider's current pose and an animated body's posed
+    /// vertices (uploading the meshes again when the bodies are not those
+    /// of the last frame); returns the bytes written.
     pub fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, sim: &Simulation) -> u64 {
-        let same = self.objects.len() == sim.bodies.len()
-            && self
-                .objects
-                .iter()
-                .zip(&sim.bodies)
-                .all(|(o, b)| o.id == b.id);
+        let ids = |objects: &[Drawn]| {
+            let mut ids: Vec<trample::BodyId> = objects.iter().map(|o| o.id).collect();
+            ids.dedup();
+            ids
+        };
+        let same = ids(&self.objects).iter().eq(sim.bodies.iter().map(|b| &b.id))
+            && self.objects.len()
+                == sim.bodies.iter().map(|b| b.collider_count()).sum::<usize>();
         if !same {
             self.objects = upload_bodies(device, &self.layout, sim);
         }
-        for (i, (drawn, body)) in self.objects.iter().zip(&sim.bodies).enumerate() {
-            let model = Mat4::from_rotation_translation(body.pose.rotation, body.pose.position);
+        let mut bytes = 0u64;
+        for drawn in &self.objects {
+            let Some(body) = sim.bodies.get(drawn.body) else {
+                continue;
+            };
+            if drawn.collider >= body.collider_count() {
+                continue;
+            }
+            let c = body.collider(drawn.collider);
+            if drawn.collider == 0 && body.object.animated.is_some() {
+                let verts = flat_vertices(c.mesh);
+                if verts.len() as u32 == drawn.count {
+                    queue.write_buffer(&drawn.vertices, 0, bytemuck::cast_slice(&verts));
+                    bytes += std::mem::size_of_val(verts.as_slice()) as u64;
+                }
+            }
+            let model = Mat4::from_rotation_translation(c.pose.rotation, c.pose.position);
             let (lo, hi) = body.object.mesh.bounds().unwrap_or((Vec3::ZERO, Vec3::ONE));
-            // About six checker cells across the object.
+            // About six checker cells across the object (its body).
             let checker = 6.0 / (hi - lo).max_element().max(1e-3);
             let u = ObjectUniform {
                 model,
-                color: PALETTE[i % PALETTE.len()].extend(checker),
+                color: PALETTE[drawn.body % PALETTE.len()].extend(checker),
             };
             queue.write_buffer(&drawn.uniform, 0, bytemuck::bytes_of(&u));
         }
-        (self.objects.len() * std::mem::size_of::<ObjectUniform>()) as u64
+        bytes + (self.objects.len() * std::mem::size_of::<ObjectUniform>()) as u64
     }
 
     /// Records the draws into `pass`.
@@ -149,7 +174,8 @@ impl ObjectPass {
     }
 }
 
-/// Each body's mesh of `sim` in a vertex buffer, with its uniform.
+/// Each collider's mesh of `sim` (a body's own, then its parts') in a
+/// vertex buffer, with its uniform.
 fn upload_bodies(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
@@ -158,12 +184,14 @@ fn upload_bodies(
     use wgpu::util::DeviceExt;
     sim.bodies
         .iter()
-        .map(|body| {
-            let verts = flat_vertices(&body.object.mesh);
+        .enumerate()
+        .flat_map(|(i, body)| (0..body.collider_count()).map(move |k| (i, k, body)))
+        .map(|(i, k, body)| {
+            let verts = flat_vertices(body.collider(k).mesh);
             let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(&body.object.name),
                 contents: bytemuck::cast_slice(&verts),
-                usage: wgpu::BufferUsages::VERTEX,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             });
             let uniform = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(&body.object.name),
@@ -181,6 +209,8 @@ fn upload_bodies(
             });
             Drawn {
                 id: body.id,
+                body: i,
+                collider: k,
                 vertices,
                 count: verts.len() as u32,
                 uniform,

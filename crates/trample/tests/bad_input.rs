@@ -19,6 +19,9 @@ shape = { kind = "sphere", radius_m = 0.5 }
 path = { kind = "static", position = [0.0, 0.5, 0.0] }
 "#;
 
+/// The rigged, animated walker of the example scenes (one animation, "walk").
+const WALKER_GLB: &[u8] = include_bytes!("../../../scenes/meshes/walker.glb");
+
 const SMALL: &str = "[field]\npatches = [2, 2]\ncells_per_patch = 8\n";
 
 fn tmpdir() -> PathBuf {
@@ -540,6 +543,62 @@ fn cases() -> Vec<(&'static str, Want, String)> {
                     "{SPHERE}\norientation = \"keyframes\"\npath = {{ kind = \"line\", from = [0.0, 0.5, 0.0], to = [1.0, 0.5, 0.0], duration_s = 1.0 }}"
                 )),
                 &[],
+            ),
+        ),
+        // ------------------------------------------------ articulated and animated objects (issue 13)
+        e(
+            "part whose parent does not exist",
+            outcome(
+                &object_scene(&format!(
+                    "{SPHERE}\n{STATIC}\n[[objects.parts]]\nname = \"wheel\"\nparent = \"axle\"\nshape = {{ kind = \"cylinder\", radius_m = 0.3, length_m = 0.2 }}"
+                )),
+                &[],
+            ),
+        ),
+        e(
+            "wheel part with radius 0",
+            outcome(
+                &object_scene(&format!(
+                    "{SPHERE}\n{STATIC}\n[[objects.parts]]\nname = \"wheel\"\nshape = {{ kind = \"cylinder\", radius_m = 0.3, length_m = 0.2 }}\njoint = {{ kind = \"wheel\", radius_m = 0.0 }}"
+                )),
+                &[],
+            ),
+        ),
+        e(
+            "animation the glTF does not have",
+            outcome(
+                &object_scene(&format!(
+                    "shape = {{ kind = \"mesh\", path = \"walker.glb\" }}\nanimation = {{ name = \"run\" }}\n{STATIC}"
+                )),
+                &[("walker.glb", WALKER_GLB)],
+            ),
+        ),
+        e(
+            "animation on a built-in shape",
+            outcome(
+                &object_scene(&format!(
+                    "{SPHERE}\nanimation = {{ name = \"walk\" }}\n{STATIC}"
+                )),
+                &[],
+            ),
+        ),
+        e(
+            "animation with a negative speed",
+            outcome(
+                &object_scene(&format!(
+                    "shape = {{ kind = \"mesh\", path = \"walker.glb\" }}\nanimation = {{ name = \"walk\", speed = -1.0 }}\n{STATIC}"
+                )),
+                &[("walker.glb", WALKER_GLB)],
+            ),
+        ),
+        (
+            "animated walker",
+            Accepted,
+            outcome(
+                &object_scene(&format!(
+                    "shape = {{ kind = \"mesh\", path = \"walker.glb\", anchor = \"file\" }}\nanimation = {{ name = \"walk\" }}\n{STATIC}"
+                )),
+                &[("walker.glb", WALKER_GLB)],
             ),
         ),
         // ------------------------------------------------ mesh files: paths

@@ -21,6 +21,8 @@ fn params(shape: ShapeParams, orientation: Orientation, path: PathParams) -> Obj
         path,
         start_s: 0.0,
         track: Default::default(),
+        parts: Vec::new(),
+        animation: None,
     }
 }
 

@@ -4,7 +4,8 @@
 use super::error::BuildError;
 use crate::obb::build::DEFAULT_MAX_DEPTH;
 use crate::object::{
-    Object, ObjectParams, Orientation, PathParams, Scale, ShapeParams, TrackParams, TriMesh,
+    AnimationParams, Object, ObjectParams, Orientation, PartParams, PathParams, Scale, ShapeParams,
+    TrackParams, TriMesh,
 };
 use crate::step::Body;
 use glam::Vec3;
@@ -46,6 +47,8 @@ impl BodyBuilder {
                 path: PathParams::Static { position: [0.0; 3] },
                 start_s: 0.0,
                 track: TrackParams::default(),
+                parts: Vec::new(),
+                animation: None,
             },
         }
     }
@@ -137,6 +140,28 @@ impl BodyBuilder {
     #[must_use]
     pub fn track(mut self, track: TrackParams) -> Self {
         self.params.track = track;
+        self
+    }
+
+    /// Adds parts: the body becomes articulated (a tree of rigid parts
+    /// hanging from its own mesh: wheels, limbs; `[[objects.parts]]`, see
+    /// [`PartParams`]). Each part gets its own OBB tree and collides with
+    /// its own motion.
+    #[must_use]
+    pub fn parts(mut self, parts: impl IntoIterator<Item = PartParams>) -> Self {
+        self.params.parts.extend(parts);
+        self
+    }
+
+    /// Plays the animation `name` of the body's skinned glTF (its shape
+    /// must be a `.gltf` / `.glb` mesh file) at `speed` (1 = the file's
+    /// rate), looping (`animation = { name, speed }`).
+    #[must_use]
+    pub fn animation(mut self, name: impl Into<String>, speed: f32) -> Self {
+        self.params.animation = Some(AnimationParams {
+            name: name.into(),
+            speed,
+        });
         self
     }
 

@@ -12,9 +12,12 @@
 //! - [`skin`]: a skinned glTF mesh ([`SkinnedMesh`]) and linear blend
 //!   skinning; [`animation`]: its keyframed [`Animation`]s;
 //!   [`rig_error`]: [`RigError`].
+//! - [`animated`]: an object playing its skinned glTF's animation
+//!   ([`AnimatedMesh`], scene key `animation`).
 //! - [`parts`]: articulated objects, a tree of rigid parts
 //!   ([`Articulation`]) with wheels, keyframed and host-posed joints.
 
+pub mod animated;
 pub mod animation;
 pub mod error;
 pub mod gltf;
@@ -35,6 +38,7 @@ pub mod shapes;
 pub mod skin;
 pub mod spline;
 
+pub use animated::{AnimatedMesh, AnimationParams};
 pub use animation::Animation;
 pub use error::MeshError;
 pub use mesh::TriMesh;

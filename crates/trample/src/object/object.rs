@@ -6,11 +6,14 @@
 //! and the orientation rule validated. The OBB tree of the mesh is built
 //! elsewhere (`obb/`).
 
+use super::animated::{AnimatedMesh, AnimationParams};
 use super::error::MeshError;
 use super::mesh::TriMesh;
 use super::motion::{Motion, MotionError};
+use super::parts::{Articulation, PartError, PartParams};
 use super::path::{Path, PathError, PathParams};
 use super::pose::{Pose, rotation_from_euler_deg};
+use super::rig_error::RigError;
 use super::sanitize::{SanitizeReport, sanitize};
 use super::shapes::{self, MAX_SPHERE_SUBDIVISIONS};
 use glam::Vec3;
@@ -50,6 +53,17 @@ pub struct ObjectParams {
     /// as `[sim]` says.
     #[serde(default)]
     pub track: TrackParams,
+    /// The parts of an articulated object (`[[objects.parts]]`: wheels,
+    /// limbs), hanging from the object's own mesh (its body) or from one
+    /// another; see [`PartParams`]. Default none: a rigid object.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub parts: Vec<PartParams>,
+    /// The animation a skinned glTF object plays (`shape` must then be a
+    /// `.gltf` / `.glb` mesh file with a skin): its name and speed, looping,
+    /// from `start_s` on; the mesh deforms and its OBB tree is refitted
+    /// every sub-step. Default none: the mesh is rigid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animation: Option<AnimationParams>,
 }
 
 /// How an object marks the grass (ours, DESIGN §6 "each object may set its
@@ -247,8 +261,15 @@ pub struct Object {
     pub report: SanitizeReport,
     /// Whether the mesh is closed ([`TriMesh::is_closed`]).
     pub closed: bool,
-    /// How it marks the grass (from [`ObjectParams::track`]).
+    /// How it marks the grass (from [`ObjectParams::track`]); it holds for
+    /// all of its parts.
     pub track: TrackParams,
+    /// Its parts (from [`ObjectParams::parts`]); empty for a rigid object.
+    pub parts: Articulation,
+    /// Its skin and animation (from [`ObjectParams::animation`]); `None`
+    /// for a rigid mesh. When set, `mesh` holds the latest posed vertices
+    /// once the object is in a simulation (the bind pose before).
+    pub animated: Option<Box<AnimatedMesh>>,
 }
 
 /// Why an object of a scene was refused: `objects[INDEX] (NAME): ` and what
@@ -296,6 +317,13 @@ pub enum ObjectErrorKind {
     /// The orientation rule or start time is invalid.
     #[error("{0}")]
     Motion(MotionError),
+    /// A part was refused (`parts[INDEX] (NAME): …`).
+    #[error("{0}")]
+    Part(Box<PartError>),
+    /// The skin or the animation was refused, or the file has no animation
+    /// of that name (boxed: keeps `ObjectError` small).
+    #[error("{0}")]
+    Rig(Box<RigError>),
 }
 
 impl Object {
@@ -322,8 +350,28 @@ impl Object {
             name: params.name.clone(),
             kind,
         };
-        let (mesh, report) = baked_mesh(&params.shape, params.scale, params.rotation_deg, base_dir)
-            .map_err(error)?;
+        let (mesh, report, animated) = match &params.animation {
+            None => {
+                let (mesh, report) =
+                    baked_mesh(&params.shape, params.scale, params.rotation_deg, base_dir)
+                        .map_err(error)?;
+                (mesh, report, None)
+            }
+            Some(animation) => {
+                let (animated, mesh, report) = AnimatedMesh::load(
+                    animation,
+                    &params.shape,
+                    params.scale,
+                    params.rotation_deg,
+                    params.start_s,
+                    base_dir,
+                )
+                .map_err(error)?;
+                (mesh, report, Some(Box::new(animated)))
+            }
+        };
+        let parts = Articulation::from_params(&params.parts, base_dir)
+            .map_err(|e| error(ObjectErrorKind::Part(Box::new(e))))?;
         params.track.validate().map_err(error)?;
         let path = Path::new(params.path.clone()).map_err(|e| error(ObjectErrorKind::Path(e)))?;
         let roll_radius = mesh.bounds().map_or(0.0, |(lo, _)| 0.0 - lo.y); // 0 - y: never -0
@@ -337,6 +385,8 @@ impl Object {
             report,
             closed,
             track: params.track,
+            parts,
+            animated,
         })
     }
 
@@ -482,7 +532,7 @@ fn build_shape(
 }
 
 /// The per-axis scale factors, each finite and > 0.
-fn scale_factors(scale: Scale) -> Result<Vec3, ObjectErrorKind> {
+pub(crate) fn scale_factors(scale: Scale) -> Result<Vec3, ObjectErrorKind> {
     let (factors, value) = match scale {
         Scale::Uniform(s) => (Vec3::splat(s), s.to_string()),
         Scale::PerAxis(s) => (Vec3::from_array(s), format3(s)),
@@ -500,17 +550,23 @@ fn scale_factors(scale: Scale) -> Result<Vec3, ObjectErrorKind> {
 
 /// Moves the mesh so that its origin is where `anchor` says.
 fn apply_anchor(mesh: &mut TriMesh, anchor: Anchor) {
-    let Some((lo, hi)) = mesh.bounds() else {
-        return;
-    };
-    let centre = (lo + hi) * 0.5;
-    let origin = match anchor {
-        Anchor::Center => centre,
-        Anchor::Bottom => Vec3::new(centre.x, lo.y, centre.z),
-        Anchor::File => return,
-    };
+    let origin = anchor_origin(mesh, anchor);
     for p in &mut mesh.positions {
         *p -= origin;
+    }
+}
+
+/// Where `anchor` puts the origin of `mesh`, in its current frame (zero
+/// for [`Anchor::File`] and for an empty mesh).
+pub(crate) fn anchor_origin(mesh: &TriMesh, anchor: Anchor) -> Vec3 {
+    let Some((lo, hi)) = mesh.bounds() else {
+        return Vec3::ZERO;
+    };
+    let centre = (lo + hi) * 0.5;
+    match anchor {
+        Anchor::Center => centre,
+        Anchor::Bottom => Vec3::new(centre.x, lo.y, centre.z),
+        Anchor::File => Vec3::ZERO,
     }
 }
 

@@ -25,6 +25,19 @@ pub enum BodyError {
         /// The ids the simulation has.
         known: Vec<u32>,
     },
+    /// No part of the body has this name or index, or the part's joint is
+    /// not a `host` joint.
+    #[error("{id}: part {part}: {problem}; allowed: {allowed}")]
+    Part {
+        /// The body.
+        id: BodyId,
+        /// The part as asked for (a quoted name or an index).
+        part: String,
+        /// What is wrong.
+        problem: &'static str,
+        /// The parts with `host` joints, or what else is allowed.
+        allowed: String,
+    },
     /// A position, rotation or time step with a NaN or infinite value.
     #[error("{id}: {what}: every value must be finite{extra}")]
     NotFinite {

@@ -1,11 +1,31 @@
 //! A body: an [`Object`] inside a running [`super::Simulation`], with its
 //! OBB tree (the paper's HBV, §4), its pose at the current sub-step and its
-//! stable [`BodyId`].
+//! stable [`BodyId`]; an articulated body also has one tree and pose per
+//! part, and the collision stages see every body as a list of
+//! [`Collider`]s (its own mesh, then its parts).
 
 use super::drive::Drive;
+use super::rig::{PartCollider, RigState};
 use crate::collision::broad_phase::world_obb;
 use crate::obb::{Obb, ObbTree};
-use crate::object::{Object, Pose};
+use crate::object::{Object, Pose, TriMesh};
+
+/// One rigid mesh of a body as the collision stages see it: the body's own
+/// mesh (collider 0) or one of its parts (collider `1 + part`), each with
+/// its own OBB tree and its own pose and velocities (Eq. 2's contact speed
+/// is the collider's own surface speed).
+#[derive(Clone, Copy, Debug)]
+pub struct Collider<'a> {
+    /// The OBB tree, in the collider's frame.
+    pub tree: &'a ObbTree,
+    /// The mesh the tree was built from (for an animated body, its latest
+    /// posed vertices).
+    pub mesh: &'a TriMesh,
+    /// World pose and velocities at the latest sub-step.
+    pub pose: &'a Pose,
+    /// The tree's root box in world space at that pose.
+    pub world_root: &'a Obb,
+}
 
 /// A body's handle in a [`super::Simulation`]: given when the body is added
 /// ([`super::Simulation::add_body`], or in order `0, 1, ...` to the bodies a
@@ -40,6 +60,15 @@ pub struct Body {
     /// its poses come from this instead of its path. `None` for bodies that
     /// follow their paths.
     pub drive: Option<Drive>,
+    /// The parts of an articulated body, in [`Object::parts`] order: tree,
+    /// pose at the latest sub-step, root box. Empty for a rigid body.
+    pub parts: Vec<PartCollider>,
+    /// The host's pose of each part with a `host` joint, in its joint frame
+    /// ([`crate::object::parts::PartsInput::host`]); set with
+    /// [`super::Simulation::set_part_pose`]. `None`: the rest pose.
+    pub host_poses: Vec<Option<Pose>>,
+    /// Wheel odometry, the skin's scratch memory and refit map.
+    pub(crate) rig: RigState,
 }
 
 impl Body {
@@ -50,14 +79,73 @@ impl Body {
         let tree = ObbTree::build(&object.mesh, max_depth);
         let pose = object.pose_at(0.0);
         let world_root = world_obb(&tree.nodes[0].obb, &pose);
-        Self {
+        let parts = object
+            .parts
+            .parts
+            .iter()
+            .map(|p| PartCollider::new(&p.mesh, max_depth, pose))
+            .collect();
+        let rig = RigState::new(&object, &tree);
+        let mut body = Self {
             id: BodyId::default(),
+            host_poses: vec![None; object.parts.parts.len()],
             object,
             tree,
             pose,
             world_root,
             drive: None,
+            parts,
+            rig,
+        };
+        body.set_time(0.0);
+        body
+    }
+
+    /// How many colliders the body has: 1 (its own mesh) + its parts.
+    #[must_use]
+    pub fn collider_count(&self) -> usize {
+        1 + self.parts.len()
+    }
+
+    /// Collider `k`: 0 is the body's own mesh, `1 + i` its part `i`.
+    ///
+    /// # Panics
+    /// When `k >= self.collider_count()`.
+    #[must_use]
+    pub fn collider(&self, k: usize) -> Collider<'_> {
+        if k == 0 {
+            Collider {
+                tree: &self.tree,
+                mesh: &self.object.mesh,
+                pose: &self.pose,
+                world_root: &self.world_root,
+            }
+        } else {
+            let part = &self.parts[k - 1];
+            Collider {
+                tree: &part.tree,
+                mesh: &self.object.parts.parts[k - 1].mesh,
+                pose: &part.pose,
+                world_root: &part.world_root,
+            }
         }
+    }
+
+    /// Every collider, in order ([`Body::collider`]).
+    pub fn colliders(&self) -> impl Iterator<Item = Collider<'_>> {
+        (0..self.collider_count()).map(|k| self.collider(k))
+    }
+
+    /// Every collider's triangles in world space at the latest sub-step,
+    /// the body's own first, then its parts' (the `--dump-object` layout).
+    #[must_use]
+    pub fn world_triangles(&self) -> Vec<[glam::Vec3; 3]> {
+        let mut out = Vec::new();
+        for c in self.colliders() {
+            let m = c.mesh;
+            out.extend((0..m.triangle_count()).map(|i| m.triangle(i).map(|v| c.pose.to_world(v))));
+        }
+        out
     }
 
     /// The pose at time `t`: from [`Body::drive`] while driven, else from
@@ -70,9 +158,12 @@ impl Body {
         }
     }
 
-    /// Moves the body to its pose at time `t` ([`Body::pose_at`]).
+    /// Moves the body to its pose at time `t` ([`Body::pose_at`]); an
+    /// animated body's mesh is posed and its tree refitted, an articulated
+    /// body's parts are posed from the body's pose (`step/rig.rs`).
     pub fn set_time(&mut self, t: f32) {
         self.pose = self.pose_at(t);
+        super::rig::pose_rig(self, t);
         self.world_root = world_obb(&self.tree.nodes[0].obb, &self.pose);
     }
 }

@@ -24,7 +24,9 @@ pub(crate) struct BladeHit {
     pub mask: u32,
 }
 
-/// Narrow phase for one body: every blade in the patches its root box
+/// Narrow phase for collider `k` of one body ([`Body::collider`]: its own
+/// mesh or one of its parts, with its own pose and velocities): every
+/// blade in the patches its root box
 /// overlaps (only those of geometric cells in the paper's mode,
 /// `sim.track_everywhere = false`), segments moved into the body's frame
 /// once and tested down to the precision with the contact shell
@@ -34,6 +36,7 @@ pub(crate) struct BladeHit {
 pub(crate) fn narrow_phase(
     sim: &Simulation,
     body: &Body,
+    k: usize,
     patches: &[u32],
     h: f32,
     tm: &mut StepTimings,
@@ -41,7 +44,8 @@ pub(crate) fn narrow_phase(
     let layout = &sim.field.layout;
     let bpc = layout.blades_per_cell as usize;
     let shell = sim.params.contact_shell_m;
-    let (min, max) = reach_rect(&body.world_root, sim.field.max_blade_length + shell);
+    let collider = body.collider(k);
+    let (min, max) = reach_rect(collider.world_root, sim.field.max_blade_length + shell);
     let everywhere = sim.params.track_everywhere;
     let mut candidates: Vec<u32> = patches
         .iter()
@@ -56,7 +60,8 @@ pub(crate) fn narrow_phase(
     tm.narrow_candidates += candidates.len() as u32;
     let blades = &sim.field.blades;
     let n = blades.segments;
-    let pose = body.pose;
+    let pose = *collider.pose;
+    let tree = collider.tree;
     let press = body.object.track.press;
     let precision = sim.params.precision;
     let inverse = pose.rotation.inverse();
@@ -64,7 +69,7 @@ pub(crate) fn narrow_phase(
         velocity: inverse * pose.velocity,
         angular_velocity: inverse * pose.angular_velocity,
         h,
-        thickness: 2.0 * body.tree.nodes[0].obb.half.min_element(),
+        thickness: 2.0 * tree.nodes[0].obb.half.min_element(),
     };
     candidates
         .par_iter()
@@ -73,14 +78,7 @@ pub(crate) fn narrow_phase(
             for (k, v) in local.iter_mut().enumerate().take(n + 1) {
                 *v = pose.to_local(Vec3::from(blades.vertex(b as usize, k)));
             }
-            contact_blade(
-                &local[..=n],
-                &body.tree,
-                precision,
-                shell,
-                &motion,
-                contacts,
-            );
+            contact_blade(&local[..=n], tree, precision, shell, &motion, contacts);
             if contacts.mask == 0 {
                 return None;
             }

@@ -63,13 +63,18 @@ pub(crate) fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) -> Vec<u
     out
 }
 
-/// The contact response (ours, DESIGN §5): for each object in order, every
+/// The contact response (ours, DESIGN §5): for each collider in order (the
+/// bodies in order, each body's own mesh then its parts), every
 /// blade some object touched this sub-step (a segment mask, from the narrow
 /// phase) in the patches the broad phase listed for it is moved out of it
 /// ([`resolve_contact`], from the lowest vertex touched). The GPU path runs
 /// the same sets: one dispatch per object over its listed patches. Returns
 /// the blades that moved and marks them displaced.
-pub(crate) fn resolve_contacts(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> Vec<u32> {
+pub(crate) fn resolve_contacts(
+    sim: &mut Simulation,
+    colliders: &[(usize, usize)],
+    patch_hits: &[Vec<u32>],
+) -> Vec<u32> {
     let n = sim.field.blades.segments;
     let per_patch = sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize;
     let mut touched: Vec<u32> = sim
@@ -82,7 +87,8 @@ pub(crate) fn resolve_contacts(sim: &mut Simulation, patch_hits: &[Vec<u32>]) ->
     touched.sort_unstable();
     touched.dedup();
     let mut out = Vec::new();
-    for (body, patches) in sim.bodies.iter().zip(patch_hits) {
+    for (&(i, k), patches) in colliders.iter().zip(patch_hits) {
+        let collider = sim.bodies[i].collider(k);
         let list: Vec<u32> = touched
             .iter()
             .copied()
@@ -110,8 +116,8 @@ pub(crate) fn resolve_contacts(sim: &mut Simulation, patch_hits: &[Vec<u32>]) ->
                     v,
                     blades.seg_len[b],
                     mask[b].trailing_zeros() as usize,
-                    &body.pose,
-                    &body.tree,
+                    collider.pose,
+                    collider.tree,
                     terrain,
                     GROUND_CLEARANCE_M,
                     blades.seg_len[b],
@@ -136,11 +142,15 @@ pub(crate) fn resolve_contacts(sim: &mut Simulation, patch_hits: &[Vec<u32>]) ->
 /// its blades can lean into the box from a cell beside it). The paper's
 /// mode only (`sim.track_everywhere = false`): otherwise billboards follow
 /// their blades ([`cells_from_blades`]).
-pub(crate) fn bend_billboards(sim: &mut Simulation, patch_hits: &[Vec<u32>]) -> u32 {
+pub(crate) fn bend_billboards(
+    sim: &mut Simulation,
+    colliders: &[(usize, usize)],
+    patch_hits: &[Vec<u32>],
+) -> u32 {
     let mut deflected = 0;
     let reach = sim.field.max_blade_length;
-    for (body, patches) in sim.bodies.iter().zip(patch_hits) {
-        let obb = body.world_root;
+    for (&(i, k), patches) in colliders.iter().zip(patch_hits) {
+        let obb = *sim.bodies[i].collider(k).world_root;
         let r = obb.half_diagonal();
         let (min, max) = reach_rect(&obb, reach);
         for &p in patches {

@@ -11,6 +11,7 @@ pub mod params;
 pub mod query;
 mod recover;
 pub mod rescan;
+pub mod rig;
 pub mod simulation;
 pub mod stages;
 pub mod timings;
@@ -18,7 +19,7 @@ pub mod view;
 
 pub use blade_class::BladeClass;
 pub use bodies::BodyError;
-pub use body::{Body, BodyId};
+pub use body::{Body, BodyId, Collider};
 pub use drive::Drive;
 pub use params::{SimError, SimParams};
 pub use simulation::{Simulation, SubstepClamp};

@@ -1,8 +1,9 @@
 //! Queries on the field at rest, for `trample collide`, tests and benchmarks:
 //! which segments of which blades an object hits at a given time.
 
+use super::body::Body;
 use super::simulation::Simulation;
-use crate::collision::broad_phase::{patches_under, world_obb};
+use crate::collision::broad_phase::patches_under;
 use crate::collision::exact::segment_hits_exact;
 use crate::collision::narrow_phase::collide_segment;
 use glam::Vec3;
@@ -26,11 +27,12 @@ impl Simulation {
         let bl = &self.field.blades;
         let n = bl.segments;
         let mut flags = vec![0u8; bl.count * n];
-        for body in &self.bodies {
-            let pose = body.object.pose_at(t);
-            let root = world_obb(&body.tree.nodes[0].obb, &pose);
+        let posed = self.bodies_at(t);
+        for collider in posed.iter().flat_map(Body::colliders) {
+            let pose = *collider.pose;
+            let tree = collider.tree;
             let mut patches = Vec::new();
-            patches_under(&self.field.layout, &root, &mut patches);
+            patches_under(&self.field.layout, &collider.world_root, &mut patches);
             for p in patches {
                 let patch = &self.field.layout.patch_list[p as usize];
                 let range = patch.first_blade as usize..(patch.first_blade + patch.blades) as usize;
@@ -43,10 +45,8 @@ impl Simulation {
                             let p0 = pose.to_local(Vec3::from(bl.rest_vertex(b, k)));
                             let p1 = pose.to_local(Vec3::from(bl.rest_vertex(b, k + 1)));
                             let hit = match mode {
-                                HitMode::Precision(d) => {
-                                    collide_segment(p0, p1, &body.tree, d).is_some()
-                                }
-                                HitMode::Exact => segment_hits_exact(&body.tree, p0, p1),
+                                HitMode::Precision(d) => collide_segment(p0, p1, tree, d).is_some(),
+                                HitMode::Exact => segment_hits_exact(tree, p0, p1),
                             };
                             *f |= u8::from(hit);
                         }
@@ -56,15 +56,29 @@ impl Simulation {
         flags
     }
 
-    /// Every object's triangles in world space at time `t` (the `--dump-object` layout).
+    /// Every object's triangles in world space at time `t`, posed and
+    /// deformed (the `--dump-object` layout): body after body, each body's
+    /// own mesh then its parts' ([`Body::world_triangles`]).
     #[must_use]
     pub fn object_triangles_at(&self, t: f32) -> Vec<[Vec3; 3]> {
-        let mut out = Vec::new();
-        for body in &self.bodies {
-            let pose = body.object.pose_at(t);
-            let m = &body.object.mesh;
-            out.extend((0..m.triangle_count()).map(|i| m.triangle(i).map(|v| pose.to_world(v))));
-        }
-        out
+        self.bodies_at(t)
+            .iter()
+            .flat_map(Body::world_triangles)
+            .collect()
+    }
+
+    /// Copies of the bodies posed at time `t` ([`Body::set_time`]: skinned
+    /// meshes posed and their trees refitted, parts posed), the simulation
+    /// left as it is.
+    #[must_use]
+    pub fn bodies_at(&self, t: f32) -> Vec<Body> {
+        self.bodies
+            .iter()
+            .map(|b| {
+                let mut b = b.clone();
+                b.set_time(t);
+                b
+            })
+            .collect()
     }
 }

@@ -62,19 +62,32 @@ pub fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
     let t0 = sim.time as f32;
     let (mut needed, mut fastest) = (1u32, None);
     for (i, body) in sim.bodies.iter().enumerate() {
-        let (a, b) = (body.pose_at(t0), body.pose_at(t0 + dt));
-        let root = body.tree.nodes[0].obb;
-        let spin = 0.5
-            * (a.angular_velocity.length() + b.angular_velocity.length())
-            * root.half_diagonal()
-            * dt;
-        let travel = a.position.distance(b.position) + spin;
-        let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
-        if travel.is_finite() && allowed > 0.0 {
-            // `as` saturates: an absurd speed needs u32::MAX, not a wrap.
-            let k = (travel / allowed).ceil() as u32;
-            if k > needed {
-                (needed, fastest) = (k, Some(i));
+        // The body's own mesh, then each part with its own motion.
+        let mut ends = vec![(
+            body.pose_at(t0),
+            body.pose_at(t0 + dt),
+            body.tree.nodes[0].obb,
+        )];
+        let (a, b) = (body.part_poses_at(t0), body.part_poses_at(t0 + dt));
+        ends.extend(
+            a.into_iter()
+                .zip(b)
+                .zip(&body.parts)
+                .map(|((a, b), part)| (a, b, part.tree.nodes[0].obb)),
+        );
+        for (a, b, root) in ends {
+            let spin = 0.5
+                * (a.angular_velocity.length() + b.angular_velocity.length())
+                * root.half_diagonal()
+                * dt;
+            let travel = a.position.distance(b.position) + spin;
+            let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
+            if travel.is_finite() && allowed > 0.0 {
+                // `as` saturates: an absurd speed needs u32::MAX, not a wrap.
+                let k = (travel / allowed).ceil() as u32;
+                if k > needed {
+                    (needed, fastest) = (k, Some(i));
+                }
             }
         }
     }
@@ -83,6 +96,17 @@ pub fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
         needed,
         fastest,
     }
+}
+
+/// Every collider of every body, as (body index, collider index)
+/// ([`super::Body::collider`]): the unit the broad phase, the narrow phase
+/// and the contact response iterate over.
+pub(crate) fn collider_list(sim: &Simulation) -> Vec<(usize, usize)> {
+    sim.bodies
+        .iter()
+        .enumerate()
+        .flat_map(|(i, b)| (0..b.collider_count()).map(move |k| (i, k)))
+        .collect()
 }
 
 /// One sub-step ending at time `t`, `h` seconds long.
@@ -108,14 +132,16 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     );
     tm.lod_ms += ms(clock);
 
-    // Broad phase: patches under each object's root box.
+    // Broad phase: patches under each collider's root box (one per rigid
+    // body, one per part of an articulated one).
     let clock = Instant::now();
-    let patch_hits: Vec<Vec<u32>> = sim
-        .bodies
+    let colliders = collider_list(sim);
+    let patch_hits: Vec<Vec<u32>> = colliders
         .iter()
-        .map(|b| {
+        .map(|&(i, k)| {
             let mut out = Vec::new();
-            patches_under(&sim.field.layout, &b.world_root, &mut out);
+            let root = sim.bodies[i].collider(k).world_root;
+            patches_under(&sim.field.layout, &root, &mut out);
             out
         })
         .collect();
@@ -132,10 +158,11 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     }
     sim.scratch.touched.clear();
 
-    // Narrow phase and EqF per blade (Eq. 2), object by object.
-    for (i, hits) in patch_hits.iter().enumerate() {
+    // Narrow phase and EqF per blade (Eq. 2), collider by collider; the
+    // blades count as pressed by the collider's body.
+    for (&(i, k), hits) in colliders.iter().zip(&patch_hits) {
         let clock = Instant::now();
-        let found = narrow_phase(sim, &sim.bodies[i], hits, h, tm);
+        let found = narrow_phase(sim, &sim.bodies[i], k, hits, h, tm);
         tm.narrow_ms += ms(clock);
         let clock = Instant::now();
         accumulate_contacts(sim, i, &found);
@@ -211,14 +238,14 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     tm.deformation_ms += ms(clock);
     let clock = Instant::now();
     if sim.params.contact {
-        let moved = resolve_contacts(sim, &patch_hits);
+        let moved = resolve_contacts(sim, &colliders, &patch_hits);
         tm.contact_blades = moved.len() as u32;
         changed.extend(moved);
     }
     tm.contact_ms += ms(clock);
     let clock = Instant::now();
     if !sim.params.track_everywhere {
-        tm.bbg_cells += bend_billboards(sim, &patch_hits);
+        tm.bbg_cells += bend_billboards(sim, &colliders, &patch_hits);
     }
     tm.deformation_ms += ms(clock);
 

@@ -1,0 +1,241 @@
+//! Articulated and animated objects in the simulation (issue 13, "Tests that
+//! must exist"): the tractor of `scenes/tractor.toml` (a body raised clear
+//! of the grass, four wheels as parts) and the walker of
+//! `scenes/walker.toml` (a skinned glTF playing "walk", its tree refitted
+//! every sub-step).
+
+use glam::Vec3;
+use std::path::Path;
+use trample::Simulation;
+use trample::collision::segment_triangle::segment_hits_triangle;
+use trample::scene::Scene;
+use trample::step::BladeClass;
+use trample::step::query::HitMode;
+
+fn scene(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    Scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(sim: &mut Simulation, frames: u32) {
+    let dt = sim.params.dt_s;
+    for _ in 0..frames {
+        sim.step(dt).expect("step");
+    }
+}
+
+/// The tractor's wheels spin at v/r about their axles, and a wheel's lowest
+/// point (its contact with the ground) is at rest: Eq. 2's contact speed,
+/// the part's own `|v + ω × r|`, is ~0 there, while its top moves at 2v.
+#[test]
+fn tractor_wheels_roll_at_v_over_r_with_their_ground_contact_at_rest() {
+    let mut sim = scene("tractor.toml").build().unwrap();
+    run(&mut sim, 30);
+    let body = &sim.bodies[0];
+    let v = body.pose.velocity.length();
+    assert!(v > 2.5, "the tractor drives (v = {v} m/s)");
+    for (part, radius) in body.parts.iter().zip([0.7, 0.7, 0.45, 0.45]) {
+        let pose = part.pose;
+        // The wheel centre's own speed (on a curve, the outer wheels run
+        // faster than the body's origin).
+        let vc = pose.velocity.length();
+        assert!(
+            (vc - v).abs() < 0.2 * v,
+            "wheel centre at {vc} m/s, body {v}"
+        );
+        // Spin about the axle (the body's own turn on the curve is about
+        // the vertical, which does not move the contact point along).
+        let spin = pose.angular_velocity.reject_from(Vec3::Y).length();
+        assert!(
+            (spin - vc / radius).abs() < 0.02 * vc / radius,
+            "spin {spin} rad/s, v/r = {}",
+            vc / radius
+        );
+        // The contact point does not move along the rolling direction (it
+        // may scrub sideways: a rear wheel on a curve slides by the body's
+        // turn rate times its distance from the body's origin).
+        let ground = pose.position - Vec3::Y * radius;
+        let axle = pose.angular_velocity.reject_from(Vec3::Y).normalize();
+        let forward = axle.cross(Vec3::Y);
+        let contact = pose.point_velocity(ground).dot(forward).abs();
+        assert!(contact < 0.01 * vc, "contact point rolls at {contact} m/s");
+        let top = pose
+            .point_velocity(pose.position + Vec3::Y * radius)
+            .length();
+        assert!(
+            (top - 2.0 * vc).abs() < 0.02 * vc,
+            "top at {top} m/s, 2v = {}",
+            2.0 * vc
+        );
+    }
+}
+
+/// The tractor leaves two wheel tracks with standing grass between them: in
+/// the classes after 2.5 s, no blade rooted within 0.3 m of the body's
+/// centre line has been touched (the body clears the grass), and blades
+/// under the wheels on both sides have.
+#[test]
+fn tractor_leaves_two_separate_wheel_tracks_with_untouched_grass_between() {
+    let mut sim = scene("tractor.toml").build().unwrap();
+    let frames = 180;
+    run(&mut sim, frames);
+    let t_end = frames as f32 * sim.params.dt_s;
+    let object = &sim.bodies[0].object;
+    // The centre line, sampled every 1 cm of travel or so.
+    let samples: Vec<(f32, Vec3, Vec3)> = (0..=(t_end * 300.0) as u32)
+        .map(|i| {
+            let t = i as f32 / 300.0;
+            let pose = object.pose_at(t);
+            (t, pose.position, pose.rotation * Vec3::X)
+        })
+        .collect();
+    let blades = &sim.field.blades;
+    let (mut middle, mut middle_touched) = (0, 0);
+    let (mut left, mut right) = (0, 0);
+    for b in 0..blades.count {
+        let root = Vec3::from(blades.rest_vertex(b, 0));
+        let (t, centre, side) = samples
+            .iter()
+            .copied()
+            .min_by(|a, c| {
+                let da = (a.1 - root).with_y(0.0).length_squared();
+                let dc = (c.1 - root).with_y(0.0).length_squared();
+                da.total_cmp(&dc)
+            })
+            .unwrap();
+        // Away from both ends, where the wheels run ahead of and behind the
+        // centre line's first and last points.
+        if t < 0.5 || t > t_end - 0.6 {
+            continue;
+        }
+        let lateral = (root - centre).with_y(0.0).dot(side);
+        let touched = sim.class[b] != BladeClass::Untouched;
+        if lateral.abs() < 0.3 {
+            middle += 1;
+            middle_touched += usize::from(touched);
+        } else if touched && (0.75..1.15).contains(&lateral) {
+            left += 1;
+        } else if touched && (-1.15..-0.75).contains(&lateral) {
+            right += 1;
+        }
+    }
+    assert!(middle > 250, "{middle} blades between the tracks checked");
+    assert_eq!(
+        middle_touched, 0,
+        "{middle_touched} of {middle} blades between the tracks were touched"
+    );
+    assert!(
+        left > 200 && right > 200,
+        "tracks: left {left}, right {right}"
+    );
+}
+
+/// `trample collide scenes/walker.toml --time T --dump-object` at several
+/// T: the exact hits (the queries the command dumps) agree with the
+/// dumped, deformed triangles (a segment is an exact hit when it crosses
+/// one of them, or lies inside the closed mesh: ray parity through them),
+/// and no precision misses an exact hit. The deformation is real: the
+/// dumped triangles differ from one T to the next by more than the root's
+/// travel.
+#[test]
+fn walker_exact_hits_agree_with_the_dumped_deformed_triangles_at_several_times() {
+    let sim = scene("walker.toml").build().unwrap();
+    assert!(sim.bodies[0].object.closed, "the walker's mesh is closed");
+    let n = sim.field.blades.segments;
+    let blades = &sim.field.blades;
+    let mut previous: Option<Vec<[Vec3; 3]>> = None;
+    for t in [0.4_f32, 3.3, 7.9] {
+        let tris = sim.object_triangles_at(t);
+        assert_eq!(tris.len(), sim.bodies[0].object.mesh.triangle_count());
+        let (lo, hi) = tris.iter().flatten().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let exact = sim.segment_hits_at_rest(t, HitMode::Exact);
+        let (mut hits, mut disagree) = (0, 0);
+        for b in 0..blades.count {
+            let root = Vec3::from(blades.rest_vertex(b, 0));
+            let near = root.x > lo.x - 0.7
+                && root.x < hi.x + 0.7
+                && root.z > lo.z - 0.7
+                && root.z < hi.z + 0.7;
+            for k in 0..n {
+                let flag = exact[b * n + k] == 1;
+                if !near {
+                    assert!(!flag, "blade {b} far from the walker hit at t = {t}");
+                    continue;
+                }
+                let p0 = Vec3::from(blades.rest_vertex(b, k));
+                let p1 = Vec3::from(blades.rest_vertex(b, k + 1));
+                let crosses = tris.iter().any(|tri| segment_hits_triangle(p0, p1, tri));
+                let reference = crosses || inside(&tris, p0);
+                hits += usize::from(reference);
+                disagree += usize::from(reference != flag);
+            }
+        }
+        // Two legs in grass of 100 blades a square metre: a few blades.
+        assert!(hits >= 3, "the walker touches grass at t = {t} ({hits})");
+        assert_eq!(disagree, 0, "t = {t}: {disagree} of {hits} hits disagree");
+        for d in 1..=7 {
+            let at_d = sim.segment_hits_at_rest(t, HitMode::Precision(d));
+            let missed = exact
+                .iter()
+                .zip(&at_d)
+                .filter(|(e, p)| **e == 1 && **p == 0)
+                .count();
+            assert_eq!(
+                missed, 0,
+                "precision {d} misses {missed} exact hits at t = {t}"
+            );
+        }
+        if let Some(before) = previous {
+            let moved = tris
+                .iter()
+                .zip(&before)
+                .map(|(a, b)| (a[0] - b[0]).length())
+                .fold(0.0f32, f32::max);
+            assert!(moved > 0.1, "the mesh moved at most {moved} m");
+        }
+        previous = Some(tris);
+    }
+}
+
+/// Ray parity through `tris` from `p` along a generic direction.
+fn inside(tris: &[[Vec3; 3]], p: Vec3) -> bool {
+    let dir = Vec3::new(0.2113, 0.9, 0.3797).normalize() * 100.0;
+    tris.iter()
+        .filter(|tri| segment_hits_triangle(p, p + dir, tri))
+        .count()
+        % 2
+        == 1
+}
+
+/// The walker's legs sweep the grass as it walks, its tree refitted every
+/// sub-step stays well formed, and the deformation reaches the collision:
+/// blades are touched along the circle it walks.
+#[test]
+fn walker_tramples_grass_along_its_loop_and_its_refitted_tree_stays_well_formed() {
+    let mut sim = scene("walker.toml").build().unwrap();
+    let mut touched_before = 0;
+    for _ in 0..4 {
+        run(&mut sim, 30);
+        sim.bodies[0].tree.assert_well_formed();
+        let touched = sim
+            .class
+            .iter()
+            .filter(|c| **c != BladeClass::Untouched)
+            .count();
+        assert!(touched > touched_before, "the trail grows ({touched})");
+        touched_before = touched;
+    }
+    // Every touched blade lies near the 4 m circle.
+    let blades = &sim.field.blades;
+    for (b, c) in sim.class.iter().enumerate() {
+        if *c != BladeClass::Untouched {
+            let r = Vec3::from(blades.rest_vertex(b, 0)).with_y(0.0).length();
+            assert!((r - 4.0).abs() < 1.2, "blade {b} touched at r = {r} m");
+        }
+    }
+}
