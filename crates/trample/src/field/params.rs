@@ -265,24 +265,28 @@ impl FieldParams {
     ///
     /// The worst case: one step in which every blade is under an object.
     /// Per blade (n segments, n + 1 vertices):
-    /// - state, 32(n+1) + 28: current and rest vertices (16 B each), rest
-    ///   length, width, tint, force (12), hit count, generation, class and
+    /// - state, 32(n+1) + 40: current and rest vertices (16 B each), rest
+    ///   length, width, tint, force (12), contact weight, owner weight and
+    ///   segment mask (4 each), generation, class, track owner and
     ///   displaced flag (1 each);
-    /// - one step's work, 16(n+1) + 72: a copy of the vertices of every
-    ///   bent or recovering blade, and the index lists (narrow-phase
-    ///   candidates and contacts, touched, DBG, forced, displaced);
+    /// - one step's work, 16(n+1) + 90: a copy of the vertices of every
+    ///   bent or recovering blade, the contacts of the narrow phase (24 B,
+    ///   gathered from the worker threads) and the index lists (narrow-phase
+    ///   candidates, touched, DBG, forced, moved by contact, displaced);
     ///
-    /// per cell, 58: the neighbour table (16), LOD, billboard base, height,
-    /// rest and current slope, bent flag. The sum is raised by a quarter for
-    /// what the allocator keeps mapped after the step's work lists are freed.
+    /// per cell, 62: the neighbour table (16), LOD, billboard base, height,
+    /// rest and current slope, flatness, bent flag. The sum is raised by a
+    /// quarter for what the allocator keeps mapped after the step's work
+    /// lists are freed, plus [`FIXED_OVERHEAD_BYTES`].
     ///
     /// Measured (peak RSS of `trample simulate` less that of a 4-blade run,
     /// every blade hit and bent, n = 4; RELIABILITY.md, and the CLI test
-    /// `memory_estimate_is_within_a_quarter_of_the_measured_peak`): 65,536
-    /// blades 30.9 MiB (estimate 31.1), 262,144 blades 130.5 MiB (124.4),
-    /// 1,048,576 blades 509.9 MiB (497.5). A run where a ball touches a
-    /// small part of the field peaks at about half the estimate (262,144
-    /// blades: 65.5 MiB).
+    /// `memory_estimate_is_within_a_quarter_of_the_measured_peak`), release
+    /// build after contact (issue 12), 2026-11-23: 65,536 blades 38.8 MiB
+    /// (estimate 39.7), 262,144 blades 137.8 MiB (141.0). Before contact:
+    /// 30.9 MiB (31.1), 130.5 MiB (124.4), 1,048,576 blades 509.9 MiB
+    /// (497.5). A run where a ball touches a small part of the field peaks
+    /// at about half the estimate (262,144 blades: 65.5 MiB).
     ///
     /// Every blade is counted as growing; see
     /// [`FieldParams::memory_estimate_bytes_for`] for a field whose grass
@@ -304,11 +308,18 @@ impl FieldParams {
     #[must_use]
     pub fn memory_estimate_bytes_for(&self, growing: u64) -> u64 {
         let verts = u64::from(self.segments) + 1;
-        let (state, work) = (32 * verts + 28, 16 * verts + 72);
-        let per_cell = 58;
+        let (state, work) = (32 * verts + 40, 16 * verts + 90);
+        let per_cell = 62;
         let exact = self.blade_count() * state
             + growing.min(self.blade_count()) * work
             + self.cell_count() * per_cell;
-        exact + exact / 4
+        exact + exact / 4 + FIXED_OVERHEAD_BYTES
     }
 }
+
+/// What a run takes beyond its per-blade and per-cell terms in
+/// [`FieldParams::memory_estimate_bytes`], bytes: 6 MiB, the offset of a line
+/// through the measured peaks at 65,536 and 262,144 blades (the worker
+/// threads' stacks and the allocator's arenas, which a 4-blade run does not
+/// touch).
+pub const FIXED_OVERHEAD_BYTES: u64 = 6 << 20;
