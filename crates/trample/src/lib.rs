@@ -24,6 +24,7 @@
 
 pub mod accuracy;
 pub mod builder;
+pub mod blade_shape;
 pub mod camera;
 pub mod collision;
 pub mod deform;
