@@ -3,7 +3,7 @@
 //! lower half is grass (mostly green pixels), and the red car is in it.
 //!
 //! ```sh
-//! cargo run --release -p bevy_trample --example meadow -- --frames 90 --screenshot meadow.png
+//! cargo run --release -p bevy_trample --example meadow -- --frames 45 --screenshot meadow.png
 //! cargo run --release -p bevy_trample --example check_meadow -- meadow.png
 //! ```
 

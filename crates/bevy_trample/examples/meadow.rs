@@ -8,7 +8,7 @@
 //! ```sh
 //! cargo run --release -p bevy_trample --example meadow
 //! # N frames of 1/60 s each, the last one saved, then exit (tests, CI):
-//! cargo run --release -p bevy_trample --example meadow -- --frames 90 --screenshot meadow.png
+//! cargo run --release -p bevy_trample --example meadow -- --frames 45 --screenshot meadow.png
 //! ```
 
 use anyhow::{Context, Result, bail};
