@@ -123,8 +123,14 @@ mod tests {
         let sky = [150, 190, 230];
         let green = [40, 90, 20];
         assert!(check(&picture(sky, green, true)).is_ok());
-        assert!(check(&picture([0, 0, 0], [0, 0, 0], false)).is_err(), "blank");
-        assert!(check(&picture(sky, [90, 80, 70], true)).is_err(), "brown ground");
+        assert!(
+            check(&picture([0, 0, 0], [0, 0, 0], false)).is_err(),
+            "blank"
+        );
+        assert!(
+            check(&picture(sky, [90, 80, 70], true)).is_err(),
+            "brown ground"
+        );
         assert!(check(&picture(sky, green, false)).is_err(), "no car");
     }
 }

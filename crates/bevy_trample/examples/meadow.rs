@@ -123,7 +123,9 @@ fn main() -> Result<()> {
     .add_systems(Last, frames);
     if args.frames.is_some() {
         // Every frame is 1/60 s of the simulation however long it takes to draw.
-        app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(DT)));
+        app.insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(
+            DT,
+        )));
     }
     app.run();
     Ok(())
@@ -136,7 +138,10 @@ struct CarMesh(Option<Mesh>);
 /// The beetle, scaled to ~4 m, its bottom on y = 0, centred on x and z,
 /// its front along +z.
 fn car_mesh() -> Result<Mesh> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/meshes/beetle.obj");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/meshes/beetle.obj"
+    );
     let tri = trample::object::load_mesh_file(std::path::Path::new(path))
         .with_context(|| format!("reading {path}"))?;
     let (lo, hi) = tri.bounds().context("beetle.obj has no vertices")?;
@@ -178,7 +183,9 @@ fn setup(
     mut materials: ResMut<Assets<StandardMaterial>>,
     mut car_mesh: ResMut<CarMesh>,
 ) {
-    let Some(mesh) = car_mesh.0.take() else { return };
+    let Some(mesh) = car_mesh.0.take() else {
+        return;
+    };
     commands.spawn((
         Car {
             speed: 5.0,
@@ -253,8 +260,9 @@ fn drive(
         );
         car.manual |= up || down || left || right;
         let turn = if car.manual {
-            car.speed = (car.speed + 6.0 * dt * (f32::from(u8::from(up)) - f32::from(u8::from(down))))
-                .clamp(-4.0, 12.0);
+            car.speed = (car.speed
+                + 6.0 * dt * (f32::from(u8::from(up)) - f32::from(u8::from(down))))
+            .clamp(-4.0, 12.0);
             f32::from(u8::from(left)) - f32::from(u8::from(right))
         } else {
             0.25

@@ -37,7 +37,11 @@ pub(crate) fn register(app: &mut App) {
         .into_iter()
         .chain(STAGE_MS)
     {
-        let suffix = if path.as_str().ends_with("_ms") { "ms" } else { "" };
+        let suffix = if path.as_str().ends_with("_ms") {
+            "ms"
+        } else {
+            ""
+        };
         app.register_diagnostic(Diagnostic::new(path).with_suffix(suffix));
     }
 }

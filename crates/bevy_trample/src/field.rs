@@ -92,9 +92,7 @@ impl TrampleField {
     pub fn paper_meadow() -> SceneFile {
         SceneFile {
             objects: Vec::new(),
-            ..Scene::default_scene()
-                .map(|s| s.file)
-                .unwrap_or_default()
+            ..Scene::default_scene().map(|s| s.file).unwrap_or_default()
         }
     }
 

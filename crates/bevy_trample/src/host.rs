@@ -38,7 +38,13 @@ pub fn body_position(sim: &Simulation, id: BodyId) -> Option<Vec3> {
 /// `position` with `rotation` (world from local), sweeping the grass on the
 /// way (the contact speed of Eq. 2 is the displacement over `dt`). Returns
 /// `false` for an unknown id or a value that is not finite.
-pub fn move_body(sim: &mut Simulation, id: BodyId, position: Vec3, rotation: Quat, dt: f32) -> bool {
+pub fn move_body(
+    sim: &mut Simulation,
+    id: BodyId,
+    position: Vec3,
+    rotation: Quat,
+    dt: f32,
+) -> bool {
     sim.move_body(id, core_vec3(position), core_quat(rotation), dt)
         .is_ok()
 }

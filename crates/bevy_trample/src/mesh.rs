@@ -3,8 +3,8 @@
 //! and rotation only).
 
 use bevy::asset::RenderAssetUsages;
-use bevy::mesh::{Indices, Mesh, PrimitiveTopology, VertexFormat};
 use bevy::math::Vec3;
+use bevy::mesh::{Indices, Mesh, PrimitiveTopology, VertexFormat};
 use trample::object::TriMesh;
 
 /// Why a mesh asset cannot be a trampler's collision mesh.
@@ -61,9 +61,6 @@ pub fn tri_mesh(mesh: &Mesh, scale: Vec3) -> Result<TriMesh, MeshConversionError
         Some(Indices::U32(i)) => i.clone(),
         None => (0..positions.len() as u32).collect(),
     };
-    let indices = flat
-        .chunks_exact(3)
-        .map(|t| [t[0], t[1], t[2]])
-        .collect();
+    let indices = flat.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
     Ok(TriMesh { positions, indices })
 }

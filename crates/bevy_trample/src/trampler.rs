@@ -183,7 +183,9 @@ pub fn sync_bodies(
                 };
                 tri_mesh(mesh, scale)
                     .map_err(|e| crate::TrampleError::Object(name.clone(), e.to_string()))
-                    .and_then(|m| host::body_from_mesh(&name, &m, trampler.track, trampler.precision))
+                    .and_then(|m| {
+                        host::body_from_mesh(&name, &m, trampler.track, trampler.precision)
+                    })
             }
             TramplerShape::Builtin(shape) => {
                 host::body_from_shape(&name, shape, scale, trampler.track, trampler.precision)

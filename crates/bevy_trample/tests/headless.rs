@@ -62,7 +62,9 @@ fn app() -> App {
         TramplePlugin,
     ))
     .init_asset::<Mesh>()
-    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(DT)))
+    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(
+        DT,
+    )))
     .insert_resource(Time::<Fixed>::from_seconds(DT))
     .insert_resource(field())
     .add_systems(FixedUpdate, drive.before(TrampleSystems::Step));
@@ -103,8 +105,16 @@ fn a_moving_sphere_bends_the_blades_on_its_path_and_not_elsewhere() {
     let body = app.world().get::<TramplerBody>(entity).expect("a body");
     let field = app.world().resource::<TrampleField>();
     assert_eq!(field.tramplers(), 1);
-    let at = field.sim.body(body.id).expect("in the simulation").pose.position;
-    assert!((at.x - END_X).abs() < 1e-3, "the body followed its entity: {at}");
+    let at = field
+        .sim
+        .body(body.id)
+        .expect("in the simulation")
+        .pose
+        .position;
+    assert!(
+        (at.x - END_X).abs() < 1e-3,
+        "the body followed its entity: {at}"
+    );
 
     let bl = &field.sim.field.blades;
     let (mut on_path, mut bent_on_path, mut away, mut bent_away) = (0, 0, 0, 0);
@@ -140,7 +150,13 @@ fn removing_the_component_removes_the_body() {
         app.update();
     }
     let id = app.world().get::<TramplerBody>(entity).expect("a body").id;
-    assert!(app.world().resource::<TrampleField>().sim.body(id).is_some());
+    assert!(
+        app.world()
+            .resource::<TrampleField>()
+            .sim
+            .body(id)
+            .is_some()
+    );
     app.world_mut().entity_mut(entity).remove::<Trampler>();
     app.update();
     let field = app.world().resource::<TrampleField>();
@@ -165,12 +181,16 @@ fn removing_the_component_removes_the_body() {
             let r = bl.rest_vertex(b, 0);
             r.z.abs() < 0.1 && r.x > START_X + 1.0 && r.x < x
         })
-        .filter(|&b| (0..=bl.segments).any(|k| bl.pos[k * bl.count + b] != before[k * bl.count + b]))
+        .filter(|&b| {
+            (0..=bl.segments).any(|k| bl.pos[k * bl.count + b] != before[k * bl.count + b])
+        })
         .count();
     assert_eq!(ahead, 0, "blades moved after the body was removed");
 
     // Despawning an entity with a body removes its body too.
-    app.world_mut().entity_mut(entity).insert(Trampler::default());
+    app.world_mut()
+        .entity_mut(entity)
+        .insert(Trampler::default());
     app.update();
     assert_eq!(app.world().resource::<TrampleField>().sim.bodies.len(), 1);
     app.world_mut().despawn(entity);
@@ -203,9 +223,16 @@ fn a_changed_mesh_asset_rebuilds_the_tree() {
     app.update();
     let (id, width) = extent(&app);
     assert_ne!(id, first_id, "the body was rebuilt");
-    assert!((width - 4.0 * RADIUS).abs() < 0.02, "width {width} after the change");
+    assert!(
+        (width - 4.0 * RADIUS).abs() < 0.02,
+        "width {width} after the change"
+    );
     let field = app.world().resource::<TrampleField>();
-    assert_eq!(field.sim.bodies.len(), 1, "the old body was replaced, not kept");
+    assert_eq!(
+        field.sim.bodies.len(),
+        1,
+        "the old body was replaced, not kept"
+    );
 
     // A mesh the core refuses leaves an error on the entity, not a panic.
     let empty = Mesh::new(
@@ -217,6 +244,10 @@ fn a_changed_mesh_asset_rebuilds_the_tree() {
         .resource_mut::<Assets<Mesh>>()
         .insert(&mesh, empty);
     app.update();
-    assert!(app.world().get::<bevy_trample::TramplerError>(entity).is_some());
+    assert!(
+        app.world()
+            .get::<bevy_trample::TramplerError>(entity)
+            .is_some()
+    );
     assert!(app.world().resource::<TrampleField>().sim.bodies.is_empty());
 }

@@ -23,8 +23,8 @@
 #![warn(missing_docs)]
 
 pub mod accuracy;
-pub mod builder;
 pub mod blade_shape;
+pub mod builder;
 pub mod camera;
 pub mod collision;
 pub mod deform;

@@ -98,7 +98,13 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
     }
     frame.blade_runs.clear();
     if field.changes.take(sim, &mut frame.blade_runs) {
-        frame.full = Some(bl.width.iter().zip(&bl.tint).map(|(&w, &t)| [w, t]).collect());
+        frame.full = Some(
+            bl.width
+                .iter()
+                .zip(&bl.tint)
+                .map(|(&w, &t)| [w, t])
+                .collect(),
+        );
     }
     let count = bl.count;
     for k in 0..=bl.segments {
@@ -111,15 +117,20 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
     }
     // The patches inside the camera in charge (the host's, when a
     // TrampleCamera handed its view in; else the scene's camera).
-    let visible: &[bool] = if sim.host_view().is_some() { &sim.visible } else { &[] };
+    let visible: &[bool] = if sim.host_view().is_some() {
+        &sim.visible
+    } else {
+        &[]
+    };
     let lods = &sim.field.cells.lod;
     frame
         .cells
         .extend(drawn_cells(layout, lods, visible, Lod::Geometry).map(|c| c as u32));
     let cells = &sim.field.cells;
     let half = 0.5 * WIDTH_OVER_CELL * layout.cell_size;
-    frame.billboards.extend(
-        drawn_cells(layout, lods, visible, Lod::Billboard).map(|c| {
+    frame
+        .billboards
+        .extend(drawn_cells(layout, lods, visible, Lod::Billboard).map(|c| {
             // Eq. 8's top edge with the core's ground guard.
             let top = billboard_top(
                 cells.base[c],
@@ -133,8 +144,7 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
                 top: top.extend(0.0).to_array(),
                 extra: [0, c as u32, 0, 0],
             }
-        }),
-    );
+        }));
     let wind = &sim.wind;
     let d = wind.direction();
     frame.params = GrassParams {

@@ -78,13 +78,28 @@ pub fn prepare_grass_buffers(
         }
         (_, full) => {
             let Some(shape_data) = full else { return };
-            let shape = buffer(&device, "trample blade shape", u64::from(blades) * 8, BufferUsages::STORAGE);
+            let shape = buffer(
+                &device,
+                "trample blade shape",
+                u64::from(blades) * 8,
+                BufferUsages::STORAGE,
+            );
             queue.write_buffer(&shape, 0, bytemuck::cast_slice(shape_data));
             made = Some(GrassGpu {
-                pos: buffer(&device, "trample blade vertices", vertices * VERTEX_BYTES, BufferUsages::STORAGE),
+                pos: buffer(
+                    &device,
+                    "trample blade vertices",
+                    vertices * VERTEX_BYTES,
+                    BufferUsages::STORAGE,
+                ),
                 shape,
                 cells: buffer(&device, "trample drawn cells", 4096, BufferUsages::STORAGE),
-                billboards: buffer(&device, "trample billboards", 48 * 1024, BufferUsages::STORAGE),
+                billboards: buffer(
+                    &device,
+                    "trample billboards",
+                    48 * 1024,
+                    BufferUsages::STORAGE,
+                ),
                 params: buffer(
                     &device,
                     "trample grass params",
@@ -106,7 +121,11 @@ pub fn prepare_grass_buffers(
     for &(first, len) in &frame.runs {
         let data = &frame.staging[at..at + len as usize];
         at += len as usize;
-        queue.write_buffer(&gpu.pos, u64::from(first) * VERTEX_BYTES, bytemuck::cast_slice(data));
+        queue.write_buffer(
+            &gpu.pos,
+            u64::from(first) * VERTEX_BYTES,
+            bytemuck::cast_slice(data),
+        );
         gpu.uploaded_bytes += u64::from(len) * VERTEX_BYTES;
     }
     let cell_bytes = (frame.cells.len() * 4) as u64;

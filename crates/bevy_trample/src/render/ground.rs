@@ -41,7 +41,12 @@ pub fn spawn_ground(
         reflectance: 0.2,
         ..default()
     });
-    commands.spawn((TrampleGround, Mesh3d(mesh), MeshMaterial3d(material), Transform::default()));
+    commands.spawn((
+        TrampleGround,
+        Mesh3d(mesh),
+        MeshMaterial3d(material),
+        Transform::default(),
+    ));
 }
 
 /// The terrain under the field as a grid of `GROUND_QUADS`² quads, y up.
@@ -69,9 +74,12 @@ pub fn ground_mesh(field: &TrampleField) -> Mesh {
             indices.extend_from_slice(&[a, c, b, b, c, d]);
         }
     }
-    let mut mesh = Mesh::new(PrimitiveTopology::TriangleList, RenderAssetUsages::default())
-        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-        .with_inserted_indices(Indices::U32(indices));
+    let mut mesh = Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::default(),
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+    .with_inserted_indices(Indices::U32(indices));
     mesh.compute_smooth_normals();
     mesh
 }

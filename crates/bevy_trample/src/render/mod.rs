@@ -17,8 +17,8 @@
 //! buffers in place of the uploads.
 
 pub mod extract;
-pub mod ground;
 pub mod gpu;
+pub mod ground;
 pub mod pipeline;
 pub mod queue;
 

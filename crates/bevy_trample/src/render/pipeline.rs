@@ -6,12 +6,14 @@
 //! billboards are seen from both sides).
 
 use super::GrassDraw;
-use bevy::asset::{load_embedded_asset, AssetServer};
+use bevy::asset::{AssetServer, load_embedded_asset};
 use bevy::mesh::{Mesh, MeshVertexBufferLayouts, PrimitiveTopology};
 use bevy::pbr::{MeshPipeline, MeshPipelineKey};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
-use bevy::render::render_resource::binding_types::{storage_buffer_read_only_sized, uniform_buffer_sized};
+use bevy::render::render_resource::binding_types::{
+    storage_buffer_read_only_sized, uniform_buffer_sized,
+};
 use bevy::render::render_resource::{
     BindGroupLayoutDescriptor, BindGroupLayoutEntries, CachedRenderPipelineId, PipelineCache,
     ShaderStages, SpecializedMeshPipeline,

@@ -99,9 +99,11 @@ pub fn queue_grass(
         for &main_entity in dirty.iter_to_dequeue(view.retained_view_entity, visible_draws) {
             phase.remove(main_entity);
         }
-        for (render_entity, main_entity) in
-            dirty.iter_to_queue(view.retained_view_entity, visible_draws, &view_pending.prev_frame)
-        {
+        for (render_entity, main_entity) in dirty.iter_to_queue(
+            view.retained_view_entity,
+            visible_draws,
+            &view_pending.prev_frame,
+        ) {
             let Ok(&draw) = draws.get(*render_entity) else {
                 continue;
             };

@@ -22,8 +22,8 @@ pub mod terrain;
 pub use blades::{BladeVertex, Blades, MAX_SEGMENTS};
 pub use cells::Cells;
 pub use changes::ChangeSet;
-pub use field::Field;
 pub use drawn::drawn_cells;
+pub use field::Field;
 pub use frustum::{Frustum, cull_patches, cull_patches_each};
 pub use layout::{FieldLayout, NO_NEIGHBOUR, Patch};
 pub use lod::{
