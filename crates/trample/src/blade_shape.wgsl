@@ -75,3 +75,21 @@ fn blade_albedo(tint: f32, t: f32) -> vec3<f32> {
     let tip = mix(vec3<f32>(0.16, 0.30, 0.035), vec3<f32>(0.30, 0.34, 0.07), tint);
     return mix(root, tip, smoothstep(0.0, 1.0, t));
 }
+
+// Horizontal unit axis of quad `quad` (0 or 1) of the crossed billboard of
+// the cell with random seed `seed`: a random turn per cell, the two quads
+// at right angles.
+fn billboard_axis(seed: u32, quad: u32) -> vec3<f32> {
+    let a = hash01(seed) * 1.5707963 + f32(quad) * 1.5707963;
+    return vec3<f32>(cos(a), 0.0, sin(a));
+}
+
+// A billboard's top edge `top` (from its base) as the wind leans it: moved
+// like a blade tip by `tip` (wind_tip_offset_at at the base), its length
+// kept. Calm (`tip` zero): `top` unchanged.
+fn billboard_top_in_wind(top: vec3<f32>, tip: vec3<f32>) -> vec3<f32> {
+    if (dot(tip, tip) > 0.0) {
+        return wind_bend(top, tip);
+    }
+    return top;
+}

@@ -9,7 +9,7 @@
 #import bevy_pbr::pbr_types
 #import bevy_pbr::pbr_functions
 #import bevy_pbr::mesh_types::MESH_FLAGS_SHADOW_RECEIVER_BIT
-#import trample::blade_shape::{hash01, wind_tip_offset_at, wind_bend, blade_wind_vertex, blade_across, blade_width, blade_normal, blade_albedo}
+#import trample::blade_shape::{hash01, wind_tip_offset_at, billboard_axis, billboard_top_in_wind, blade_wind_vertex, blade_across, blade_width, blade_normal, blade_albedo}
 
 struct Params {
     // xz: wind direction (unit), y: steady tip displacement (m), w: gust (m).
@@ -98,14 +98,9 @@ fn billboard_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii:
     let x = f32(c.x);
     let y = f32(c.y);
     let seed = bb.extra.y;
-    let a = hash01(seed) * 1.5707963 + f32(quad) * 1.5707963;
-    let axis = vec3<f32>(cos(a), 0.0, sin(a));
+    let axis = billboard_axis(seed, quad);
     // Wind (draw time only): the top edge moves like a blade tip.
-    var top = bb.top.xyz;
-    let o = wind_tip(bb.base.xyz);
-    if (dot(o, o) > 0.0) {
-        top = wind_bend(top, o);
-    }
+    let top = billboard_top_in_wind(bb.top.xyz, wind_tip(bb.base.xyz));
     let world = bb.base.xyz + axis * (x * 2.0 - 1.0) * bb.base.w + top * y;
 
     var out: VertexOut;
@@ -120,7 +115,7 @@ fn billboard_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii:
 }
 
 // Bevy's lighting of a two-sided grass surface.
-fn lit(v: VertexOut, front: bool) -> vec4<f32> {
+fn lit(v: VertexOut) -> vec4<f32> {
     var pbr = pbr_types::pbr_input_new();
     pbr.material.base_color = vec4<f32>(v.albedo, 1.0);
     pbr.material.perceptual_roughness = 0.85;
@@ -143,8 +138,8 @@ fn lit(v: VertexOut, front: bool) -> vec4<f32> {
 }
 
 @fragment
-fn blade_fragment(v: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    return lit(v, front);
+fn blade_fragment(v: VertexOut) -> @location(0) vec4<f32> {
+    return lit(v);
 }
 
 // A clump of blades cut out of the quad: `STRANDS` tapered strands of
@@ -152,7 +147,7 @@ fn blade_fragment(v: VertexOut, @builtin(front_facing) front: bool) -> @location
 const STRANDS: f32 = 7.0;
 
 @fragment
-fn billboard_fragment(v: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+fn billboard_fragment(v: VertexOut) -> @location(0) vec4<f32> {
     let s = v.uv.x * STRANDS;
     let strand = u32(floor(s));
     let h = 0.55 + 0.45 * hash01(v.seed * 31u + strand);
@@ -161,5 +156,5 @@ fn billboard_fragment(v: VertexOut, @builtin(front_facing) front: bool) -> @loca
     if (v.uv.y > h * (1.0 - across * across) || across > 0.8) {
         discard;
     }
-    return lit(v, front);
+    return lit(v);
 }
