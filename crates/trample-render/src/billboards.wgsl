@@ -33,14 +33,9 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let x = f32(corner & 1u);
     let y = f32(corner >> 1u);
     let seed = bb.extra.y;
-    let a = hash01(seed) * 1.5707963 + f32(quad) * 1.5707963;
-    let axis = vec3<f32>(cos(a), 0.0, sin(a));
-    // Wind (draw time only): the top edge moves like a blade tip.
-    var top = bb.top.xyz;
-    let o = wind_tip_offset(bb.base.xyz);
-    if (dot(o, o) > 0.0) {
-        top = wind_bend(top, o);
-    }
+    let axis = billboard_axis(seed, quad);
+    // Wind (draw time only, trample::blade_shape): the top edge moves like a blade tip.
+    let top = billboard_top_in_wind(bb.top.xyz, wind_tip_offset(bb.base.xyz));
     let world = bb.base.xyz + axis * (x * 2.0 - 1.0) * bb.base.w + top * y;
 
     var out: VertexOut;

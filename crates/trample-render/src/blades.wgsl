@@ -24,17 +24,9 @@ struct VertexOut {
 
 fn vertex_of(k: u32, b: u32) -> vec3<f32> {
     let l = b - chunk.x;
-    let p = pos[k * chunk.y + l].xyz;
-    // Wind (draw time only): vertex k moves (k/n)² of the tip's offset
-    // sideways and keeps its distance to the root, so the blade bends
-    // rather than stretches. Calm: the stored vertex, unchanged.
+    // Wind (draw time only, trample::blade_shape): calm leaves the stored vertex.
     let root = pos[l].xyz;
-    let f = f32(k) / f32(globals.params.y);
-    let o = wind_tip_offset(root) * (f * f);
-    if (dot(o, o) == 0.0) {
-        return p;
-    }
-    return root + wind_bend(p - root, o);
+    return blade_wind_vertex(root, pos[k * chunk.y + l].xyz, k, globals.params.y, wind_tip_offset(root));
 }
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
@@ -47,31 +39,19 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     // Tangent of the bent shape at vertex k (central difference).
     let dir = normalize(vertex_of(min(k + 1u, n), b) - vertex_of(max(k, 1u) - 1u, b));
     // The blade's flat side faces a fixed random direction, kept perpendicular to the tangent.
-    let a = hash01(b) * 6.2831853;
-    var across = vec3<f32>(cos(a), 0.0, sin(a));
-    across = across - dir * dot(across, dir);
-    if (dot(across, across) < 1e-6) {
-        across = vec3<f32>(1.0, 0.0, 0.0);
-    }
-    across = normalize(across);
+    let across = blade_across(b, dir);
     let t = f32(k) / f32(n);
-    let w = shape[b].x * (1.0 - t * t);
-    let world = p + across * side * w;
+    let world = p + across * side * blade_width(shape[b].x, t);
 
     var out: VertexOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);
     out.world = world;
-    // Normal of the bent strip, rounded a little across the width.
-    out.normal = normalize(cross(across, dir)) + across * side * 0.6;
+    out.normal = blade_normal(across, dir, side);
     out.along = t;
     if (inst.y != 0u) {
         out.albedo = unpack4x8unorm(inst.y).rgb;
     } else {
-        // Root-to-tip gradient (linear colour), varied per blade by its tint.
-        let tint = shape[b].y;
-        let root = vec3<f32>(0.025, 0.06, 0.012);
-        let tip = mix(vec3<f32>(0.16, 0.30, 0.035), vec3<f32>(0.30, 0.34, 0.07), tint);
-        out.albedo = mix(root, tip, smoothstep(0.0, 1.0, t));
+        out.albedo = blade_albedo(shape[b].y, t);
     }
     return out;
 }

@@ -39,10 +39,12 @@ pub struct Globals {
 
 const _: () = assert!(std::mem::size_of::<Globals>() == 272);
 
-/// The full source of a pass: the shared globals followed by `own`.
+/// The full source of a pass: the blade shape every renderer shares
+/// ([`trample::blade_shape::WGSL`]: hash, wind bend, strip, colour), the
+/// globals, then `own`.
 #[must_use]
 pub fn shader_source(own: &str) -> String {
-    format!("{GLOBALS_WGSL}\n{own}")
+    format!("{}\n{GLOBALS_WGSL}\n{own}", trample::blade_shape::WGSL)
 }
 
 /// Compiles a pass's WGSL (with the shared globals prepended).

@@ -55,26 +55,9 @@ fn out_color(c: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(select(hi, lo, x <= vec3<f32>(0.0031308)), 1.0);
 }
 
-// Small integer hash -> [0, 1).
-fn hash01(x: u32) -> f32 {
-    var h = x * 747796405u + 2891336453u;
-    h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
-    h = (h >> 22u) ^ h;
-    return f32(h & 0xffffffu) / 16777216.0;
-}
-
-// Wind tip displacement of a blade rooted at `root` (trample::wind::tip_offset,
-// its specification): a vertex at fraction f of the height moves f² times this.
+// Wind tip displacement of a blade rooted at `root` now: the shared
+// `wind_tip_offset_at` (trample::blade_shape, prepended) with this frame's
+// wind and time.
 fn wind_tip_offset(root: vec3<f32>) -> vec3<f32> {
-    let d = vec3<f32>(globals.wind.x, 0.0, globals.wind.z);
-    let phase = 6.2831853 * (globals.eye.w / globals.gusts.x - dot(root, d) / globals.gusts.y);
-    return d * (globals.wind.y + globals.wind.w * (0.5 + 0.5 * sin(phase)));
-}
-
-// `r` (a point relative to its root) moved sideways by `o` (horizontal),
-// keeping its distance to the root: the height gives way, never below 0.
-fn wind_bend(r: vec3<f32>, o: vec3<f32>) -> vec3<f32> {
-    let side = vec3<f32>(r.x + o.x, 0.0, r.z + o.z);
-    let h = sqrt(max(dot(r, r) - dot(side, side), 0.0));
-    return side + vec3<f32>(0.0, h, 0.0);
+    return wind_tip_offset_at(root, globals.wind, globals.gusts, globals.eye.w);
 }

@@ -23,6 +23,7 @@
 #![warn(missing_docs)]
 
 pub mod accuracy;
+pub mod blade_shape;
 pub mod builder;
 pub mod camera;
 pub mod collision;

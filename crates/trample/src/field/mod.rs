@@ -4,6 +4,7 @@
 pub mod blades;
 pub mod cells;
 pub mod changes;
+pub mod drawn;
 pub mod frustum;
 pub mod generate;
 pub mod grid_image;
@@ -21,6 +22,7 @@ pub mod terrain;
 pub use blades::{BladeVertex, Blades, MAX_SEGMENTS};
 pub use cells::Cells;
 pub use changes::ChangeSet;
+pub use drawn::drawn_cells;
 pub use field::Field;
 pub use frustum::{Frustum, cull_patches, cull_patches_each};
 pub use layout::{FieldLayout, NO_NEIGHBOUR, Patch};

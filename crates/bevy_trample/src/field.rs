@@ -1,0 +1,104 @@
+//! The grass field: a [`Resource`] holding the simulation, built from the
+//! same parameters as a scene file ([`SceneFile`]) or from a scene file.
+
+use crate::TrampleError;
+use crate::host::BladeChanges;
+use bevy::prelude::*;
+use std::path::Path;
+use trample::Simulation;
+use trample::builder::SimulationBuilder;
+use trample::scene::{Scene, SceneFile};
+
+/// The meadow: the trample simulation of one grass field (its blades,
+/// cells and terrain, the bodies in it, its parameters).
+///
+/// Insert it before or after adding [`crate::TramplePlugin`]; entities with
+/// [`crate::Trampler`] then become bodies in it. Scene-file objects (a
+/// scene's `[[objects]]`) stay in it and follow their paths; the plugin
+/// neither draws nor removes them.
+///
+/// World frame: the core's, which is Bevy's (y up, right-handed, metres);
+/// the field is centred on the origin.
+#[derive(Resource)]
+pub struct TrampleField {
+    /// The simulation (read it for the blades, cells and timings; the
+    /// plugin steps it).
+    pub sim: Simulation,
+    /// Blades the steps changed since the renderer last took them.
+    pub(crate) changes: BladeChanges,
+    /// Bodies the plugin put in the simulation for [`crate::Trampler`]s.
+    pub(crate) tramplers: usize,
+}
+
+impl TrampleField {
+    /// Builds the field a scene file's values describe (every key of a
+    /// scene file can be set in code this way; `file.objects` become bodies
+    /// that follow their paths).
+    ///
+    /// # Errors
+    /// [`TrampleError::Scene`] with the message a scene file with these
+    /// values would give (the key, its value and what is allowed).
+    pub fn from_scene_file(file: &SceneFile) -> Result<Self, TrampleError> {
+        Self::from_builder(&SimulationBuilder::from_scene_file(file, Path::new(".")))
+    }
+
+    /// Builds the field a [`SimulationBuilder`] describes (the core's
+    /// builder: field, level of detail, simulation, wind, grass maps,
+    /// bodies of its own).
+    ///
+    /// # Errors
+    /// [`TrampleError::Scene`] naming the key, its value and what is allowed.
+    pub fn from_builder(builder: &SimulationBuilder) -> Result<Self, TrampleError> {
+        let sim = builder
+            .build()
+            .map_err(|e| TrampleError::Scene(e.to_string()))?;
+        Ok(Self::from_simulation(sim))
+    }
+
+    /// Builds the field of the scene file at `path` (meshes it names are
+    /// read from its folder).
+    ///
+    /// # Errors
+    /// [`TrampleError::Scene`]: unreadable file, TOML error, bad value.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, TrampleError> {
+        let scene = Scene::load(path.as_ref()).map_err(|e| TrampleError::Scene(e.to_string()))?;
+        Self::from_scene(&scene)
+    }
+
+    /// Builds the field of a parsed scene.
+    ///
+    /// # Errors
+    /// [`TrampleError::Scene`] for a value the scene does not allow.
+    pub fn from_scene(scene: &Scene) -> Result<Self, TrampleError> {
+        let sim = scene
+            .build()
+            .map_err(|e| TrampleError::Scene(e.to_string()))?;
+        Ok(Self::from_simulation(sim))
+    }
+
+    /// Wraps a simulation built some other way.
+    #[must_use]
+    pub fn from_simulation(sim: Simulation) -> Self {
+        Self {
+            sim,
+            changes: BladeChanges::default(),
+            tramplers: 0,
+        }
+    }
+
+    /// The paper's field (16 × 16 patches of 32 × 32 cells, 262,144 blades,
+    /// 51.2 m square) with no objects of its own: what a game starts from.
+    #[must_use]
+    pub fn paper_meadow() -> SceneFile {
+        SceneFile {
+            objects: Vec::new(),
+            ..Scene::default_scene().map(|s| s.file).unwrap_or_default()
+        }
+    }
+
+    /// Bodies the plugin put in the simulation for [`crate::Trampler`]s.
+    #[must_use]
+    pub fn tramplers(&self) -> usize {
+        self.tramplers
+    }
+}

@@ -1,0 +1,160 @@
+// The meadow in Bevy's renderer (DESIGN §8): geometric blades pulled from
+// the blade vertex buffer (the core's layout, Eq. 1: vertex k of blade b at
+// pos[k * blades + b]) and crossed billboards for Billboard-LOD cells (Eq. 8's
+// top edge), both lit by Bevy's PBR lighting (its lights and their shadows,
+// ambient light, fog, tonemapping) in Bevy's opaque pass. The blade's shape,
+// wind and colour are trample::blade_shape, the WGSL trample-render uses too.
+
+#import bevy_pbr::mesh_view_bindings::view
+#import bevy_pbr::pbr_types
+#import bevy_pbr::pbr_functions
+#import bevy_pbr::mesh_types::MESH_FLAGS_SHADOW_RECEIVER_BIT
+#import trample::blade_shape::{hash01, wind_tip_offset_at, billboard_axis, billboard_top_in_wind, blade_wind_vertex, blade_across, blade_width, blade_normal, blade_albedo}
+
+struct Params {
+    // xz: wind direction (unit), y: steady tip displacement (m), w: gust (m).
+    wind: vec4<f32>,
+    // x: gust period (s), y: gust wavelength (m).
+    gusts: vec4<f32>,
+    // x: blades, y: segments per blade, z: blades per cell.
+    counts: vec4<u32>,
+    // x: simulated time (s).
+    time: vec4<f32>,
+}
+
+struct Billboard {
+    // xyz: base centre, w: half width (m).
+    base: vec4<f32>,
+    // xyz: base -> top edge (normalize(slope) * height), w: unused.
+    top: vec4<f32>,
+    // y: the cell (its random seed).
+    extra: vec4<u32>,
+}
+
+@group(2) @binding(0) var<storage, read> pos: array<vec4<f32>>;
+// x: width (m), y: tint in [0, 1).
+@group(2) @binding(1) var<storage, read> shape: array<vec2<f32>>;
+// Cells drawn as blades (their blades are the instances).
+@group(2) @binding(2) var<storage, read> cells: array<u32>;
+@group(2) @binding(3) var<uniform> params: Params;
+@group(2) @binding(4) var<storage, read> billboards: array<Billboard>;
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) albedo: vec3<f32>,
+    // Billboards: across the quad (0..1) and up it (0 base, 1 top).
+    @location(3) uv: vec2<f32>,
+    @location(4) @interpolate(flat) seed: u32,
+}
+
+fn wind_tip(root: vec3<f32>) -> vec3<f32> {
+    return wind_tip_offset_at(root, params.wind, params.gusts, params.time.x);
+}
+
+fn vertex_of(k: u32, b: u32) -> vec3<f32> {
+    let count = params.counts.x;
+    let root = pos[b].xyz;
+    return blade_wind_vertex(root, pos[k * count + b].xyz, k, params.counts.y, wind_tip(root));
+}
+
+// Two triangles a quad: corners (0,0) (1,0) (0,1), (0,1) (1,0) (1,1).
+fn corner_of(vi: u32) -> vec2<u32> {
+    let c = array<u32, 6>(0u, 1u, 2u, 2u, 1u, 3u)[vi % 6u];
+    return vec2<u32>(c & 1u, c >> 1u);
+}
+
+@vertex
+fn blade_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
+    let per_cell = params.counts.z;
+    let b = cells[ii / per_cell] * per_cell + ii % per_cell;
+    let n = params.counts.y;
+    let c = corner_of(vi);
+    let k = vi / 6u + c.y;
+    let side = f32(c.x) - 0.5;
+    let p = vertex_of(k, b);
+    // Tangent of the bent shape at vertex k (central difference).
+    let dir = normalize(vertex_of(min(k + 1u, n), b) - vertex_of(max(k, 1u) - 1u, b));
+    let across = blade_across(b, dir);
+    let t = f32(k) / f32(n);
+    let world = p + across * side * blade_width(shape[b].x, t);
+
+    var out: VertexOut;
+    out.clip = view.clip_from_world * vec4<f32>(world, 1.0);
+    out.world = world;
+    out.normal = blade_normal(across, dir, side);
+    out.albedo = blade_albedo(shape[b].y, t);
+    out.uv = vec2<f32>(f32(c.x), t);
+    out.seed = b;
+    return out;
+}
+
+@vertex
+fn billboard_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
+    let bb = billboards[ii];
+    let quad = vi / 6u;
+    let c = corner_of(vi);
+    let x = f32(c.x);
+    let y = f32(c.y);
+    let seed = bb.extra.y;
+    let axis = billboard_axis(seed, quad);
+    // Wind (draw time only): the top edge moves like a blade tip.
+    let top = billboard_top_in_wind(bb.top.xyz, wind_tip(bb.base.xyz));
+    let world = bb.base.xyz + axis * (x * 2.0 - 1.0) * bb.base.w + top * y;
+
+    var out: VertexOut;
+    out.clip = view.clip_from_world * vec4<f32>(world, 1.0);
+    out.world = world;
+    // Lit like a blade seen side-on: the quad's normal bent up.
+    out.normal = normalize(cross(axis, top)) + vec3<f32>(0.0, 1.2, 0.0);
+    out.albedo = blade_albedo(0.5 + 0.5 * hash01(seed ^ 0x51u), y);
+    out.uv = vec2<f32>(x, y);
+    out.seed = seed ^ (quad * 0x9e37u);
+    return out;
+}
+
+// Bevy's lighting of a two-sided grass surface.
+fn lit(v: VertexOut) -> vec4<f32> {
+    var pbr = pbr_types::pbr_input_new();
+    pbr.material.base_color = vec4<f32>(v.albedo, 1.0);
+    pbr.material.perceptual_roughness = 0.85;
+    pbr.material.reflectance = vec3<f32>(0.2);
+    pbr.material.flags = pbr.material.flags | pbr_types::STANDARD_MATERIAL_FLAGS_FOG_ENABLED_BIT;
+    pbr.frag_coord = v.clip;
+    pbr.world_position = vec4<f32>(v.world, 1.0);
+    pbr.is_orthographic = view.clip_from_view[3].w == 1.0;
+    pbr.V = pbr_functions::calculate_view(pbr.world_position, pbr.is_orthographic);
+    var n = normalize(v.normal);
+    // Two-sided: light the side that faces the viewer.
+    if (dot(n, pbr.V) < 0.0) {
+        n = -n;
+    }
+    pbr.world_normal = n;
+    pbr.N = n;
+    pbr.flags = MESH_FLAGS_SHADOW_RECEIVER_BIT;
+    let c = pbr_functions::apply_pbr_lighting(pbr);
+    return pbr_functions::main_pass_post_lighting_processing(pbr, c);
+}
+
+@fragment
+fn blade_fragment(v: VertexOut) -> @location(0) vec4<f32> {
+    return lit(v);
+}
+
+// A clump of blades cut out of the quad: `STRANDS` tapered strands of
+// random heights across it.
+const STRANDS: f32 = 7.0;
+
+@fragment
+fn billboard_fragment(v: VertexOut) -> @location(0) vec4<f32> {
+    let s = v.uv.x * STRANDS;
+    let strand = u32(floor(s));
+    let h = 0.55 + 0.45 * hash01(v.seed * 31u + strand);
+    let across = abs(fract(s) - 0.5) * 2.0;
+    // Each strand tapers to a point at its height.
+    if (v.uv.y > h * (1.0 - across * across) || across > 0.8) {
+        discard;
+    }
+    return lit(v);
+}

@@ -1,0 +1,156 @@
+//! What the render world needs of the simulation each frame, copied in
+//! Bevy's extract step: the blades that changed since the last frame (only
+//! those are uploaded), the cells drawn as blades, the billboards, and the
+//! draw parameters (counts, wind, time).
+
+use crate::field::TrampleField;
+use bevy::prelude::*;
+use bevy::render::MainWorld;
+use bytemuck::{Pod, Zeroable};
+use std::ops::Range;
+use trample::deform::billboard::billboard_top;
+use trample::field::generate::GROUND_CLEARANCE_M;
+use trample::field::{BladeVertex, Lod, drawn_cells};
+
+/// Billboard width / cell side, as trample-render draws them: "a bit longer
+/// than the cell" (DESIGN §8), so neighbouring billboards overlap.
+pub const WIDTH_OVER_CELL: f32 = 1.6;
+
+/// Per-frame draw parameters. Layout-compatible with `Params` in blades.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct GrassParams {
+    /// Wind: xz unit direction, y steady tip displacement (m), w gust (m).
+    pub wind: [f32; 4],
+    /// Gusts: x period (s), y wavelength (m).
+    pub gusts: [f32; 4],
+    /// x blades, y segments per blade, z blades per cell, w unused.
+    pub counts: [u32; 4],
+    /// x simulated time (s, the wind's clock).
+    pub time: [f32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<GrassParams>() == 64);
+
+/// One billboard. Layout-compatible with `Billboard` in blades.wgsl (and
+/// with trample-render's `BillboardInstance`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct BillboardInstance {
+    /// xyz base centre (m), w half width (m).
+    pub base: [f32; 4],
+    /// xyz base → top edge, `normalize(slope) · height` (Eq. 8) kept above
+    /// the ground; w unused.
+    pub top: [f32; 4],
+    /// x unused, y the cell (its random seed).
+    pub extra: [u32; 4],
+}
+
+const _: () = assert!(std::mem::size_of::<BillboardInstance>() == 48);
+
+/// The render world's copy of this frame's field.
+#[derive(Resource, Default)]
+pub struct GrassFrame {
+    /// Blades, segments per blade and blades per cell; `None` before a field exists.
+    pub layout: Option<[u32; 3]>,
+    /// Set when every blade is in `staging` (a new field): the buffers are
+    /// made anew. Also carries each blade's `[width, tint]`.
+    pub full: Option<Vec<[f32; 2]>>,
+    /// Runs of changed vertices: `(first vertex, vertices)` in the core's
+    /// layout (vertex k of blade b at `k * blades + b`), their data one
+    /// after the other in `staging`.
+    pub runs: Vec<(u32, u32)>,
+    /// Vertex data of `runs` (the core's layout, `[x, y, z, 0]`).
+    pub staging: Vec<BladeVertex>,
+    /// Cells drawn as blades.
+    pub cells: Vec<u32>,
+    /// Billboards drawn.
+    pub billboards: Vec<BillboardInstance>,
+    /// Draw parameters.
+    pub params: GrassParams,
+    /// Blade runs taken this frame (scratch).
+    blade_runs: Vec<Range<u32>>,
+}
+
+/// Copies this frame's field into the render world: the vertices of the
+/// blades the steps since the last frame changed (all of them for a new
+/// field), the drawn cells and billboards of the camera in charge, the
+/// draw parameters.
+pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>) {
+    let frame = &mut *frame;
+    frame.runs.clear();
+    frame.staging.clear();
+    frame.cells.clear();
+    frame.billboards.clear();
+    frame.full = None;
+    let Some(mut field) = main.get_resource_mut::<TrampleField>() else {
+        frame.layout = None;
+        return;
+    };
+    let field = &mut *field;
+    let sim = &field.sim;
+    let bl = &sim.field.blades;
+    let layout = &sim.field.layout;
+    let shape = [bl.count as u32, bl.segments as u32, layout.blades_per_cell];
+    if frame.layout != Some(shape) {
+        field.changes.reset();
+        frame.layout = Some(shape);
+    }
+    frame.blade_runs.clear();
+    if field.changes.take(sim, &mut frame.blade_runs) {
+        frame.full = Some(
+            bl.width
+                .iter()
+                .zip(&bl.tint)
+                .map(|(&w, &t)| [w, t])
+                .collect(),
+        );
+    }
+    let count = bl.count;
+    for k in 0..=bl.segments {
+        for r in &frame.blade_runs {
+            let first = k * count + r.start as usize;
+            let end = k * count + r.end as usize;
+            frame.runs.push((first as u32, r.len() as u32));
+            frame.staging.extend_from_slice(&bl.pos[first..end]);
+        }
+    }
+    // The patches inside the camera in charge (the host's, when a
+    // TrampleCamera handed its view in; else the scene's camera).
+    let visible: &[bool] = if sim.host_view().is_some() {
+        &sim.visible
+    } else {
+        &[]
+    };
+    let lods = &sim.field.cells.lod;
+    frame
+        .cells
+        .extend(drawn_cells(layout, lods, visible, Lod::Geometry).map(|c| c as u32));
+    let cells = &sim.field.cells;
+    let half = 0.5 * WIDTH_OVER_CELL * layout.cell_size;
+    frame
+        .billboards
+        .extend(drawn_cells(layout, lods, visible, Lod::Billboard).map(|c| {
+            // Eq. 8's top edge with the core's ground guard.
+            let top = billboard_top(
+                cells.base[c],
+                cells.slope[c],
+                cells.height[c],
+                &sim.field.terrain,
+                GROUND_CLEARANCE_M,
+            ) - cells.base[c];
+            BillboardInstance {
+                base: cells.base[c].extend(half).to_array(),
+                top: top.extend(0.0).to_array(),
+                extra: [0, c as u32, 0, 0],
+            }
+        }));
+    let wind = &sim.wind;
+    let d = wind.direction();
+    frame.params = GrassParams {
+        wind: [d.x, wind.strength_m, d.z, wind.gust_m],
+        gusts: [wind.gust_period_s, wind.gust_wavelength_m, 0.0, 0.0],
+        counts: [shape[0], shape[1], shape[2], 0],
+        time: [sim.time as f32, 0.0, 0.0, 0.0],
+    };
+}

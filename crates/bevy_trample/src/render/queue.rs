@@ -1,0 +1,134 @@
+//! Puts the two grass draws into every 3D view's opaque phase (Bevy's
+//! `Opaque3d`: the same pass and depth buffer as the scene's meshes) and
+//! the render command that draws them: view bindings (groups 0 and 1),
+//! the grass's bind group (group 2), then one instanced draw.
+
+use super::GrassDraw;
+use super::gpu::GrassGpu;
+use super::pipeline::GrassPipeline;
+use bevy::asset::AssetId;
+use bevy::core_pipeline::core_3d::{Opaque3d, Opaque3dBatchSetKey, Opaque3dBinKey};
+use bevy::ecs::query::ROQueryItem;
+use bevy::ecs::system::SystemParamItem;
+use bevy::ecs::system::lifetimeless::{Read, SRes};
+use bevy::mesh::Mesh;
+use bevy::pbr::{SetMeshViewBindGroup, SetMeshViewBindingArrayBindGroup, ViewKeyCache};
+use bevy::prelude::*;
+use bevy::render::camera::{DirtySpecializations, PendingQueues};
+use bevy::render::mesh::allocator::MeshSlabs;
+use bevy::render::render_phase::{
+    BinnedRenderPhaseType, DrawFunctions, InputUniformIndex, PhaseItem, RenderCommand,
+    RenderCommandResult, SetItemPipeline, TrackedRenderPass, ViewBinnedRenderPhases,
+};
+use bevy::render::render_resource::PipelineCache;
+use bevy::render::view::{ExtractedView, RenderVisibleEntities};
+
+/// Draw entities that could not be queued yet (Bevy's bookkeeping for
+/// [`DirtySpecializations`]; the grass's pipelines never wait on assets).
+#[derive(Default, Deref, DerefMut, Resource)]
+pub struct PendingGrassQueues(pub PendingQueues);
+
+/// The render command of a grass draw.
+pub type DrawGrass = (
+    SetItemPipeline,
+    SetMeshViewBindGroup<0>,
+    SetMeshViewBindingArrayBindGroup<1>,
+    DrawGrassInstances,
+);
+
+/// Binds group 2 and draws: every drawn blade as an instance of
+/// `6 · segments` vertices (two triangles a segment), or every billboard
+/// as an instance of 12 (two crossed quads).
+pub struct DrawGrassInstances;
+
+impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
+    type Param = SRes<GrassGpu>;
+    type ViewQuery = ();
+    type ItemQuery = Read<GrassDraw>;
+
+    fn render<'w>(
+        _item: &P,
+        _view: ROQueryItem<'w, '_, Self::ViewQuery>,
+        draw: Option<ROQueryItem<'w, '_, Self::ItemQuery>>,
+        gpu: SystemParamItem<'w, '_, Self::Param>,
+        pass: &mut TrackedRenderPass<'w>,
+    ) -> RenderCommandResult {
+        let gpu = gpu.into_inner();
+        let (Some(draw), Some(group)) = (draw, gpu.bind_group.as_ref()) else {
+            return RenderCommandResult::Skip;
+        };
+        let (vertices, instances) = match draw {
+            GrassDraw::Blades => (6 * gpu.segments, gpu.blades),
+            GrassDraw::Billboards => (12, gpu.billboard_count),
+        };
+        if instances == 0 {
+            return RenderCommandResult::Skip;
+        }
+        pass.set_bind_group(2, group, &[]);
+        pass.draw(0..vertices, 0..instances);
+        RenderCommandResult::Success
+    }
+}
+
+/// Queues the grass draws visible from each view into its opaque phase.
+#[allow(clippy::too_many_arguments)]
+pub fn queue_grass(
+    pipeline_cache: Res<PipelineCache>,
+    pipeline: Option<ResMut<GrassPipeline>>,
+    mut phases: ResMut<ViewBinnedRenderPhases<Opaque3d>>,
+    draw_functions: Res<DrawFunctions<Opaque3d>>,
+    views: Query<(&ExtractedView, &RenderVisibleEntities)>,
+    view_keys: Res<ViewKeyCache>,
+    draws: Query<&GrassDraw>,
+    dirty: Res<DirtySpecializations>,
+    mut pending: ResMut<PendingGrassQueues>,
+) {
+    let Some(mut pipeline) = pipeline else { return };
+    let draw_grass = draw_functions.read().id::<DrawGrass>();
+    for (view, visible) in &views {
+        let Some(phase) = phases.get_mut(&view.retained_view_entity) else {
+            continue;
+        };
+        let Some(&view_key) = view_keys.get(&view.retained_view_entity) else {
+            continue;
+        };
+        let Some(visible_draws) = visible.get::<GrassDraw>() else {
+            continue;
+        };
+        let view_pending = pending.prepare_for_new_frame(view.retained_view_entity);
+        for &main_entity in dirty.iter_to_dequeue(view.retained_view_entity, visible_draws) {
+            phase.remove(main_entity);
+        }
+        for (render_entity, main_entity) in dirty.iter_to_queue(
+            view.retained_view_entity,
+            visible_draws,
+            &view_pending.prev_frame,
+        ) {
+            let Ok(&draw) = draws.get(*render_entity) else {
+                continue;
+            };
+            let pipeline_id = match pipeline.pipeline(&pipeline_cache, view_key, draw) {
+                Ok(id) => id,
+                Err(e) => {
+                    error!("bevy_trample: grass pipeline: {e}");
+                    continue;
+                }
+            };
+            phase.add(
+                Opaque3dBatchSetKey {
+                    draw_function: draw_grass,
+                    pipeline: pipeline_id,
+                    material_bind_group_index: None,
+                    lightmap_slab: None,
+                    slabs: MeshSlabs::default(),
+                },
+                Opaque3dBinKey {
+                    asset_id: AssetId::<Mesh>::invalid().untyped(),
+                },
+                (*render_entity, *main_entity),
+                InputUniformIndex::default(),
+                BinnedRenderPhaseType::NonMesh,
+            );
+        }
+    }
+}

@@ -1,0 +1,253 @@
+//! The plugin in a headless Bevy `App` (no window, no renderer), issue 17's
+//! "Tests that must exist": a `Trampler` with a sphere mesh moved by a
+//! system across the field bends the blades on its path and not elsewhere;
+//! removing the component removes the body; a changed mesh asset rebuilds
+//! its tree.
+
+use bevy::prelude::*;
+use bevy::time::TimeUpdateStrategy;
+use bevy_trample::{TrampleField, TramplePlugin, TrampleSystems, Trampler, TramplerBody};
+use std::time::Duration;
+use trample::builder::SimulationBuilder;
+use trample::field::{FieldParams, LodParams};
+use trample::step::SimParams;
+
+/// Frame and fixed step: 1/60 s, so each `update` runs one simulation step.
+const DT: f64 = 1.0 / 60.0;
+/// The sphere: radius (m), height of its centre (m; grass is about 0.45 m
+/// tall), speed along +x (m/s), start and end x (m), on the line z = 0.
+const RADIUS: f32 = 0.3;
+const CENTRE_Y: f32 = 0.25;
+const SPEED: f32 = 4.0;
+const START_X: f32 = -4.0;
+const END_X: f32 = 4.0;
+
+/// 12.8 × 12.8 m of grass (8 × 8 patches of 16 × 16 cells of 0.1 m, one
+/// blade a cell), the paper's lasting track (`recovery_s = inf`).
+fn field() -> TrampleField {
+    let builder = SimulationBuilder::new()
+        .field(FieldParams {
+            patches: [8, 8],
+            cells_per_patch: 16,
+            ..FieldParams::default()
+        })
+        .lod(LodParams {
+            geometry_m: 30.0,
+            billboard_m: 40.0,
+        })
+        .sim(SimParams {
+            recovery_s: f32::INFINITY,
+            ..SimParams::default()
+        });
+    TrampleField::from_builder(&builder).expect("test field")
+}
+
+#[derive(Component)]
+struct Mover;
+
+/// Moves the sphere along +x at `SPEED` in the fixed timestep, before the
+/// simulation step, and stops it at `END_X`.
+fn drive(time: Res<Time>, mut movers: Query<&mut Transform, With<Mover>>) {
+    for mut t in &mut movers {
+        t.translation.x = (t.translation.x + SPEED * time.delta_secs()).min(END_X);
+    }
+}
+
+fn app() -> App {
+    let mut app = App::new();
+    app.add_plugins((
+        MinimalPlugins,
+        AssetPlugin::default(),
+        TransformPlugin,
+        TramplePlugin,
+    ))
+    .init_asset::<Mesh>()
+    .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(
+        DT,
+    )))
+    .insert_resource(Time::<Fixed>::from_seconds(DT))
+    .insert_resource(field())
+    .add_systems(FixedUpdate, drive.before(TrampleSystems::Step));
+    app
+}
+
+fn spawn_sphere(app: &mut App, radius: f32) -> (Entity, Handle<Mesh>) {
+    let mesh = app
+        .world_mut()
+        .resource_mut::<Assets<Mesh>>()
+        .add(Sphere::new(radius).mesh().ico(3).expect("icosphere"));
+    let entity = app
+        .world_mut()
+        .spawn((
+            Mesh3d(mesh.clone()),
+            Transform::from_xyz(START_X, CENTRE_Y, 0.0),
+            Trampler::default(),
+            Mover,
+        ))
+        .id();
+    (entity, mesh)
+}
+
+/// How far blade `b`'s tip is below its rest tip, metres.
+fn lowering(field: &TrampleField, b: usize) -> f32 {
+    field.sim.field.blades.tip_lowering(b)
+}
+
+#[test]
+fn a_moving_sphere_bends_the_blades_on_its_path_and_not_elsewhere() {
+    let mut app = app();
+    let (entity, _) = spawn_sphere(&mut app, RADIUS);
+    // Long enough for the sphere to cross from START_X to END_X.
+    let frames = ((END_X - START_X) / SPEED / DT as f32).ceil() as usize + 10;
+    for _ in 0..frames {
+        app.update();
+    }
+    let body = app.world().get::<TramplerBody>(entity).expect("a body");
+    let field = app.world().resource::<TrampleField>();
+    assert_eq!(field.tramplers(), 1);
+    let at = field
+        .sim
+        .body(body.id)
+        .expect("in the simulation")
+        .pose
+        .position;
+    assert!(
+        (at.x - END_X).abs() < 1e-3,
+        "the body followed its entity: {at}"
+    );
+
+    let bl = &field.sim.field.blades;
+    let (mut on_path, mut bent_on_path, mut away, mut bent_away) = (0, 0, 0, 0);
+    for b in 0..bl.count {
+        let root = bl.rest_vertex(b, 0);
+        // Well inside the swept band (the sphere is 0.3 m in radius and
+        // about 0.5 m wide where it meets the grass), away from its ends.
+        if root.z.abs() < 0.1 && root.x > START_X + 0.5 && root.x < END_X - 0.5 {
+            on_path += 1;
+            bent_on_path += usize::from(lowering(field, b) > 0.05);
+        }
+        // Farther than 1.5 m from the swept segment.
+        let dx = (root.x - root.x.clamp(START_X, END_X)).abs();
+        if dx.hypot(root.z) > 1.5 {
+            away += 1;
+            bent_away += usize::from(!bl.is_at_rest(b));
+        }
+    }
+    assert!(on_path > 100, "{on_path} blades on the path");
+    assert!(
+        bent_on_path * 10 >= on_path * 9,
+        "{bent_on_path} of {on_path} blades on the path bent by more than 5 cm"
+    );
+    assert!(away > 5000, "{away} blades away from the path");
+    assert_eq!(bent_away, 0, "blades away from the path moved");
+}
+
+#[test]
+fn removing_the_component_removes_the_body() {
+    let mut app = app();
+    let (entity, _) = spawn_sphere(&mut app, RADIUS);
+    for _ in 0..30 {
+        app.update();
+    }
+    let id = app.world().get::<TramplerBody>(entity).expect("a body").id;
+    assert!(
+        app.world()
+            .resource::<TrampleField>()
+            .sim
+            .body(id)
+            .is_some()
+    );
+    app.world_mut().entity_mut(entity).remove::<Trampler>();
+    app.update();
+    let field = app.world().resource::<TrampleField>();
+    assert!(field.sim.body(id).is_none(), "body {id} still simulated");
+    assert!(field.sim.bodies.is_empty());
+    assert_eq!(field.tramplers(), 0);
+    assert!(app.world().get::<TramplerBody>(entity).is_none());
+
+    // The entity keeps moving through the grass without bending it any more.
+    let before: Vec<_> = field.sim.field.blades.pos.clone();
+    for _ in 0..30 {
+        app.update();
+    }
+    let field = app.world().resource::<TrampleField>();
+    let x = app.world().get::<Transform>(entity).unwrap().translation.x;
+    assert!(x > START_X + 1.5, "the entity moved on (x = {x})");
+    let bl = &field.sim.field.blades;
+    // With the paper's lasting track, blades ahead of where the body was
+    // removed are exactly as they were.
+    let ahead = (0..bl.count)
+        .filter(|&b| {
+            let r = bl.rest_vertex(b, 0);
+            r.z.abs() < 0.1 && r.x > START_X + 1.0 && r.x < x
+        })
+        .filter(|&b| {
+            (0..=bl.segments).any(|k| bl.pos[k * bl.count + b] != before[k * bl.count + b])
+        })
+        .count();
+    assert_eq!(ahead, 0, "blades moved after the body was removed");
+
+    // Despawning an entity with a body removes its body too.
+    app.world_mut()
+        .entity_mut(entity)
+        .insert(Trampler::default());
+    app.update();
+    assert_eq!(app.world().resource::<TrampleField>().sim.bodies.len(), 1);
+    app.world_mut().despawn(entity);
+    app.update();
+    let field = app.world().resource::<TrampleField>();
+    assert!(field.sim.bodies.is_empty() && field.tramplers() == 0);
+}
+
+#[test]
+fn a_changed_mesh_asset_rebuilds_the_tree() {
+    let mut app = app();
+    let (entity, mesh) = spawn_sphere(&mut app, RADIUS);
+    app.update();
+    let extent = |app: &App| {
+        let body = app.world().get::<TramplerBody>(entity).expect("a body");
+        let field = app.world().resource::<TrampleField>();
+        let b = field.sim.body(body.id).expect("in the simulation");
+        let (lo, hi) = b.object.mesh.bounds().expect("a mesh");
+        (body.id, hi.x - lo.x)
+    };
+    let (first_id, width) = extent(&app);
+    assert!((width - 2.0 * RADIUS).abs() < 0.01, "width {width}");
+
+    // The game swaps the asset's data for a sphere twice as large.
+    let bigger = Sphere::new(2.0 * RADIUS).mesh().ico(3).expect("icosphere");
+    let _ = app
+        .world_mut()
+        .resource_mut::<Assets<Mesh>>()
+        .insert(&mesh, bigger);
+    app.update();
+    let (id, width) = extent(&app);
+    assert_ne!(id, first_id, "the body was rebuilt");
+    assert!(
+        (width - 4.0 * RADIUS).abs() < 0.02,
+        "width {width} after the change"
+    );
+    let field = app.world().resource::<TrampleField>();
+    assert_eq!(
+        field.sim.bodies.len(),
+        1,
+        "the old body was replaced, not kept"
+    );
+
+    // A mesh the core refuses leaves an error on the entity, not a panic.
+    let empty = Mesh::new(
+        bevy::mesh::PrimitiveTopology::TriangleList,
+        bevy::asset::RenderAssetUsages::default(),
+    );
+    let _ = app
+        .world_mut()
+        .resource_mut::<Assets<Mesh>>()
+        .insert(&mesh, empty);
+    app.update();
+    assert!(
+        app.world()
+            .get::<bevy_trample::TramplerError>(entity)
+            .is_some()
+    );
+    assert!(app.world().resource::<TrampleField>().sim.bodies.is_empty());
+}
