@@ -303,13 +303,20 @@ fn host_poses_a_part_by_name_or_index_and_it_presses_the_grass() {
             .filter(|c| **c != BladeClass::Untouched)
             .count()
     };
-    assert_eq!(displaced(&sim), 0, "the boot at rest (y = 0.7..1.3) clears the grass");
+    assert_eq!(
+        displaced(&sim),
+        0,
+        "the boot at rest (y = 0.7..1.3) clears the grass"
+    );
     let lowered = Pose::at_rest(Vec3::new(0.5, -0.8, 0.0));
     sim.set_part_pose(id, PartRef::Name("boot"), Some(lowered))
         .unwrap();
     run(&mut sim, 10);
     let boot = sim.body(id).unwrap().parts[0].pose.position;
-    assert!((boot - Vec3::new(0.5, 0.2, 0.0)).length() < 1e-5, "boot at {boot}");
+    assert!(
+        (boot - Vec3::new(0.5, 0.2, 0.0)).length() < 1e-5,
+        "boot at {boot}"
+    );
     assert!(displaced(&sim) > 20, "the lowered boot presses the grass");
     // The same part by index, back to rest; the weight (fixed) did not move.
     sim.set_part_pose(id, PartRef::Index(0), None).unwrap();
@@ -345,7 +352,11 @@ fn a_skinned_body_built_in_code_plays_its_animation() {
             anchor: Anchor::File,
         },
     );
-    let mut body = walker.clone().animation("walk", 1.0).build_in(0, &meshes).unwrap();
+    let mut body = walker
+        .clone()
+        .animation("walk", 1.0)
+        .build_in(0, &meshes)
+        .unwrap();
     let bind = body.object.mesh.positions.clone();
     body.set_time(0.25);
     body.tree.assert_well_formed();
@@ -357,13 +368,22 @@ fn a_skinned_body_built_in_code_plays_its_animation() {
         .zip(&bind)
         .map(|(a, b)| a.distance(*b))
         .fold(0.0f32, f32::max);
-    assert!(moved > 0.05, "a quarter of the walk moves the mesh ({moved} m)");
+    assert!(
+        moved > 0.05,
+        "a quarter of the walk moves the mesh ({moved} m)"
+    );
     let root = body.tree.nodes[0].obb;
     for p in &body.object.mesh.positions {
         let q = root.to_box(*p).abs();
         assert!(q.cmple(root.half + 1e-4).all(), "root box misses {p}");
     }
-    let e = walker.animation("run", 1.0).build_in(0, &meshes).unwrap_err();
+    let e = walker
+        .animation("run", 1.0)
+        .build_in(0, &meshes)
+        .unwrap_err();
     let text = e.to_string();
-    assert!(text.contains("walker.glb") && text.contains("\"run\"") && text.contains("\"walk\""), "{text}");
+    assert!(
+        text.contains("walker.glb") && text.contains("\"run\"") && text.contains("\"walk\""),
+        "{text}"
+    );
 }
