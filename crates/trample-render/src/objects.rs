@@ -128,9 +128,10 @@ impl ObjectPass {
             ids.dedup();
             ids
         };
-        let same = ids(&self.objects).iter().eq(sim.bodies.iter().map(|b| &b.id))
-            && self.objects.len()
-                == sim.bodies.iter().map(|b| b.collider_count()).sum::<usize>();
+        let same = ids(&self.objects)
+            .iter()
+            .eq(sim.bodies.iter().map(|b| &b.id))
+            && self.objects.len() == sim.bodies.iter().map(|b| b.collider_count()).sum::<usize>();
         if !same {
             self.objects = upload_bodies(device, &self.layout, sim);
         }
