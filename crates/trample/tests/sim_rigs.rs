@@ -239,3 +239,151 @@ fn walker_tramples_grass_along_its_loop_and_its_refitted_tree_stays_well_formed(
         }
     }
 }
+
+/// A small field seen from above, every cell geometric; no bodies.
+fn small_field() -> Simulation {
+    use trample::builder::SimulationBuilder;
+    use trample::field::{FieldParams, LodParams};
+    use trample::step::HostView;
+    SimulationBuilder::new()
+        .field(FieldParams {
+            patches: [2, 2],
+            cells_per_patch: 20,
+            ..FieldParams::default()
+        })
+        .lod(LodParams {
+            geometry_m: 1000.0,
+            billboard_m: 2000.0,
+        })
+        .host_view(
+            HostView::look_at(Vec3::new(0.0, 12.0, 0.1), Vec3::ZERO, 1.0, 1.0, 0.1, 100.0).unwrap(),
+        )
+        .build()
+        .unwrap()
+}
+
+/// The host poses a `host` part by name or index (issue 13: "the API sets a
+/// part's pose by name or index"): a boot held above the grass presses
+/// nothing; lowered into it by the host, it presses the grass under it.
+/// Unknown parts and parts whose joint is not `host` are refused with
+/// messages naming them.
+#[test]
+fn host_poses_a_part_by_name_or_index_and_it_presses_the_grass() {
+    use glam::Quat;
+    use trample::builder::BodyBuilder;
+    use trample::object::parts::{JointParams, PartParams};
+    use trample::object::{Pose, Scale, ShapeParams};
+    use trample::step::BodyError;
+    use trample::step::rig::PartRef;
+    let part = |name: &str, joint| PartParams {
+        name: name.into(),
+        parent: None,
+        shape: ShapeParams::Box {
+            half_extents_m: [0.3, 0.3, 0.3],
+        },
+        scale: Scale::default(),
+        rotation_deg: [0.0; 3],
+        offset_m: [0.0, -1.0, 0.0],
+        joint,
+    };
+    let body = BodyBuilder::cuboid("crane", [0.2, 0.2, 0.2])
+        .at([0.0, 2.0, 0.0])
+        .parts([
+            part("boot", JointParams::Host),
+            part("weight", JointParams::Fixed),
+        ])
+        .build()
+        .unwrap();
+    let mut sim = small_field();
+    let id = sim.add_body(body);
+    run(&mut sim, 10);
+    let displaced = |sim: &Simulation| {
+        sim.class
+            .iter()
+            .filter(|c| **c != BladeClass::Untouched)
+            .count()
+    };
+    assert_eq!(
+        displaced(&sim),
+        0,
+        "the boot at rest (y = 0.7..1.3) clears the grass"
+    );
+    let lowered = Pose::at_rest(Vec3::new(0.5, -0.8, 0.0));
+    sim.set_part_pose(id, PartRef::Name("boot"), Some(lowered))
+        .unwrap();
+    run(&mut sim, 10);
+    let boot = sim.body(id).unwrap().parts[0].pose.position;
+    assert!(
+        (boot - Vec3::new(0.5, 0.2, 0.0)).length() < 1e-5,
+        "boot at {boot}"
+    );
+    assert!(displaced(&sim) > 20, "the lowered boot presses the grass");
+    // The same part by index, back to rest; the weight (fixed) did not move.
+    sim.set_part_pose(id, PartRef::Index(0), None).unwrap();
+    run(&mut sim, 1);
+    let body = sim.body(id).unwrap();
+    assert!((body.parts[0].pose.position - Vec3::new(0.0, 1.0, 0.0)).length() < 1e-5);
+    assert_eq!(body.parts[1].pose.rotation, Quat::IDENTITY);
+    for (part, problem) in [
+        (PartRef::Name("arm"), "no such part"),
+        (PartRef::Index(2), "no such part"),
+        (PartRef::Name("weight"), "its joint is not a host joint"),
+    ] {
+        let e = sim.set_part_pose(id, part, Some(lowered)).unwrap_err();
+        assert!(
+            matches!(&e, BodyError::Part { problem: p, allowed, .. } if *p == problem && allowed.contains("\"boot\"")),
+            "{e}"
+        );
+    }
+}
+
+/// A skinned body built in code ([`BodyBuilder::animation`]) plays its
+/// animation: its mesh and refitted tree move with time, the tree stays
+/// well formed, and a missing animation is refused naming the file.
+#[test]
+fn a_skinned_body_built_in_code_plays_its_animation() {
+    use trample::builder::BodyBuilder;
+    use trample::object::{Anchor, ShapeParams};
+    let meshes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes");
+    let walker = BodyBuilder::new(
+        "walker",
+        ShapeParams::Mesh {
+            path: "walker.glb".into(),
+            anchor: Anchor::File,
+        },
+    );
+    let mut body = walker
+        .clone()
+        .animation("walk", 1.0)
+        .build_in(0, &meshes)
+        .unwrap();
+    let bind = body.object.mesh.positions.clone();
+    body.set_time(0.25);
+    body.tree.assert_well_formed();
+    let moved = body
+        .object
+        .mesh
+        .positions
+        .iter()
+        .zip(&bind)
+        .map(|(a, b)| a.distance(*b))
+        .fold(0.0f32, f32::max);
+    assert!(
+        moved > 0.05,
+        "a quarter of the walk moves the mesh ({moved} m)"
+    );
+    let root = body.tree.nodes[0].obb;
+    for p in &body.object.mesh.positions {
+        let q = root.to_box(*p).abs();
+        assert!(q.cmple(root.half + 1e-4).all(), "root box misses {p}");
+    }
+    let e = walker
+        .animation("run", 1.0)
+        .build_in(0, &meshes)
+        .unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("walker.glb") && text.contains("\"run\"") && text.contains("\"walk\""),
+        "{text}"
+    );
+}

@@ -17,7 +17,7 @@ use glam::{Affine3A, Vec3};
 use serde::{Deserialize, Serialize};
 
 use super::mesh::TriMesh;
-use super::object::{ObjectErrorKind, Scale, ShapeParams, anchor_origin, scale_factors};
+use super::object::{ObjectErrorKind, Scale, ShapeParams, anchor_origin, mesh_file, scale_factors};
 use super::pose::rotation_from_euler_deg;
 use super::sanitize::{SanitizeReport, sanitize};
 use super::skin::{SkinScratch, SkinnedMesh};
@@ -117,13 +117,7 @@ impl AnimatedMesh {
                 "needs a .gltf or .glb mesh file (a skinned glTF)",
             ));
         }
-        let file = crate::paths::resolve_inside(base_dir, path).map_err(|reason| {
-            ObjectErrorKind::PathOutside {
-                key: "shape.path",
-                path: path.clone(),
-                reason: Box::new(reason),
-            }
-        })?;
+        let file = mesh_file(base_dir, path)?;
         let skin = SkinnedMesh::load(&file).map_err(|e| ObjectErrorKind::Rig(Box::new(e)))?;
         let animation = skin
             .animation(&params.name)

@@ -518,16 +518,23 @@ fn build_shape(
             "triangles given as values".into(),
         ),
         ShapeParams::Mesh { path, .. } => {
-            let file = crate::paths::resolve_inside(base_dir, path).map_err(|reason| {
-                ObjectErrorKind::PathOutside {
-                    key: "shape.path",
-                    path: path.clone(),
-                    reason: Box::new(reason),
-                }
-            })?;
+            let file = mesh_file(base_dir, path)?;
             let mesh = super::load_mesh_file(&file).map_err(ObjectErrorKind::Mesh)?;
             (mesh, file.display().to_string())
         }
+    })
+}
+
+/// The file `shape.path` names, inside the scene's folder `base_dir`
+/// ([`crate::paths::resolve_inside`]).
+pub(crate) fn mesh_file(
+    base_dir: &std::path::Path,
+    path: &std::path::Path,
+) -> Result<PathBuf, ObjectErrorKind> {
+    crate::paths::resolve_inside(base_dir, path).map_err(|reason| ObjectErrorKind::PathOutside {
+        key: "shape.path",
+        path: path.to_path_buf(),
+        reason: Box::new(reason),
     })
 }
 

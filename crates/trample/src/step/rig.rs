@@ -1,7 +1,7 @@
 //! Articulated and animated bodies at each sub-step (ours, DESIGN §3
 //! "Articulated bodies", "Deforming meshes"; issue 13).
 //!
-//! [`pose_rig`] runs when a body is posed ([`super::Body::set_time`]):
+//! `pose_rig` runs when a body is posed ([`super::Body::set_time`]):
 //! - an animated body ([`crate::object::AnimatedMesh`]) has its skin posed
 //!   at t and its OBB tree refitted to the new vertices
 //!   ([`crate::obb::ObbTree::refit`], same triangles, boxes and Eq. 3's
