@@ -32,7 +32,7 @@ impl Simulation {
             let pose = *collider.pose;
             let tree = collider.tree;
             let mut patches = Vec::new();
-            patches_under(&self.field.layout, &collider.world_root, &mut patches);
+            patches_under(&self.field.layout, collider.world_root, &mut patches);
             for p in patches {
                 let patch = &self.field.layout.patch_list[p as usize];
                 let range = patch.first_blade as usize..(patch.first_blade + patch.blades) as usize;

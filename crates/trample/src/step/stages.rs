@@ -141,7 +141,7 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
         .map(|&(i, k)| {
             let mut out = Vec::new();
             let root = sim.bodies[i].collider(k).world_root;
-            patches_under(&sim.field.layout, &root, &mut out);
+            patches_under(&sim.field.layout, root, &mut out);
             out
         })
         .collect();
