@@ -35,7 +35,8 @@ pub fn source() -> String {
 pub struct GpuBroadParams {
     /// Patches, patches per chunk (all but the last), chunks, patches along x.
     pub counts: [u32; 4],
-    /// Blades per patch, max workgroups per dimension, unused ×2.
+    /// Blades per patch, max workgroups per dimension, mask words per
+    /// patch ([`BroadPhase::mask_layout`]), unused.
     pub dispatch: [u32; 4],
 }
 
@@ -56,6 +57,19 @@ pub struct BroadPhase {
     patches: u32,
     per_chunk: u32,
     objects: u32,
+}
+
+/// 32-bit words of one patch's object mask for `objects` objects (≥ 1).
+#[must_use]
+pub fn mask_words(objects: u32) -> u32 {
+    objects.div_ceil(32).max(1)
+}
+
+/// Words of the lists buffer: the lists, the per-chunk counts, a mark per
+/// patch, then an object mask per patch (see `broad_phase.wgsl`).
+#[must_use]
+pub fn lists_words(patches: u32, chunks: u32, objects: u32) -> u64 {
+    u64::from(chunks) + u64::from(patches) * (2 + u64::from(mask_words(objects)))
 }
 
 const CANDIDATES: usize = 0;
@@ -98,7 +112,9 @@ impl BroadPhase {
     ///
     /// # Errors
     /// [`crate::GpuError::Layout`] when a chunk is not a whole number of
-    /// patches or the chunks hold different numbers of patches (but the last).
+    /// patches or the chunks hold different numbers of patches (but the
+    /// last); [`crate::GpuError::TooLarge`] when the lists and masks exceed
+    /// one storage binding.
     pub fn new(
         device: &wgpu::Device,
         field: &GpuField,
@@ -131,12 +147,22 @@ impl BroadPhase {
             })
             .collect();
         let chunks = field.chunks.len() as u32;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let bytes = lists_words(patches, chunks, objects) * 4;
+        if bytes > limit {
+            return Err(crate::GpuError::TooLarge {
+                what: "the broad phase's patch lists and per-patch object masks \
+                       (4 bytes a patch per 32 objects)",
+                bytes,
+                limit,
+            });
+        }
         let params = GpuBroadParams {
             counts: [patches, per_chunk, chunks, layout.patches[0]],
             dispatch: [
                 per_patch,
                 device.limits().max_compute_workgroups_per_dimension,
-                0,
+                mask_words(objects),
                 0,
             ],
         };
@@ -174,7 +200,7 @@ impl BroadPhase {
             ),
             lists: init(
                 "trample-gpu broad phase lists",
-                bytemuck::cast_slice(&vec![0u32; (chunks + 2 * patches) as usize]),
+                bytemuck::cast_slice(&vec![0u32; lists_words(patches, chunks, objects) as usize]),
                 U::STORAGE | U::COPY_DST | U::COPY_SRC,
             ),
             args: init(
@@ -189,16 +215,28 @@ impl BroadPhase {
         })
     }
 
+    /// Where the per-patch object masks lie in [`BroadPhase::lists`]:
+    /// (words per patch, first word), as the object table's header carries
+    /// them to the narrow phase and the contact response
+    /// ([`crate::object::GpuObjects::new`]).
+    #[must_use]
+    pub fn mask_layout(&self) -> (u32, u32) {
+        (mask_words(self.objects), 2 * self.patches + self.chunks)
+    }
+
     /// Records the broad phase against the objects' world root boxes:
     /// `roots` on the CPU, the same as `world_roots` on the GPU (written for
     /// this sub-step). Uploads the objects' patch rectangles
     /// ([`patch_rects`]), clears the counts and marks, lists the hit
     /// patches, writes the dispatches. Objects past the number
-    /// [`BroadPhase::new`] was given are ignored.
+    /// [`BroadPhase::new`] was given are ignored. The rectangles go through
+    /// `uploads`, in order with the encoder's commands.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
+        uploads: &mut crate::upload::Uploads,
         encoder: &mut wgpu::CommandEncoder,
         world_roots: &wgpu::Buffer,
         layout: &FieldLayout,
@@ -206,7 +244,14 @@ impl BroadPhase {
     ) {
         let roots = &roots[..roots.len().min(self.objects as usize)];
         let (rects, candidates) = patch_rects(layout, roots);
-        queue.write_buffer(&self.rects, 0, bytemuck::cast_slice(&rects));
+        uploads.upload(
+            device,
+            queue,
+            encoder,
+            &self.rects,
+            0,
+            bytemuck::cast_slice(&rects),
+        );
         encoder.clear_buffer(&self.lists, u64::from(self.patches) * 4, None);
         let group = self.kernel.bind(
             device,
@@ -250,6 +295,31 @@ impl BroadPhase {
             })
             .collect();
         out.sort_unstable();
+        Ok(out)
+    }
+
+    /// Reads back, per object, the patches whose mask holds it, ascending
+    /// (tests: the per-object lists the narrow phase reads).
+    ///
+    /// # Errors
+    /// [`crate::GpuError::ReadBack`] when mapping fails.
+    pub fn read_object_patches(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<Vec<u32>>, crate::GpuError> {
+        let all: Vec<u32> =
+            crate::readback::read_buffer(device, queue, &self.lists, "object masks")?;
+        let (words, first) = self.mask_layout();
+        let mut out = vec![Vec::new(); self.objects as usize];
+        for p in 0..self.patches {
+            for (o, list) in out.iter_mut().enumerate() {
+                let word = all[(first + p * words) as usize + o / 32];
+                if word & (1 << (o % 32)) != 0 {
+                    list.push(p);
+                }
+            }
+        }
         Ok(out)
     }
 }

@@ -11,7 +11,10 @@
 //
 // `lists` layout: the list of chunk i starts at entry `first patch of chunk
 // i`; entry `patches + i` is its count (the narrow phase finds it through
-// its chunk uniform); entry `patches + chunks + p` marks patch p listed.
+// its chunk uniform); entry `patches + chunks + p` marks patch p listed;
+// the `mask words` entries from `2 patches + chunks + p · mask words` hold
+// the objects whose box meets patch p, bit o % 32 of word o / 32 (the
+// narrow phase and the contact response test only those, in order).
 
 // Layout-compatible with `GpuWorldObb` in cells.rs.
 struct WorldObb {
@@ -26,7 +29,7 @@ struct WorldObb {
 struct BroadParams {
     // patches, patches per chunk (all but the last), chunks, patches along x
     counts: vec4<u32>,
-    // blades per patch, max workgroups per dimension, unused ×2
+    // blades per patch, max workgroups per dimension, mask words per patch, unused
     dispatch: vec4<u32>,
 }
 
@@ -123,6 +126,9 @@ fn candidates(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if p >= broad.counts.x || !overlaps(world_roots[lo], patch_aabbs[2u * p].xyz, patch_aabbs[2u * p + 1u].xyz) {
         return;
     }
+    let words = broad.dispatch.z;
+    let masks = 2u * broad.counts.x + broad.counts.z + p * words;
+    atomicOr(&lists[masks + lo / 32u], 1u << (lo % 32u));
     if atomicExchange(&lists[broad.counts.x + broad.counts.z + p], 1u) != 0u {
         return; // listed by another object
     }

@@ -1,13 +1,14 @@
 //! The contact response on the GPU (ours, DESIGN §5 "Contact"): dispatches
 //! `contact.wgsl`, one thread per blade of the patches the broad phase
-//! listed, one dispatch per object in object order, all in the caller's
-//! encoder: `trample::step::deform::resolve_contacts`, which runs the same
-//! sets (the blades some object touched this sub-step, in the patches
-//! listed for each object, from the lowest segment touched).
+//! listed, one dispatch per chunk of patches for all objects (each thread
+//! applies the objects marked for its patch, in object order), all in the
+//! caller's encoder: `trample::step::deform::resolve_contacts`, which runs
+//! the same sets (the blades some object touched this sub-step, in the
+//! patches listed for each object, from the lowest segment touched).
 
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
-use crate::object::GpuObject;
+use crate::object::GpuObjects;
 
 /// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`,
 /// `segment_obb.wgsl`, `chunk.wgsl` and `object.wgsl` prepended).
@@ -74,49 +75,46 @@ impl Contact {
     }
 
     /// Records the contact response of every object in `objects` (in
-    /// order; their uniforms as the narrow phase of the same sub-step wrote
-    /// them) over the patches `broad` listed, after the bending.
+    /// order; their parameters as the narrow phase of the same sub-step
+    /// wrote them) over the patches `broad` listed, after the bending.
+    /// Returns the number of dispatches recorded: one per chunk of patches.
     pub fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         field: &GpuField,
         params: &wgpu::Buffer,
-        objects: &[GpuObject],
+        objects: &GpuObjects,
         broad: &BroadPhase,
-    ) {
-        let groups: Vec<_> = field
-            .chunks
-            .iter()
-            .map(|chunk| {
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("trample-gpu contact: field chunk"),
-                    layout: &self.field_layout,
-                    entries: &[
-                        entry(0, params),
-                        entry(1, &chunk.pos),
-                        entry(2, &field.touch),
-                        entry(3, &field.displaced),
-                        entry(4, &chunk.uniform),
-                        entry(5, &field.ground),
-                        entry(6, &broad.lists),
-                    ],
-                })
-            })
-            .collect();
-        for obj in objects {
-            let object_group = obj.bind(device, &self.object_layout);
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("trample-gpu contact"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(1, &object_group, &[]);
-            for (c, group) in groups.iter().enumerate() {
-                pass.set_bind_group(0, group, &[]);
-                pass.dispatch_workgroups_indirect(&broad.args, c as u64 * 12);
-            }
+    ) -> u32 {
+        if objects.is_empty() {
+            return 0;
         }
+        let object_group = objects.bind(device, &self.object_layout);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("trample-gpu contact"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(1, &object_group, &[]);
+        for (c, chunk) in field.chunks.iter().enumerate() {
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("trample-gpu contact: field chunk"),
+                layout: &self.field_layout,
+                entries: &[
+                    entry(0, params),
+                    entry(1, &chunk.pos),
+                    entry(2, &field.touch),
+                    entry(3, &field.displaced),
+                    entry(4, &chunk.uniform),
+                    entry(5, &field.ground),
+                    entry(6, &broad.lists),
+                ],
+            });
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups_indirect(&broad.args, c as u64 * 12);
+        }
+        field.chunks.len() as u32
     }
 }
 

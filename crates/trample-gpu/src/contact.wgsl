@@ -1,9 +1,10 @@
 // The contact response (ours, DESIGN §5 "Contact"): after the bending of
 // Eq. 5–7, every blade some object touched this sub-step is moved out of
 // this object — `trample::deform::contact::resolve_contact` as the CPU's
-// `step::deform::resolve_contacts` runs it: one dispatch per object, in
-// object order, over the blades of the patches the broad phase listed for
-// it, from the lowest segment touched. A vertex inside the object turns
+// `step::deform::resolve_contacts` runs it: one dispatch (per chunk of
+// patches) for all objects, one thread per blade of the patches the broad
+// phase listed, each applying the objects it marked for the blade's patch
+// in object order (the CPU's order), from the lowest segment touched. A vertex inside the object turns
 // its segment towards the way out (`turn_towards`), a segment starting at
 // a vertex pinned under the object is laid flat (`pinned`), the segments
 // above follow with the ground guard (`preserve_from`, guard.wgsl).
@@ -17,6 +18,7 @@
 @group(0) @binding(3) var<storage, read_write> displaced: array<u32>;
 @group(0) @binding(4) var<uniform> chunk: Chunk;
 @group(0) @binding(5) var<storage, read> ground: array<f32>;
+// The broad phase's lists and per-patch object masks (see narrow_phase.wgsl).
 @group(0) @binding(6) var<storage, read> lists: array<u32>;
 
 // `deform::contact::CONTACT_ITERATIONS`, `LEAN_BIAS`, `PIN_HEIGHT`, `FLAT_LEAN`.
@@ -65,18 +67,31 @@ fn pinned(p: vec3<f32>) -> f32 {
 
 @compute @workgroup_size(64)
 fn contact_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    opaque_uniforms(gid);
     let per_patch = max(chunk.groups.w, 1u);
     let t = gid.x + gid.y * groups.x * 64u;
     let slot = t / per_patch;
     if slot >= lists[chunk.groups.z] {
         return;
     }
-    let b = lists[chunk.range.x / per_patch + slot] * per_patch + t % per_patch;
-    let mask = touch[b].x;
-    if mask == 0u {
+    let p = lists[chunk.range.x / per_patch + slot];
+    let b = p * per_patch + t % per_patch;
+    if touch[b].x == 0u {
         return;
     }
+    let words = objects[0].y;
+    for (var w = 0u; w < words; w++) {
+        var bits = lists[objects[0].z + p * words + w];
+        while bits != 0u {
+            load_object(32u * w + countTrailingZeros(bits), gid.z);
+            bits &= bits - 1u;
+            contact_blade(b);
+        }
+    }
+}
+
+// The loaded object's contact response on blade b (touched this sub-step).
+fn contact_blade(b: u32) {
+    let mask = touch[b].x;
     let n = min(field.y, MAX_SEGMENTS);
     let seg_len = pos[vertex_at(0u, b)].w;
     var v: array<vec3<f32>, MAX_VERTS>;

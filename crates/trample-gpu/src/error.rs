@@ -18,6 +18,10 @@ pub enum GpuError {
     /// The field and the simulation disagree (e.g. a cell count that does not divide the blade count).
     #[error("field layout: {0}")]
     Layout(String),
+    /// The device's limits are below what the GPU path needs
+    /// ([`crate::required_limits`]); the message names the limit.
+    #[error("device limit: {0}")]
+    Limit(String),
     /// A feature of the scene the GPU path does not have yet.
     #[error("not yet on the GPU path: {0}")]
     Unsupported(&'static str),

@@ -12,13 +12,15 @@
 //!
 //! | stage | status |
 //! | --- | --- |
-//! | poses | **CPU** (pure function of time), uploaded per object ([`object::GpuObject::set_pose`]) |
+//! | poses | **CPU** (pure function of time), uploaded per sub-step for all objects in one write ([`object::GpuObjects::set_pose`]) |
 //! | LOD per cell, billboards (Eq. 8), transitions (Eq. 9–13), billboard recovery | **done** ([`cells`]), whole-run parity-tested |
 //! | broad phase | **done** ([`broad_phase`]): each object's rectangle of patches from the CPU's grid lookup, one thread per object and candidate patch (the CPU's SAT, twice its slack; a mark per patch lists it once), per-chunk lists, indirect dispatch of the narrow phase over the listed patches' blades; lists equal to the CPU's (`tests/broad_phase_parity.rs`) |
-//! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested |
+//! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested; one dispatch per chunk for all objects (the broad phase's per-patch object masks; the objects in one table, [`object::GpuObjects`]) |
 //! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
 //! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested |
 //! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
+//! | the step recorded into the host's encoder | **done** ([`GpuSimulation::record_step`]; per-sub-step uploads staged in order with the passes, [`upload`]; `step` is a thin wrapper over the same loop) |
+//! | a host's device | **done**: [`required_limits`] (the default limits, storage buffers per stage raised to what the stages bind, binding size raised only for fields over 128 MiB) and [`required_features`] (none); tested on a device made with exactly those (`tests/host_device.rs`); a device below them is refused with [`GpuError::Limit`] |
 //! | chunking of fields over one storage binding | **done** ([`chunk`]): blade vertices in chunks of whole patches, one dispatch per chunk; the 16-byte-a-blade arrays stay whole-field (≈ 8.4 M blades on the software drivers, [`GpuError::TooLarge`] beyond); chunked = unchunked bit for bit (`tests/chunking.rs`) |
 //! | terrain (flat, noise, height map) in the ground guard | **done** ([`terrain`], `guard.wgsl`): the core's `Terrain::height_at` over a table of the height map or of the noise lattice the core computes; whole-run parity on noise and height-map terrain (`tests/step_parity.rs`) |
 //! | `--backend auto\|cpu\|gpu` on `simulate`, `run`, `collide` | **done** (in `trample-cli`) |
@@ -52,6 +54,7 @@ pub mod draw_lists;
 pub mod error;
 pub mod field;
 mod kernel;
+pub mod limits;
 pub mod narrow_phase;
 pub mod object;
 pub mod profile;
@@ -62,12 +65,14 @@ pub mod recovery;
 pub mod simulation;
 pub mod step_params;
 pub mod terrain;
+pub mod upload;
 
 pub use chunk::{GpuChunk, GpuChunkParams};
 pub use error::GpuError;
 pub use field::{GpuField, GpuForce};
+pub use limits::{required_features, required_limits};
 pub use narrow_phase::NarrowPhase;
-pub use object::{GpuNode, GpuObject, GpuObjectParams};
+pub use object::{GpuNode, GpuObjectParams, GpuObjects};
 pub use profile::{StageTiming, TIMESTAMP_FEATURES};
 pub use simulation::GpuSimulation;
 pub use step_params::{GpuCounters, GpuStepParams};

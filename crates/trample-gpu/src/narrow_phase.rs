@@ -1,7 +1,9 @@
 //! Narrow phase and DBG forces on the GPU (paper §4.2 and §5.1, Eq. 2;
 //! DESIGN §4.2): dispatches `narrow_phase.wgsl`, one thread per blade, one
-//! dispatch per object, all in the caller's encoder (one submission; the
-//! paper's read-back between tree levels is gone).
+//! dispatch per chunk of patches for all objects (issue 16 item 3: each
+//! thread loops over the objects the broad phase marked for its patch, in
+//! object order; the objects in one table, [`GpuObjects`]), all in the
+//! caller's encoder (the paper's read-back between tree levels is gone).
 //!
 //! Without the broad phase (`trample collide`, the stage tests) it matches
 //! `trample::collision::narrow_phase::collide_blade` plus its EqF sum; with
@@ -21,7 +23,7 @@
 
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
-use crate::object::{GpuObject, GpuObjectParams};
+use crate::object::GpuObjects;
 
 /// The WGSL source as compiled (`segment_obb.wgsl` and `chunk.wgsl` prepended).
 #[must_use]
@@ -122,103 +124,94 @@ impl NarrowPhase {
 
     /// Records the narrow phase of every object in `objects` (in order) at
     /// `precision` (root = 1; clamped to 1..=64 as on the CPU) into
-    /// `encoder`, writing each object's uniform through `queue` first (set
-    /// their poses, and with `broad` their contact settings
-    /// ([`GpuObject::set_contact`]), before). After the submission
+    /// `encoder`, writing the objects' parameters first (through `uploads`,
+    /// in order with the encoder's commands)
+    /// (set their poses, and with `broad` their contact settings
+    /// ([`GpuObjects::set_contact`]), before). After the submission
     /// `field`'s forces hold Σ EqF and `num` over all objects (zero for
     /// blades nothing hit); its hit masks the segments any object hit.
     /// With no object nothing is recorded (forces keep their old contents).
+    /// Returns the number of dispatches recorded: one per chunk of patches,
+    /// however many objects.
     ///
-    /// With `broad` (recorded earlier in `encoder`): the simulation's
-    /// weighted contacts; forces and contacts are cleared and only the
-    /// blades of the listed patches are tested. Without it: the paper's hit
-    /// flags, every blade of the field.
+    /// With `broad` (recorded earlier in `encoder`; `objects` made with its
+    /// [`BroadPhase::mask_layout`]): the simulation's weighted contacts;
+    /// forces and contacts are cleared and only the blades of the listed
+    /// patches are tested, each against the objects marked for its patch.
+    /// Without it: the paper's hit flags, every blade of the field against
+    /// every object.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
+        uploads: &mut crate::upload::Uploads,
         encoder: &mut wgpu::CommandEncoder,
         field: &GpuField,
-        objects: &mut [GpuObject],
+        objects: &mut GpuObjects,
         precision: u32,
         broad: Option<&BroadPhase>,
-    ) {
+    ) -> u32 {
         if objects.is_empty() {
-            return;
+            return 0;
         }
         if broad.is_some() {
             encoder.clear_buffer(&field.force, 0, None);
             encoder.clear_buffer(&field.touch, 0, None);
         }
         let lists = broad.map_or(&self.no_lists, |b| &b.lists);
-        let field_groups: Vec<_> = field
-            .chunks
-            .iter()
-            .map(|chunk| {
-                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("trample-gpu narrow phase: field chunk"),
-                    layout: &self.field_layout,
-                    entries: &[
-                        entry(0, &chunk.pos),
-                        entry(1, &field.cell_state),
-                        entry(2, &field.force),
-                        entry(3, &field.touch),
-                        entry(4, &chunk.uniform),
-                        entry(5, lists),
-                    ],
-                });
-                (group, chunk.groups)
-            })
-            .collect();
-        for (i, obj) in objects.iter_mut().enumerate() {
-            let p: &mut GpuObjectParams = &mut obj.params;
-            p.tree[2] = precision.clamp(1, trample::obb::MAX_TREE_DEPTH);
-            p.tree[3] = u32::from(i == 0);
-            p.field[0] = field.count;
-            p.field[1] = field.segments;
-            p.field[2] = field.blades_per_cell;
-            queue.write_buffer(&obj.uniform, 0, bytemuck::bytes_of(p));
-            let object_group = obj.bind(device, &self.object_layout);
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("trample-gpu narrow phase"),
-                timestamp_writes: None,
+        objects.set_walk(
+            precision,
+            field.count,
+            field.segments,
+            field.blades_per_cell,
+        );
+        objects.write(device, queue, uploads, encoder);
+        let object_group = objects.bind(device, &self.object_layout);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("trample-gpu narrow phase"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(if broad.is_some() {
+            &self.listed
+        } else {
+            &self.pipeline
+        });
+        pass.set_bind_group(1, &object_group, &[]);
+        // One dispatch per chunk of patches (`chunk.wgsl`), one workgroup
+        // deep in z: the shader takes gid.z as a 0 the driver cannot fold
+        // (`dispatch_args` writes z = 1 too).
+        for (c, chunk) in field.chunks.iter().enumerate() {
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("trample-gpu narrow phase: field chunk"),
+                layout: &self.field_layout,
+                entries: &[
+                    entry(0, &chunk.pos),
+                    entry(1, &field.cell_state),
+                    entry(2, &field.force),
+                    entry(3, &field.touch),
+                    entry(4, &chunk.uniform),
+                    entry(5, lists),
+                ],
             });
-            pass.set_pipeline(if broad.is_some() {
-                &self.listed
-            } else {
-                &self.pipeline
-            });
-            pass.set_bind_group(1, &object_group, &[]);
-            // One dispatch per chunk of patches (`chunk.wgsl`), one
-            // workgroup deep in z: the shader takes gid.z as a 0 the driver
-            // cannot fold (`dispatch_args` writes z = 1 too).
-            for (c, (group, (gx, gy))) in field_groups.iter().enumerate() {
-                pass.set_bind_group(0, group, &[]);
-                match broad {
-                    Some(b) => pass.dispatch_workgroups_indirect(&b.args, c as u64 * 12),
-                    None => pass.dispatch_workgroups(*gx, *gy, 1),
-                }
+            pass.set_bind_group(0, &group, &[]);
+            match broad {
+                Some(b) => pass.dispatch_workgroups_indirect(&b.args, c as u64 * 12),
+                None => pass.dispatch_workgroups(chunk.groups.0, chunk.groups.1, 1),
             }
         }
+        field.chunks.len() as u32
     }
 }
 
-/// The layout of an object's bind group (group 1 of the narrow phase and
-/// the contact response: `object.wgsl`): its uniform, nodes, triangles and
-/// inside-test voxels.
+/// The layout of the object table's bind group (group 1 of the narrow
+/// phase and the contact response: `object.wgsl`).
 pub(crate) fn object_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("trample-gpu object"),
-        entries: &[
-            uniform_entry(0),
-            storage_entry(1, true),
-            storage_entry(2, true),
-            storage_entry(3, true),
-        ],
+        label: Some("trample-gpu objects"),
+        entries: &[storage_entry(0, true)],
     })
 }
-
 fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
         binding,

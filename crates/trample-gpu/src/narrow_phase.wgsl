@@ -15,9 +15,12 @@
 // Float op for float op as the CPU (glam's order), so the results agree
 // bit for bit where the shader compiler does not contract a*b+c.
 //
-// One dispatch per object; dispatches of the objects run in order in one
-// submission and each thread adds its own blade's force (no atomics), so the
-// sum is taken in the CPU's order (object by object).
+// One dispatch (per chunk of patches) for all objects (issue 16 item 3):
+// each thread loops over the objects that may touch its blade — every
+// object in `collide`, those the broad phase marked for the blade's patch
+// in `collide_listed` — in object order, and adds each one's force to its
+// own blade's (no atomics), so the sum is taken in the CPU's order (object
+// by object).
 
 @group(0) @binding(0) var<storage, read> pos: array<vec4<f32>>;
 // Bits 0–1: the cell's level of detail (see classify.wgsl).
@@ -33,7 +36,8 @@
 @group(0) @binding(4) var<uniform> chunk: Chunk;
 // The broad phase's patch lists (`broad_phase.wgsl`), read by
 // `collide_listed`: the chunk's list starts at its first patch, its count
-// is entry `chunk.groups.z`.
+// is entry `chunk.groups.z`; the objects marked for patch p are the bits
+// of the words from `objects[0].z + p · objects[0].y` (`listed_objects`).
 @group(0) @binding(5) var<storage, read> lists: array<u32>;
 
 const LOD_GEOMETRY: u32 = 0u;
@@ -69,7 +73,7 @@ fn walk(p0: vec3<f32>, p1: vec3<f32>, final_depth: u32) -> Walk {
         if i >= count {
             continue;
         }
-        let n = nodes[i];
+        let n = node_at(i);
         if !hits_obb(centre, half, n) {
             continue;
         }
@@ -106,7 +110,7 @@ fn contact(w: Walk, p0: vec3<f32>, p1: vec3<f32>) -> Contact {
     if sqrt(len2) > CANCELLED {
         dir = w.sum * (1.0 / sqrt(len2));
     }
-    return Contact(dir, closest_point(p0, p1, nodes[w.first].center.xyz), 1.0);
+    return Contact(dir, closest_point(p0, p1, node_at(w.first).center.xyz), 1.0);
 }
 
 // `narrow_phase::collide_segment`: hit flag in `hit`, contact when hit.
@@ -122,7 +126,7 @@ fn collide_segment(p0: vec3<f32>, p1: vec3<f32>) -> SegmentHit {
     }
     let centre = (p0 + p1) * 0.5;
     let half = (p1 - p0) * 0.5;
-    if !hits_obb(centre, half, nodes[0]) {
+    if !hits_obb(centre, half, node_at(0u)) {
         return miss;
     }
     let w = walk(p0, p1, tree.z);
@@ -176,7 +180,7 @@ struct Framed {
 }
 
 fn framed(centre: vec3<f32>, half: vec3<f32>, i: u32, reach: bool, shell: f32) -> Framed {
-    let n = nodes[i];
+    let n = node_at(i);
     var bc = n.center.xyz;
     var he = n.half.xyz;
     if reach {
@@ -294,7 +298,7 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
         if i >= count {
             continue;
         }
-        let n = nodes[i];
+        let n = node_at(i);
         let l = n.children.x;
         let r = n.children.y;
         let descend = depth < final_depth && l != NO_CHILD && l > i && r > i && len + 2u <= STACK_SIZE;
@@ -359,22 +363,29 @@ fn max_depth_local_of(f: Framed) -> f32 {
 }
 
 // Every blade of the chunk (no broad phase: `trample collide`, stage
-// tests): the paper's hit flags and forces, `collide_blade`.
+// tests): the paper's hit flags and forces, `collide_blade`, every object.
 @compute @workgroup_size(64)
 fn collide(@builtin(global_invocation_id) gid: vec3<u32>) {
-    opaque_uniforms(gid);
     let b = chunk_blade(gid);
-    if b != NOT_IN_CHUNK {
-        collide_blade(b, false);
+    if b == NOT_IN_CHUNK {
+        return;
     }
+    var f = vec4<f32>(0.0);
+    var touched = vec4<u32>(0u);
+    for (var o = 0u; o < object_count(); o++) {
+        load_object(o, gid.z);
+        collide_blade(b, false, &f, &touched);
+    }
+    force[b] = f;
+    touch[b] = touched;
 }
 
 // The blades of the chunk's patches the broad phase listed (indirect
-// dispatch of `dispatch_args`); forces and touches were cleared first: the
-// simulation's weighted contacts.
+// dispatch of `dispatch_args`), against the objects it marked for the
+// blade's patch, in object order; forces and touches were cleared first:
+// the simulation's weighted contacts.
 @compute @workgroup_size(64)
 fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    opaque_uniforms(gid);
     let per_patch = max(chunk.groups.w, 1u);
     let t = gid.x + gid.y * groups.x * 64u;
     let slot = t / per_patch;
@@ -382,17 +393,25 @@ fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
         return;
     }
     let p = lists[chunk.range.x / per_patch + slot];
-    collide_blade(p * per_patch + t % per_patch, true);
-}
-
-fn collide_blade(b: u32, weighted: bool) {
-    let first_object = tree.w == 1u;
+    let b = p * per_patch + t % per_patch;
     var f = vec4<f32>(0.0);
     var touched = vec4<u32>(0u);
-    if !first_object {
-        f = force[b];
-        touched = touch[b];
+    let words = objects[0].y;
+    for (var w = 0u; w < words; w++) {
+        var bits = lists[objects[0].z + p * words + w];
+        while bits != 0u {
+            load_object(32u * w + countTrailingZeros(bits), gid.z);
+            bits &= bits - 1u;
+            collide_blade(b, true, &f, &touched);
+        }
     }
+    force[b] = f;
+    touch[b] = touched;
+}
+
+// Adds the loaded object's contacts with blade b to `f` (Σ force, Σ
+// weights) and `touched` (segment mask, firmest weight, its owner).
+fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: ptr<function, vec4<u32>>) {
     var mask = 0u;
     let segments = min(field.y, MAX_SEGMENTS);
     let cell = b / max(obj.field.z, 1u);
@@ -434,20 +453,18 @@ fn collide_blade(b: u32, weighted: bool) {
             prev = next;
         }
         if weighted {
-            f = vec4<f32>(f.xyz + sum, f.w + weights);
-            touched.x = touched.x | mask;
+            *f = vec4<f32>((*f).xyz + sum, (*f).w + weights);
+            (*touched).x = (*touched).x | mask;
             // The firmest single-object contact names the track owner
             // (`step::collide::accumulate_contacts`).
-            if weights >= DBG_WEIGHT && weights > bitcast<f32>(touched.y) {
-                touched.y = bitcast<u32>(weights);
-                touched.z = extra.x;
+            if weights >= DBG_WEIGHT && weights > bitcast<f32>((*touched).y) {
+                (*touched).y = bitcast<u32>(weights);
+                (*touched).z = extra.x;
             }
         } else {
             // `num` saturates at 255 as the CPU's u8 did.
-            f = vec4<f32>(f.xyz + sum, min(f.w + f32(countOneBits(mask)), 255.0));
-            touched.x = touched.x | mask;
+            *f = vec4<f32>((*f).xyz + sum, min((*f).w + f32(countOneBits(mask)), 255.0));
+            (*touched).x = (*touched).x | mask;
         }
     }
-    force[b] = f;
-    touch[b] = touched;
 }

@@ -1,7 +1,18 @@
-//! One object on the GPU: its OBB tree (paper §4.2's HBV, built once on the
-//! CPU by `trample::obb::ObbTree::build`: the paper's off-line stage)
-//! flattened into storage buffers, its triangles and inside-voxel grid (for
-//! the inside test of closed meshes), and a uniform with its pose.
+//! The objects on the GPU, all in one storage buffer (issue 16 item 3: one
+//! narrow-phase dispatch for all objects, within the default binding
+//! limits): each object's OBB tree (paper §4.2's HBV, built once on the CPU
+//! by `trample::obb::ObbTree::build`: the paper's off-line stage)
+//! flattened, its triangles and inside-voxel grid (for the inside test of
+//! closed meshes), and its pose and settings, read by `object.wgsl`.
+//!
+//! The table, in 16-byte words (`vec4<u32>`; floats by their bits):
+//! word 0 is the header (object count, mask words per patch of the broad
+//! phase, first mask word in the broad phase's lists, 0); object `o`'s
+//! [`GpuObjectParams`] are the 16 words from `1 + 16 o`; its nodes
+//! ([`GpuNode`], 9 words each), triangles (3 words each, one a corner) and
+//! voxels (4 to a word) start at the words its `base` names. Only the
+//! parameters change during a run (one write of `16 · 16` bytes an object
+//! per sub-step).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -39,7 +50,7 @@ pub struct GpuNode {
 const _: () = assert!(std::mem::size_of::<GpuNode>() == 144);
 
 /// An object's pose and tree header. Layout-compatible with `ObjectParams`
-/// in `narrow_phase.wgsl` (uniform).
+/// in `object.wgsl` (read from the object table by `load_object`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct GpuObjectParams {
@@ -61,8 +72,7 @@ pub struct GpuObjectParams {
     pub grid_w: [f32; 4],
     /// Inside-grid half extents.
     pub grid_half: [f32; 4],
-    /// Node count, closed (1) or open (0), final depth (precision), 1 for
-    /// the first object of a step (its dispatch overwrites the forces).
+    /// Node count, closed (1) or open (0), final depth (precision), unused.
     pub tree: [u32; 4],
     /// Blade count, segments per blade, blades per cell, inside-grid side (0: none).
     pub field: [u32; 4],
@@ -76,8 +86,16 @@ pub struct GpuObjectParams {
     /// 1 + the object's index (its track owner id; 0 past 254), track
     /// everywhere (1) or the paper's geometric cells only (0), unused ×2.
     pub extra: [u32; 4],
+    /// Where the object's nodes, triangles and voxels start in the object
+    /// table, in 16-byte words; unused.
+    pub base: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuObjectParams>() == 240);
+const _: () = assert!(std::mem::size_of::<GpuObjectParams>() == 256);
+
+/// 16-byte words of one object's [`GpuObjectParams`] in the table.
+const PARAM_WORDS: usize = 16;
+/// 16-byte words of one [`GpuNode`].
+const NODE_WORDS: usize = 9;
 
 fn v4(v: Vec3) -> [f32; 4] {
     [v.x, v.y, v.z, 0.0]
@@ -111,149 +129,239 @@ pub fn flatten_nodes(tree: &ObbTree) -> Vec<GpuNode> {
         .collect()
 }
 
-/// An object's tree, triangles and voxel grid in GPU buffers, and its
-/// uniform. Build once per mesh; [`GpuObject::set_pose`] every step.
-pub struct GpuObject {
-    pub(crate) params: GpuObjectParams,
-    pub(crate) uniform: wgpu::Buffer,
-    pub(crate) nodes: wgpu::Buffer,
-    pub(crate) triangles: wgpu::Buffer,
-    pub(crate) voxels: wgpu::Buffer,
+/// The words of one object's tree, triangles and voxels, and its
+/// parameters with their `base` still relative to the object's own words.
+fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
+    let words = |v: [f32; 4]| v.map(f32::to_bits);
+    let nodes = flatten_nodes(tree);
+    let mut out: Vec<[u32; 4]> = Vec::with_capacity(nodes.len() * NODE_WORDS);
+    for n in &nodes {
+        out.extend([
+            words(n.center),
+            words(n.axis_u),
+            words(n.axis_v),
+            words(n.axis_w),
+            words(n.half),
+            words(n.dir),
+            n.children,
+            words(n.reach_center),
+            words(n.reach_half),
+        ]);
+    }
+    let mut params = GpuObjectParams::zeroed();
+    params.base[0] = 0;
+    params.base[1] = out.len() as u32;
+    out.extend(tree.triangles.iter().flat_map(|t| t.map(|c| words(v4(c)))));
+    params.base[2] = out.len() as u32;
+    params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 0];
+    params.local_velocity[3] = 2.0 * tree.nodes.first().map_or(0.0, |n| n.obb.half.min_element());
+    if let Some(g) = tree.inside.as_ref().filter(|_| tree.closed) {
+        out.extend(g.voxels.chunks(4).map(|c| {
+            let mut w = [0u32; 4];
+            for (w, &v) in w.iter_mut().zip(c) {
+                *w = u32::from(v);
+            }
+            w
+        }));
+        params.grid_center = v4(g.obb.center);
+        params.grid_u = v4(g.obb.axes[0]);
+        params.grid_v = v4(g.obb.axes[1]);
+        params.grid_w = v4(g.obb.axes[2]);
+        params.grid_half = v4(g.obb.half);
+        params.field[3] = g.side;
+    }
+    (params, out)
 }
 
-impl GpuObject {
-    /// Whether `tree`'s buffers (nodes, triangles, inside-test voxels) each
-    /// fit one storage binding of `device`; checked before anything is
-    /// allocated.
+/// Bytes of the object table for `trees` (header, parameters, every
+/// object's nodes, triangles and voxels).
+#[must_use]
+pub fn table_bytes<'a>(trees: impl IntoIterator<Item = &'a ObbTree>) -> u64 {
+    let words: usize = trees
+        .into_iter()
+        .map(|t| {
+            let voxels = t
+                .inside
+                .as_ref()
+                .filter(|_| t.closed)
+                .map_or(0, |g| g.voxels.len().div_ceil(4));
+            PARAM_WORDS + t.nodes.len() * NODE_WORDS + t.triangles.len() * 3 + voxels
+        })
+        .sum();
+    (1 + words) as u64 * 16
+}
+
+/// Every object of a simulation in one storage buffer (see the module
+/// docs), and their parameters on the CPU. Build once; set the poses
+/// ([`GpuObjects::set_pose`]) and write them ([`GpuObjects::write`]) every
+/// sub-step.
+pub struct GpuObjects {
+    params: Vec<GpuObjectParams>,
+    /// The object table (group 1 of the narrow phase and the contact
+    /// response).
+    pub(crate) table: wgpu::Buffer,
+}
+
+impl GpuObjects {
+    /// Whether the object table of `trees` fits one storage binding of
+    /// `device`; checked before anything is allocated.
     ///
     /// # Errors
-    /// [`GpuError::TooLarge`] naming the buffer.
-    pub fn fits(device: &wgpu::Device, tree: &ObbTree) -> Result<(), GpuError> {
+    /// [`GpuError::TooLarge`].
+    pub fn fits<'a>(
+        device: &wgpu::Device,
+        trees: impl IntoIterator<Item = &'a ObbTree>,
+    ) -> Result<(), GpuError> {
         let limit = device.limits().max_storage_buffer_binding_size;
-        let voxels = tree
-            .inside
-            .as_ref()
-            .filter(|_| tree.closed)
-            .map_or(1, |g| g.voxels.len());
-        for (what, bytes) in [
-            (
-                "the object's OBB-tree nodes",
-                (tree.nodes.len().max(1) * std::mem::size_of::<GpuNode>()) as u64,
-            ),
-            (
-                "the object's triangles",
-                (tree.triangles.len().max(1) * 48) as u64,
-            ),
-            ("the object's inside-test voxels", (voxels * 4) as u64),
-        ] {
-            if bytes > limit {
-                return Err(GpuError::TooLarge { what, bytes, limit });
-            }
+        let bytes = table_bytes(trees);
+        if bytes > limit {
+            return Err(GpuError::TooLarge {
+                what: "the objects' OBB trees, triangles and inside-test voxels (one buffer)",
+                bytes,
+                limit,
+            });
         }
         Ok(())
     }
 
-    /// Uploads `tree`.
+    /// Uploads `trees` (one per object, in order). `masks` is where the
+    /// broad phase keeps its per-patch object masks: (words per patch,
+    /// first word in its lists), `(0, 0)` without a broad phase.
     ///
     /// # Errors
-    /// [`GpuError::TooLarge`] when one of its buffers exceeds one storage
-    /// binding ([`GpuObject::fits`]).
-    pub fn new(device: &wgpu::Device, tree: &ObbTree) -> Result<Self, GpuError> {
-        Self::fits(device, tree)?;
-        let mut nodes = flatten_nodes(tree);
-        if nodes.is_empty() {
-            nodes.push(GpuNode::zeroed()); // bindings may not be empty
+    /// [`GpuError::TooLarge`] when the table exceeds one storage binding
+    /// ([`GpuObjects::fits`]).
+    pub fn new(
+        device: &wgpu::Device,
+        trees: &[&ObbTree],
+        masks: (u32, u32),
+    ) -> Result<Self, GpuError> {
+        Self::fits(device, trees.iter().copied())?;
+        let mut params = Vec::with_capacity(trees.len());
+        let mut data: Vec<[u32; 4]> = Vec::new();
+        let mut next = (1 + PARAM_WORDS * trees.len()) as u32;
+        for tree in trees {
+            let (mut p, words) = object_words(tree);
+            for b in &mut p.base[..3] {
+                *b += next;
+            }
+            next += words.len() as u32;
+            params.push(p);
+            data.extend(words);
         }
-        let mut tris: Vec<[f32; 4]> = tree.triangles.iter().flat_map(|t| t.map(v4)).collect();
-        if tris.is_empty() {
-            tris.push([0.0; 4]);
-        }
-        let mut params = GpuObjectParams::zeroed();
-        params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 1];
-        params.local_velocity[3] =
-            2.0 * tree.nodes.first().map_or(0.0, |n| n.obb.half.min_element());
-        let mut voxels: Vec<u32> = vec![0];
-        if let Some(g) = tree.inside.as_ref().filter(|_| tree.closed) {
-            voxels = g.voxels.iter().map(|&v| u32::from(v)).collect();
-            params.grid_center = v4(g.obb.center);
-            params.grid_u = v4(g.obb.axes[0]);
-            params.grid_v = v4(g.obb.axes[1]);
-            params.grid_w = v4(g.obb.axes[2]);
-            params.grid_half = v4(g.obb.half);
-            params.field[3] = g.side;
-        }
-        let storage = |label: &str, contents: &[u8]| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage: wgpu::BufferUsages::STORAGE,
-            })
-        };
+        let mut table: Vec<[u32; 4]> = vec![[trees.len() as u32, masks.0, masks.1, 0]];
+        table.extend(
+            params
+                .iter()
+                .flat_map(|p| bytemuck::cast::<GpuObjectParams, [[u32; 4]; PARAM_WORDS]>(*p)),
+        );
+        table.extend(data);
         Ok(Self {
             params,
-            uniform: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("trample-gpu object params"),
-                size: std::mem::size_of::<GpuObjectParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
+            table: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("trample-gpu objects"),
+                contents: bytemuck::cast_slice(&table),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             }),
-            nodes: storage("trample-gpu obb nodes", bytemuck::cast_slice(&nodes)),
-            triangles: storage("trample-gpu triangles", bytemuck::cast_slice(&tris)),
-            voxels: storage("trample-gpu inside voxels", bytemuck::cast_slice(&voxels)),
         })
     }
 
-    /// Sets the pose for the next dispatch. **Not yet on the GPU**: poses
-    /// are computed on the CPU (`Motion::pose_at`, a pure function of time,
-    /// a few floats per object) and uploaded.
-    pub fn set_pose(&mut self, pose: &Pose) {
-        self.params.position = v4(pose.position);
+    /// Number of objects.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.params.len()
+    }
+
+    /// True with no object.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.params.is_empty()
+    }
+
+    /// Object `i`'s parameters as the next [`GpuObjects::write`] uploads them.
+    #[must_use]
+    pub fn params(&self, i: usize) -> &GpuObjectParams {
+        &self.params[i]
+    }
+
+    /// Sets object `i`'s pose for the next dispatch. **Not yet on the
+    /// GPU**: poses are computed on the CPU (`Motion::pose_at`, a pure
+    /// function of time, a few floats per object) and uploaded.
+    pub fn set_pose(&mut self, i: usize, pose: &Pose) {
+        let p = &mut self.params[i];
+        p.position = v4(pose.position);
         let q = pose.rotation;
-        self.params.rotation = [q.x, q.y, q.z, q.w];
-        self.params.velocity = v4(pose.velocity);
-        self.params.angular_velocity = v4(pose.angular_velocity);
+        p.rotation = [q.x, q.y, q.z, q.w];
+        p.velocity = v4(pose.velocity);
+        p.angular_velocity = v4(pose.angular_velocity);
         // `LocalMotion` as `trample::step::collide::narrow_phase` makes it.
         let inverse = pose.rotation.inverse();
         let (v, w) = (inverse * pose.velocity, inverse * pose.angular_velocity);
-        self.params.local_velocity = [v.x, v.y, v.z, self.params.local_velocity[3]];
-        self.params.local_angular = [w.x, w.y, w.z, self.params.local_angular[3]];
+        p.local_velocity = [v.x, v.y, v.z, p.local_velocity[3]];
+        p.local_angular = [w.x, w.y, w.z, p.local_angular[3]];
     }
 
-    /// The object's bind group (`object.wgsl`'s group 1) for `layout`
+    /// Sets what the simulation's contact walk needs besides object `i`'s
+    /// pose: the sub-step `h` (s), the contact shell (m), the object's
+    /// press, and whether every level of detail is simulated
+    /// (`sim.track_everywhere`). Its track owner id is `1 + i` (0 past 254).
+    pub fn set_contact(&mut self, i: usize, h: f32, shell: f32, press: f32, everywhere: bool) {
+        let p = &mut self.params[i];
+        p.local_angular[3] = h;
+        p.contact = [shell, press, 0.0, 0.0];
+        p.extra = [
+            u8::try_from(i + 1).map_or(0, u32::from),
+            u32::from(everywhere),
+            0,
+            0,
+        ];
+    }
+
+    /// Sets every object's final depth (`precision`, root = 1; clamped to
+    /// 1..=64 as on the CPU) and the field it runs over: blade count,
+    /// segments per blade, blades per cell.
+    pub fn set_walk(&mut self, precision: u32, blades: u32, segments: u32, per_cell: u32) {
+        for p in &mut self.params {
+            p.tree[2] = precision.clamp(1, trample::obb::MAX_TREE_DEPTH);
+            p.field[0] = blades;
+            p.field[1] = segments;
+            p.field[2] = per_cell;
+        }
+    }
+
+    /// Writes every object's parameters into the table (one upload, in
+    /// order with `encoder`'s commands: [`crate::upload::Uploads`]).
+    pub fn write(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        uploads: &mut crate::upload::Uploads,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        let bytes = bytemuck::cast_slice(&self.params);
+        uploads.upload(device, queue, encoder, &self.table, 16, bytes);
+    }
+
+    /// Bytes of one [`GpuObjects::write`].
+    #[must_use]
+    pub fn params_bytes(&self) -> u64 {
+        std::mem::size_of_val(self.params.as_slice()) as u64
+    }
+
+    /// The table's bind group (`object.wgsl`'s group 1) for `layout`
     /// ([`crate::narrow_phase::object_layout`]).
     pub(crate) fn bind(
         &self,
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
     ) -> wgpu::BindGroup {
-        let buffers = [&self.uniform, &self.nodes, &self.triangles, &self.voxels];
-        let entries: Vec<wgpu::BindGroupEntry> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
         device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("trample-gpu object"),
+            label: Some("trample-gpu objects"),
             layout,
-            entries: &entries,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.table.as_entire_binding(),
+            }],
         })
-    }
-
-    /// Sets what the simulation's contact walk needs besides the pose: the
-    /// sub-step `h` (s), the contact shell (m), the object's press, its
-    /// index among the bodies and whether every level of detail is
-    /// simulated (`sim.track_everywhere`).
-    pub fn set_contact(&mut self, h: f32, shell: f32, press: f32, index: usize, everywhere: bool) {
-        self.params.local_angular[3] = h;
-        self.params.contact = [shell, press, 0.0, 0.0];
-        self.params.extra = [
-            u8::try_from(index + 1).map_or(0, u32::from),
-            u32::from(everywhere),
-            0,
-            0,
-        ];
     }
 }

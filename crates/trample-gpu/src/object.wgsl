@@ -1,6 +1,7 @@
 // One object as the narrow phase and the contact response see it (prepended
 // to narrow_phase.wgsl and contact.wgsl, not a stage of its own): its OBB
-// tree, triangles and inside-voxel grid (group 1), its pose, and the mesh
+// tree, triangles and inside-voxel grid (in the object table, group 1, with
+// every other object's: `object.rs`), its pose, and the mesh
 // queries of `trample::collision` — the inside test (`exact.rs`,
 // `inside_grid.rs`), the closest point of the mesh (`closest_point.rs`) and
 // the contact test (`contact.rs`: `penetration`, `push_out`). Float op for
@@ -48,12 +49,18 @@ struct ObjectParams {
     // 1 + the object's index (its track owner id, 0 past 254), track
     // everywhere (1) or the paper's geometric cells only (0), unused ×2
     extra: vec4<u32>,
+    // first word of its nodes, triangles, voxels in the table; unused
+    base: vec4<u32>,
 }
 
-@group(1) @binding(0) var<uniform> obj: ObjectParams;
-@group(1) @binding(1) var<storage, read> nodes: array<Node>;
-@group(1) @binding(2) var<storage, read> triangles: array<vec4<f32>>;
-@group(1) @binding(3) var<storage, read> voxels: array<u32>;
+// The object table (`object.rs`): word 0 = (objects, mask words per patch,
+// first mask word in the broad phase's lists, 0); object o's parameters at
+// words 1 + 16 o ..; its nodes (9 words each), triangles (3 words each) and
+// voxels (4 to a word) from the words its `base` names. Floats by their bits.
+@group(1) @binding(0) var<storage, read> objects: array<vec4<u32>>;
+
+// The object being tested, loaded by `load_object`.
+var<private> obj: ObjectParams;
 
 // The object's header as every branch and loop bound below reads it: a copy
 // of `obj.tree` and `obj.field` with `gid.z` added, which is 0 (the kernels
@@ -61,14 +68,54 @@ struct ObjectParams {
 // when it compiles. Why: Mesa's lavapipe (22.3, what CI installs) finds the
 // uniform values that decide a branch or a loop's trip count, folds them into
 // the shader and compiles it again through LLVM at every dispatch, without a
-// cache of the variants. With `obj.tree` / `obj.field` deciding branches it
-// did that for the narrow phase at every dispatch: 3–13 s each on the 2-core
-// CI machine, against ≈ 10–20 ms for the dispatch itself (Mesa's on-disk
-// shader cache hid it for the poses an earlier run had already compiled).
-// Values that only index (`obj.field.x`, `.z`) may stay plain uniform reads.
+// cache of the variants: 3–13 s a dispatch on the 2-core CI machine when the
+// objects were uniforms. The table is a storage buffer now, which the driver
+// does not fold; the copies stay as a guard.
 var<private> tree: vec4<u32>;
 var<private> field: vec4<u32>;
 var<private> extra: vec4<u32>;
+
+fn word_f(i: u32) -> vec4<f32> {
+    return bitcast<vec4<f32>>(objects[i]);
+}
+
+// Number of objects in the table.
+fn object_count() -> u32 {
+    return objects[0].x;
+}
+
+// Makes object o the one the functions below test (`gz` is gid.z: 0).
+fn load_object(o: u32, gz: u32) {
+    let a = 1u + 16u * o;
+    obj = ObjectParams(
+        word_f(a), word_f(a + 1u), word_f(a + 2u), word_f(a + 3u), word_f(a + 4u),
+        word_f(a + 5u), word_f(a + 6u), word_f(a + 7u), word_f(a + 8u),
+        objects[a + 9u], objects[a + 10u], word_f(a + 11u), word_f(a + 12u),
+        word_f(a + 13u), objects[a + 14u], objects[a + 15u],
+    );
+    tree = obj.tree + vec4<u32>(gz);
+    field = obj.field + vec4<u32>(gz);
+    extra = obj.extra + vec4<u32>(gz);
+}
+
+// Node i of the object's tree.
+fn node_at(i: u32) -> Node {
+    let a = obj.base.x + 9u * i;
+    return Node(
+        word_f(a), word_f(a + 1u), word_f(a + 2u), word_f(a + 3u), word_f(a + 4u),
+        word_f(a + 5u), objects[a + 6u], word_f(a + 7u), word_f(a + 8u),
+    );
+}
+
+// Corner k of the object's triangle t.
+fn corner(t: u32, k: u32) -> vec3<f32> {
+    return word_f(obj.base.y + 3u * t + k).xyz;
+}
+
+// The object's inside-grid voxel j.
+fn voxel_at(j: u32) -> u32 {
+    return objects[obj.base.z + j / 4u][j % 4u];
+}
 
 const NO_CHILD: u32 = 0xffffffffu;
 const NONE: u32 = 0xffffffffu;
@@ -81,14 +128,6 @@ const VOXEL_OUTSIDE: u32 = 0u;
 const INSIDE_RAY: vec3<f32> = vec3<f32>(0.012345679, -1.0, 0.017320508);
 // `contact::CONTACT_TOLERANCE_M`.
 const CONTACT_TOLERANCE_M: f32 = 0.003;
-
-// `tree`, `field` and `extra`: the object's uniforms as the compiler
-// cannot fold them (see their declarations).
-fn opaque_uniforms(gid: vec3<u32>) {
-    tree = obj.tree + vec4<u32>(gid.z);
-    field = obj.field + vec4<u32>(gid.z);
-    extra = obj.extra + vec4<u32>(gid.z);
-}
 
 // Vector into the box frame: rows u, v, w (glam: transposed `Mat3A` times v).
 fn to_box(n: Node, v: vec3<f32>) -> vec3<f32> {
@@ -136,7 +175,7 @@ fn closest_point(p0: vec3<f32>, p1: vec3<f32>, q: vec3<f32>) -> vec3<f32> {
 
 // `ObbTree::eqn_direction`.
 fn eqn_direction(i: u32, p0: vec3<f32>, p1: vec3<f32>) -> vec3<f32> {
-    let n = nodes[i];
+    let n = node_at(i);
     if n.dir.w == 1.0 {
         return n.dir.xyz;
     }
@@ -152,9 +191,9 @@ fn eqn_direction(i: u32, p0: vec3<f32>, p1: vec3<f32>) -> vec3<f32> {
 // `segment_triangle::segment_crosses_triangle_interior`, in f32 (the CPU
 // works in f64; WGSL has no f64): Möller–Trumbore, strict interior.
 fn crosses_triangle(p0: vec3<f32>, p1: vec3<f32>, t: u32) -> bool {
-    let a = triangles[3u * t].xyz;
-    let b = triangles[3u * t + 1u].xyz;
-    let c = triangles[3u * t + 2u].xyz;
+    let a = corner(t, 0u);
+    let b = corner(t, 1u);
+    let c = corner(t, 2u);
     let e1 = b - a;
     let e2 = c - a;
     let n_len = length(cross3(e1, e2));
@@ -179,7 +218,7 @@ fn crosses_triangle(p0: vec3<f32>, p1: vec3<f32>, t: u32) -> bool {
 
 // `exact::point_inside_by_ray` (f32 triangle tests, see `crosses_triangle`).
 fn inside_by_ray(p: vec3<f32>) -> bool {
-    let root = nodes[0];
+    let root = node_at(0u);
     let q = to_box(root, p - root.center.xyz);
     let hh = root.half.xyz;
     if any(abs(q) > hh) {
@@ -211,7 +250,7 @@ fn inside_by_ray(p: vec3<f32>) -> bool {
         if i >= count {
             continue;
         }
-        let n = nodes[i];
+        let n = node_at(i);
         if !hits_obb(centre, half, n) {
             continue;
         }
@@ -246,7 +285,7 @@ fn grid_classify(p: vec3<f32>) -> u32 {
         return 0u;
     }
     let v = vec3<u32>(g);
-    let voxel = voxels[(v.z * side + v.y) * side + v.x];
+    let voxel = voxel_at((v.z * side + v.y) * side + v.x);
     if voxel == VOXEL_INSIDE {
         return 1u;
     }
@@ -275,9 +314,9 @@ struct TrianglePoint {
 }
 
 fn closest_on_triangle(p: vec3<f32>, t: u32) -> TrianglePoint {
-    let a = triangles[3u * t].xyz;
-    let b = triangles[3u * t + 1u].xyz;
-    let c = triangles[3u * t + 2u].xyz;
+    let a = corner(t, 0u);
+    let b = corner(t, 1u);
+    let c = corner(t, 2u);
     let ab = b - a;
     let ac = c - a;
     let ap = p - a;
@@ -335,7 +374,7 @@ struct SurfacePoint {
 
 // Squared distance from p to node i's box.
 fn distance_sq_to_box(p: vec3<f32>, i: u32) -> f32 {
-    let n = nodes[i];
+    let n = node_at(i);
     let q = to_box(n, p - n.center.xyz);
     let d = max(abs(q) - n.half.xyz, vec3<f32>(0.0));
     return dot3(d, d);
@@ -359,7 +398,7 @@ fn closest_point_on_mesh(p: vec3<f32>, max_distance: f32) -> SurfacePoint {
         if distance_sq_to_box(p, i) > best_sq {
             continue;
         }
-        let n = nodes[i];
+        let n = node_at(i);
         let l = n.children.x;
         let r = n.children.y;
         if l == NO_CHILD || l <= i || r <= i || len + 2u > STACK_SIZE {
@@ -369,8 +408,8 @@ fn closest_point_on_mesh(p: vec3<f32>, max_distance: f32) -> SurfacePoint {
                 let d = dot3(dv, dv);
                 if d <= best_sq && (!best.found || d < best_sq) {
                     best_sq = d;
-                    let a = triangles[3u * t].xyz;
-                    let nrm = cross_scalar(triangles[3u * t + 1u].xyz - a, triangles[3u * t + 2u].xyz - a);
+                    let a = corner(t, 0u);
+                    let nrm = cross_scalar(corner(t, 1u) - a, corner(t, 2u) - a);
                     let nl = sqrt(dot3(nrm, nrm));
                     var unit = vec3<f32>(0.0);
                     if nl > 0.0 {

@@ -9,7 +9,7 @@ use trample::field::Lod;
 use crate::error::GpuError;
 use crate::field::GpuField;
 use crate::narrow_phase::NarrowPhase;
-use crate::object::GpuObject;
+use crate::object::GpuObjects;
 
 /// One byte per segment, blade-major (`flags[b * n + k]`): 1 where segment
 /// k of blade b at rest hits an object posed at time `t`, at `precision`.
@@ -35,15 +35,11 @@ pub fn segment_hits_at_rest(
         f.layout.blades_per_cell,
         &f.layout.neighbours,
     )?;
-    let mut objects = sim
-        .bodies
-        .iter()
-        .map(|b| {
-            let mut o = GpuObject::new(device, &b.tree)?;
-            o.set_pose(&b.object.pose_at(t));
-            Ok(o)
-        })
-        .collect::<Result<Vec<_>, GpuError>>()?;
+    let trees: Vec<_> = sim.bodies.iter().map(|b| &b.tree).collect();
+    let mut objects = GpuObjects::new(device, &trees, (0, 0))?;
+    for (i, b) in sim.bodies.iter().enumerate() {
+        objects.set_pose(i, &b.object.pose_at(t));
+    }
     let n = blades.segments;
     if objects.is_empty() {
         return Ok(vec![0; blades.count * n]);
@@ -54,6 +50,7 @@ pub fn segment_hits_at_rest(
     NarrowPhase::new(device).record(
         device,
         queue,
+        &mut crate::upload::Uploads::new(),
         &mut encoder,
         &field,
         &mut objects,

@@ -30,15 +30,12 @@ use crate::error::GpuError;
 use crate::field::GpuField;
 use crate::kernel::grid;
 use crate::narrow_phase::NarrowPhase;
-use crate::object::GpuObject;
+use crate::object::GpuObjects;
 use crate::profile::{Stage, StageTimer, StageTiming, new_encoder};
 use crate::propagation::Propagation;
 use crate::readback::read_buffer;
 use crate::recovery::Recovery;
 use crate::step_params::{GpuCounters, GpuStepParams};
-
-/// Storage buffers the stages bind at most in one shader stage (cells.wgsl).
-const STORAGE_BUFFERS_NEEDED: u32 = 9;
 
 /// A simulation whose blades live and move on the GPU.
 pub struct GpuSimulation {
@@ -47,8 +44,12 @@ pub struct GpuSimulation {
     pub sim: Simulation,
     /// The field on the GPU: draw from the chunks' `pos` ([`GpuField::chunks`]).
     pub field: GpuField,
-    objects: Vec<GpuObject>,
+    objects: GpuObjects,
     broad: BroadPhase,
+    /// Narrow-phase and contact dispatches recorded in the last sub-step.
+    object_dispatches: u32,
+    /// Per-sub-step uploads in order with the passes ([`crate::upload`]).
+    uploads: crate::upload::Uploads,
     narrow: NarrowPhase,
     contact: Contact,
     propagation: Propagation,
@@ -82,24 +83,36 @@ impl GpuSimulation {
         self.profiling = on;
     }
 
+    /// Narrow-phase and contact-response dispatches recorded in the last
+    /// sub-step: one each per chunk of patches, however many objects
+    /// (issue 16 item 3; it was one each per object and chunk).
+    #[must_use]
+    pub fn object_dispatches(&self) -> u32 {
+        self.object_dispatches
+    }
+
     /// How the profiling mode measures stage times on this device.
     #[must_use]
     pub fn stage_timing(&self) -> StageTiming {
         self.timer.method()
     }
 
-    /// Whether the GPU path can run `sim` on `device`: 9 storage buffers a
-    /// shader stage, the terrain's table within one binding, one patch's vertices within one storage binding (fields are split into
+    /// Whether the GPU path can run `sim` on `device`: the storage buffers
+    /// a shader stage of the step binds
+    /// ([`crate::limits::storage_buffers_per_stage`]), the terrain's table within one binding, one patch's vertices within one storage binding (fields are split into
     /// chunks of patches), and the whole-field per-blade arrays (16 bytes a
     /// blade) within one binding. Checks before anything is allocated.
     ///
     /// # Errors
     /// [`GpuError::Unsupported`] or [`GpuError::TooLarge`], saying why.
     pub fn supports(device: &wgpu::Device, sim: &Simulation) -> Result<(), GpuError> {
-        if device.limits().max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
-            return Err(GpuError::Unsupported(
-                "an adapter with fewer than 9 storage buffers per shader stage (cells.wgsl binds 9)",
-            ));
+        let needed = crate::limits::storage_buffers_per_stage(false);
+        let has = device.limits().max_storage_buffers_per_shader_stage;
+        if has < needed {
+            return Err(GpuError::Limit(format!(
+                "the step's stages bind up to {needed} storage buffers in one shader stage, \
+                 the device allows {has}: create it with trample_gpu::required_limits(&sim)"
+            )));
         }
         let limit = GpuField::binding_limit(device);
         let blades = &sim.field.blades;
@@ -132,8 +145,8 @@ impl GpuSimulation {
                     "animated objects (a skinned glTF playing an animation, issue 13): run the scene with --backend cpu",
                 ));
             }
-            GpuObject::fits(device, &body.tree)?;
         }
+        GpuObjects::fits(device, sim.bodies.iter().map(|b| &b.tree))?;
         Ok(())
     }
 
@@ -183,11 +196,6 @@ impl GpuSimulation {
             0,
             bytemuck::cast_slice(&sim.field.cells.flatness),
         );
-        let objects = sim
-            .bodies
-            .iter()
-            .map(|b| GpuObject::new(device, &b.tree))
-            .collect::<Result<Vec<_>, _>>()?;
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("trample-gpu step params"),
             size: std::mem::size_of::<GpuStepParams>() as u64,
@@ -205,7 +213,9 @@ impl GpuSimulation {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let broad = BroadPhase::new(device, &field, &sim.field.layout, objects.len() as u32)?;
+        let broad = BroadPhase::new(device, &field, &sim.field.layout, sim.bodies.len() as u32)?;
+        let trees: Vec<_> = sim.bodies.iter().map(|b| &b.tree).collect();
+        let objects = GpuObjects::new(device, &trees, broad.mask_layout())?;
         Ok(Self {
             broad,
             cells: Cells::new(device),
@@ -213,6 +223,8 @@ impl GpuSimulation {
             sim,
             field,
             objects,
+            object_dispatches: 0,
+            uploads: crate::upload::Uploads::new(),
             narrow: NarrowPhase::new(device),
             contact: Contact::new(device),
             propagation: Propagation::new(device),
@@ -292,6 +304,44 @@ impl GpuSimulation {
         queue: &wgpu::Queue,
         dt: f32,
     ) -> Result<u32, GpuError> {
+        self.advance(device, queue, dt, Target::Submit)
+    }
+
+    /// Records the step of `dt` seconds into the host's `encoder`, all
+    /// sub-steps, nothing submitted (the host submits it): the same
+    /// sub-steps, poses and passes as [`GpuSimulation::step`], whose CPU
+    /// side (time, frame, poses, culling) advances at once. The step's
+    /// uploads (step uniform, object poses, root boxes, broad-phase
+    /// rectangles) go through `queue` into a staging buffer and are copied
+    /// in order with the passes ([`crate::upload`]): **submit the encoder
+    /// before recording the next step.** The profiling mode does not apply
+    /// (its stage times need submissions of its own): `sim.timings` holds
+    /// the sub-step counts and the recording time. Returns the number of
+    /// sub-steps.
+    ///
+    /// # Errors
+    /// `dt` must be positive and finite ([`GpuError::Layout`] otherwise).
+    pub fn record_step(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        dt: f32,
+    ) -> Result<u32, GpuError> {
+        self.advance(device, queue, dt, Target::Host(encoder))
+    }
+
+    /// The step's outer loop, shared by [`GpuSimulation::step`] (one
+    /// submission per sub-step, profiling as set) and
+    /// [`GpuSimulation::record_step`] (into the host's encoder).
+    fn advance(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        dt: f32,
+        mut target: Target<'_>,
+    ) -> Result<u32, GpuError> {
+        let profiling = self.profiling && matches!(target, Target::Submit);
         let start = std::time::Instant::now();
         let plan = self
             .sim
@@ -302,7 +352,7 @@ impl GpuSimulation {
         let h = dt / substeps as f32;
         let max = device.limits().max_compute_workgroups_per_dimension;
         let groups = grid(self.field.count, max);
-        self.timer.begin_step(device, self.profiling, substeps);
+        self.timer.begin_step(device, profiling, substeps);
         let cell_groups = self.cells.bind(
             device,
             &self.field,
@@ -312,24 +362,31 @@ impl GpuSimulation {
         );
         let recovery_on = self.recovery.write_owners(queue, &self.sim);
         let p = self.sim.params.clone();
+        let per_substep = (std::mem::size_of::<GpuStepParams>()
+            + self.objects.len() * (std::mem::size_of::<GpuWorldObb>() + 16)
+            + 16) as u64
+            + self.objects.params_bytes()
+            + 64;
+        self.uploads
+            .begin(device, per_substep * u64::from(substeps));
         for i in 1..=substeps {
             let t = self.sim.substep_time(i, h);
             // Poses and the viewpoint: on the CPU (pure functions of time).
             let mut roots = Vec::with_capacity(self.objects.len().max(1));
-            for (index, (body, obj)) in self
+            for (index, body) in self
                 .sim
                 .bodies
                 .iter_mut()
-                .zip(&mut self.objects)
+                .take(self.objects.len())
                 .enumerate()
             {
                 body.set_time(t);
-                obj.set_pose(&body.pose);
-                obj.set_contact(
+                self.objects.set_pose(index, &body.pose);
+                self.objects.set_contact(
+                    index,
                     h,
                     p.contact_shell_m,
                     body.object.track.press,
-                    index,
                     p.track_everywhere,
                 );
                 roots.push(GpuWorldObb::new(
@@ -340,89 +397,105 @@ impl GpuSimulation {
             }
             self.sim.update_view(t);
             let params = self.step_params(h, groups.0, recovery_on);
-            queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-            if !roots.is_empty() {
-                queue.write_buffer(&self.world_roots, 0, bytemuck::cast_slice(&roots));
-            }
-            let mut encoder = new_encoder(device);
-            let mut laps = self
-                .timer
-                .laps(device, queue, &mut encoder, self.profiling)?;
-            self.propagation.record_reset(
+            let mut own = None;
+            let encoder = match &mut target {
+                Target::Submit => own.insert(new_encoder(device)),
+                Target::Host(e) => &mut **e,
+            };
+            self.uploads.upload(
                 device,
-                &mut encoder,
-                &self.field,
+                queue,
+                encoder,
                 &self.params,
-                &self.state,
+                0,
+                bytemuck::bytes_of(&params),
             );
-            self.cells.record_classify(&mut encoder, &cell_groups);
-            laps.lap(device, queue, &mut encoder, Stage::Lod);
+            if !roots.is_empty() {
+                self.uploads.upload(
+                    device,
+                    queue,
+                    encoder,
+                    &self.world_roots,
+                    0,
+                    bytemuck::cast_slice(&roots),
+                );
+            }
+            let mut laps = self.timer.laps(device, queue, encoder, self.profiling)?;
+            self.propagation
+                .record_reset(device, encoder, &self.field, &self.params, &self.state);
+            self.cells.record_classify(encoder, &cell_groups);
+            laps.lap(device, queue, encoder, Stage::Lod);
             if !self.objects.is_empty() {
                 let obbs: Vec<_> = self.sim.bodies.iter().map(|b| b.world_root).collect();
                 self.broad.record(
                     device,
                     queue,
-                    &mut encoder,
+                    &mut self.uploads,
+                    encoder,
                     &self.world_roots,
                     &self.sim.field.layout,
                     &obbs,
                 );
-                laps.lap(device, queue, &mut encoder, Stage::Broad);
-                self.narrow.record(
+                laps.lap(device, queue, encoder, Stage::Broad);
+                self.object_dispatches = self.narrow.record(
                     device,
                     queue,
-                    &mut encoder,
+                    &mut self.uploads,
+                    encoder,
                     &self.field,
                     &mut self.objects,
                     p.precision,
                     Some(&self.broad),
                 );
-                laps.lap(device, queue, &mut encoder, Stage::Narrow);
+                laps.lap(device, queue, encoder, Stage::Narrow);
                 self.propagation.record(
                     device,
-                    &mut encoder,
+                    encoder,
                     &self.field,
                     &self.params,
                     &self.state,
                     groups,
                     params.counts[2],
                 );
-                laps.lap(device, queue, &mut encoder, Stage::Propagation);
-                self.bend
-                    .record(device, &mut encoder, &self.field, &self.params);
-                laps.lap(device, queue, &mut encoder, Stage::Deformation);
+                laps.lap(device, queue, encoder, Stage::Propagation);
+                self.bend.record(device, encoder, &self.field, &self.params);
+                laps.lap(device, queue, encoder, Stage::Deformation);
                 if p.contact {
-                    self.contact.record(
+                    self.object_dispatches += self.contact.record(
                         device,
-                        &mut encoder,
+                        encoder,
                         &self.field,
                         &self.params,
                         &self.objects,
                         &self.broad,
                     );
                 }
-                laps.lap(device, queue, &mut encoder, Stage::Contact);
+                laps.lap(device, queue, encoder, Stage::Contact);
             }
             if !p.track_everywhere {
-                self.cells.record_billboards(&mut encoder, &cell_groups);
+                self.cells.record_billboards(encoder, &cell_groups);
             }
-            laps.lap(device, queue, &mut encoder, Stage::Deformation);
-            self.cells.record_transitions(&mut encoder, &cell_groups);
-            laps.lap(device, queue, &mut encoder, Stage::Transitions);
+            laps.lap(device, queue, encoder, Stage::Deformation);
+            self.cells.record_transitions(encoder, &cell_groups);
+            laps.lap(device, queue, encoder, Stage::Transitions);
             self.recovery
-                .record(device, &mut encoder, &self.field, &self.params, &self.state);
+                .record(device, encoder, &self.field, &self.params, &self.state);
             if !p.track_everywhere {
-                self.cells.record_recover_slopes(&mut encoder, &cell_groups);
+                self.cells.record_recover_slopes(encoder, &cell_groups);
             }
-            laps.lap(device, queue, &mut encoder, Stage::Recovery);
+            laps.lap(device, queue, encoder, Stage::Recovery);
             if p.track_everywhere {
-                self.cells.record_follow(&mut encoder, &cell_groups);
+                self.cells.record_follow(encoder, &cell_groups);
             }
-            laps.lap(device, queue, &mut encoder, Stage::Deformation);
-            queue.submit([encoder.finish()]);
+            laps.lap(device, queue, encoder, Stage::Deformation);
+            if let Some(e) = own {
+                queue.submit([e.finish()]);
+            }
         }
-        self.timer
-            .finish_step(device, queue, &mut self.sim.timings)?;
+        if profiling {
+            self.timer
+                .finish_step(device, queue, &mut self.sim.timings)?;
+        }
         self.sim.timings.visible_patches = self.sim.end_step(dt);
         let tm = &mut self.sim.timings;
         tm.substeps = substeps;
@@ -550,4 +623,12 @@ impl GpuSimulation {
     ) -> Result<GpuCounters, GpuError> {
         Ok(read_buffer::<GpuCounters>(device, queue, &self.state, "counters")?[0])
     }
+}
+
+/// Where [`GpuSimulation`]'s step goes: a fresh encoder per sub-step,
+/// submitted ([`GpuSimulation::step`]), or the host's encoder
+/// ([`GpuSimulation::record_step`]).
+enum Target<'a> {
+    Submit,
+    Host(&'a mut wgpu::CommandEncoder),
 }

@@ -3,7 +3,8 @@
 //! all-pairs test does (`trample::collision::broad_phase::patches_hit`,
 //! paper §4 stage 2): four objects (sphere, rotated box, knot, capsule) at
 //! 120 instants of their paths, and up to 40 objects at random poses, on a
-//! field cut into three chunks. The GPU's list must hold every
+//! field cut into three chunks; per object too (the per-patch object masks
+//! the narrow phase reads). The GPU's list must hold every
 //! patch of the CPU's (it tests with twice the CPU's slack); measured on
 //! llvmpipe (GL), 2026-11-21: the lists are equal at every instant, and
 //! that is asserted (a wider slack that lists one more patch fails here:
@@ -88,8 +89,15 @@ impl<'a> Gpu<'a> {
         self.queue
             .write_buffer(&self.roots, 0, bytemuck::cast_slice(&boxes));
         let mut enc = self.device.create_command_encoder(&Default::default());
-        self.broad
-            .record(self.device, self.queue, &mut enc, &self.roots, layout, obbs);
+        self.broad.record(
+            self.device,
+            self.queue,
+            &mut trample_gpu::upload::Uploads::new(),
+            &mut enc,
+            &self.roots,
+            layout,
+            obbs,
+        );
         self.queue.submit([enc.finish()]);
         self.broad.read_patches(self.device, self.queue).unwrap()
     }
@@ -182,6 +190,19 @@ fn gpu_lookup_lists_what_all_pairs_lists_for_random_poses() {
         let cpu = all_pairs(&layout, &obbs);
         let got = broad.list(&layout, &obbs);
         assert_eq!(got, cpu, "round {round}: {n} objects");
+        // Per object (the masks the narrow phase reads): each object's own
+        // all-pairs list; objects past this round's n: none.
+        let per_object = broad
+            .broad
+            .read_object_patches(broad.device, broad.queue)
+            .unwrap();
+        for (o, patches) in per_object.iter().enumerate() {
+            let mut own = Vec::new();
+            if o < n {
+                patches_hit(&layout.patch_list, &obbs[o], &mut own);
+            }
+            assert_eq!(patches, &own, "round {round}: object {o} of {n}");
+        }
         listed += got.len();
         partial += usize::from(!got.is_empty() && got.len() < layout.patch_list.len());
     }

@@ -12,7 +12,8 @@ use trample::force::eqf::eqf;
 use trample::obb::{DEFAULT_MAX_DEPTH, ObbTree};
 use trample::object::shapes::{capsule, cuboid, knot, sphere};
 use trample::object::{Pose, TriMesh};
-use trample_gpu::{GpuField, GpuObject, NarrowPhase};
+use trample_gpu::upload::Uploads;
+use trample_gpu::{GpuField, GpuObjects, NarrowPhase};
 
 /// Relative tolerance on Σ EqF per blade: the GPU takes the same steps in
 /// f32, but may contract a·b + c into an fma and computes `length`,
@@ -129,14 +130,15 @@ fn hit_flags_identical_and_forces_close_at_every_precision_on_builtin_shapes() {
     let mut worst = 0.0f32;
     for (name, mesh) in shapes() {
         let tree = ObbTree::build(&mesh, DEFAULT_MAX_DEPTH);
-        let mut objects = vec![GpuObject::new(device, &tree).unwrap()];
-        objects[0].set_pose(&pose);
+        let mut objects = GpuObjects::new(device, &[&tree], (0, 0)).unwrap();
+        objects.set_pose(0, &pose);
         for precision in 1..=7 {
             let cpu = cpu_reference(&blades, &tree, &pose, precision);
             let mut enc = device.create_command_encoder(&Default::default());
             kernel.record(
                 device,
                 queue,
+                &mut Uploads::new(),
                 &mut enc,
                 &field,
                 &mut objects,
@@ -210,17 +212,15 @@ fn several_objects_sum_their_forces_and_skip_non_geometric_cells() {
         ObbTree::build(&sphere(0.5, 3), DEFAULT_MAX_DEPTH),
         ObbTree::build(&knot(1.0), DEFAULT_MAX_DEPTH),
     ];
-    let mut objects: Vec<GpuObject> = trees
-        .iter()
-        .map(|t| GpuObject::new(device, t).unwrap())
-        .collect();
-    objects[0].set_pose(&a);
-    objects[1].set_pose(&b);
+    let mut objects = GpuObjects::new(device, &[&trees[0], &trees[1]], (0, 0)).unwrap();
+    objects.set_pose(0, &a);
+    objects.set_pose(1, &b);
     let precision = 5;
     let mut enc = device.create_command_encoder(&Default::default());
     kernel.record(
         device,
         queue,
+        &mut Uploads::new(),
         &mut enc,
         &field,
         &mut objects,

