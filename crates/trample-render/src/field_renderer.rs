@@ -198,7 +198,7 @@ impl FieldRenderer {
             globals,
             globals_group,
             sky: SkyPass::new(device, &layout, t),
-            terrain: TerrainPass::new(device, queue, &layout, sim, t),
+            terrain: TerrainPass::new(device, queue, &layout, sim, t, params.track_darkening),
             billboards: BillboardPass::new(device, queue, &layout, t),
             blades: if gpu {
                 BladePass::new_gpu(device, queue, &layout, sim, t)?
@@ -311,6 +311,11 @@ impl FieldRenderer {
             self.blades.prepare(device, queue, sim, |_| 0, upload)
         };
         self.uploaded_frame = Some(sim.frame);
+        bytes += match upload {
+            Upload::None => 0,
+            Upload::Changed => self.terrain.prepare(queue, &sim.field, false),
+            Upload::All => self.terrain.prepare(queue, &sim.field, true),
+        };
         let bb_colour = self.billboard_colour();
         bytes += self.billboards.prepare(device, queue, sim, bb_colour);
         bytes += self.prepare_scene(device, queue, sim, camera);
@@ -365,6 +370,7 @@ impl FieldRenderer {
         gpu.record_draw_lists(device, queue, encoder, draw);
         // The CPU copy of the field is not what the GPU path draws.
         self.uploaded_frame = None;
+        self.terrain.bind_gpu(device, &gpu.field.flatness);
         let bytes = self.prepare_scene(device, queue, &gpu.sim, camera);
         self.source = match gpu.draw_lists() {
             Some(lists) => Source::Gpu {

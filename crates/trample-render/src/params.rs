@@ -70,6 +70,13 @@ pub struct RenderParams {
     pub fog_start_m: f32,
     /// Fog is complete at this distance, metres (default 140).
     pub fog_end_m: f32,
+    /// How much a fully flattened cell darkens (and browns) the ground
+    /// under it, in [0, 1] (default 0.8; the effect grows with the square
+    /// root of the flatness): the track at every level of
+    /// detail, drawn from `Cells::flatness` — far cells at ground-texture
+    /// level show where an object went, near ones get a darker ground under
+    /// laid-down blades. 0 turns it off.
+    pub track_darkening: f32,
     /// Which of the scene's surroundings are drawn besides the grass
     /// (default: all; a host drawing its own world turns them off).
     pub layers: Layers,
@@ -112,6 +119,7 @@ impl Default for RenderParams {
             sun_dir: Vec3::new(-0.35, 0.75, 0.55),
             fog_start_m: 25.0,
             fog_end_m: 140.0,
+            track_darkening: 0.8,
             layers: Layers::default(),
         }
     }

@@ -1,6 +1,8 @@
 //! The ground: a grid mesh over the field's terrain (and a margin of one
 //! field size around it, so the horizon is not an edge), textured with the
-//! generated grass texture.
+//! generated grass texture, darkened where the field's cells are flattened
+//! (`Cells::flatness`: the track at every level of detail, issue 12 item 4 /
+//! issue 15 item 4 — ground-texture cells show it too).
 
 use crate::globals::shader_module;
 use bytemuck::{Pod, Zeroable};
@@ -21,13 +23,44 @@ pub struct GroundVertex {
 
 const _: () = assert!(std::mem::size_of::<GroundVertex>() == 24);
 
+/// Where a cell's flatness is in the flatness buffer: the field's layout
+/// (`FieldLayout::cell_index`). Layout-compatible with `TrackGrid` in
+/// terrain.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct TrackGrid {
+    /// World x, z of the field's corner (metres).
+    pub origin: [f32; 2],
+    /// Cell side, metres.
+    pub cell_size: f32,
+    /// How much a fully flattened cell darkens the ground, in [0, 1]
+    /// ([`crate::RenderParams::track_darkening`]).
+    pub darkening: f32,
+    /// Cells along x and z.
+    pub grid: [u32; 2],
+    /// Patches along x.
+    pub patches_x: u32,
+    /// Cells along a patch side.
+    pub cells_per_patch: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<TrackGrid>() == 32);
+
 /// The ground pass.
 pub struct TerrainPass {
     pipeline: wgpu::RenderPipeline,
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
+    layout: wgpu::BindGroupLayout,
+    texture: wgpu::TextureView,
+    sampler: wgpu::Sampler,
+    grid: wgpu::Buffer,
+    /// The CPU path's flatness, one `f32` a cell (cell-index order).
+    flatness: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
+    /// The GPU path's flatness bound instead ([`TerrainPass::bind_gpu`]).
+    gpu_group: Option<wgpu::BindGroup>,
 }
 
 /// The ground mesh of `sim`'s field: vertices and triangle indices.
@@ -76,7 +109,8 @@ pub fn ground_mesh(sim: &Simulation) -> (Vec<GroundVertex>, Vec<u32>) {
 }
 
 impl TerrainPass {
-    /// Builds the ground mesh and texture of `sim`'s field.
+    /// Builds the ground mesh and texture of `sim`'s field; a fully
+    /// flattened cell darkens the ground by `darkening` (0–1).
     #[must_use]
     pub fn new(
         device: &wgpu::Device,
@@ -84,6 +118,7 @@ impl TerrainPass {
         globals: &wgpu::BindGroupLayout,
         sim: &Simulation,
         target: &crate::TargetFormat,
+        darkening: f32,
     ) -> Self {
         use wgpu::util::DeviceExt;
         let (vertices, indices) = ground_mesh(sim);
@@ -105,24 +140,51 @@ impl TerrainPass {
             crate::textures::ground_grass(11),
         );
         let sampler = crate::textures::repeat_sampler(device);
+        let [t, smp] = crate::pipeline::texture_and_sampler(0);
+        let storage = wgpu::BindGroupLayoutEntry {
+            binding: 2,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let uniform = wgpu::BindGroupLayoutEntry {
+            binding: 3,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("terrain"),
-            entries: &crate::pipeline::texture_and_sampler(0),
+            entries: &[t, smp, storage, uniform],
         });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("terrain"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&texture),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Sampler(&sampler),
-                },
-            ],
+        let field = &sim.field.layout;
+        let grid = TrackGrid {
+            origin: field.origin,
+            cell_size: field.cell_size,
+            darkening: darkening.clamp(0.0, 1.0),
+            grid: field.grid_size(),
+            patches_x: field.patches[0],
+            cells_per_patch: field.cells_per_patch,
+        };
+        let grid = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("track grid"),
+            contents: bytemuck::bytes_of(&grid),
+            usage: wgpu::BufferUsages::UNIFORM,
         });
+        let flatness = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("cell flatness"),
+            contents: bytemuck::cast_slice(&sim.field.cells.flatness),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
+        let bind_group = bind(device, &layout, &texture, &sampler, &flatness, &grid);
         let module = shader_module(device, "terrain.wgsl", include_str!("terrain.wgsl"));
         let attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         let pipeline = crate::pipeline::build(
@@ -148,16 +210,97 @@ impl TerrainPass {
             vertices,
             indices,
             index_count,
+            layout,
+            texture,
+            sampler,
+            grid,
+            flatness,
             bind_group,
+            gpu_group: None,
         }
+    }
+
+    /// Writes the flatness of the cells the last step changed (every
+    /// cell's when `all`), and draws the CPU path's from now on; returns
+    /// the bytes written.
+    pub fn prepare(
+        &mut self,
+        queue: &wgpu::Queue,
+        field: &trample::field::Field,
+        all: bool,
+    ) -> u64 {
+        self.gpu_group = None;
+        let flatness = &field.cells.flatness;
+        if all {
+            queue.write_buffer(&self.flatness, 0, bytemuck::cast_slice(flatness));
+            return (flatness.len() * 4) as u64;
+        }
+        let mut bytes = 0;
+        for r in field.changed_cells().ranges() {
+            let (a, b) = (r.start as usize, r.end as usize);
+            queue.write_buffer(
+                &self.flatness,
+                (a * 4) as u64,
+                bytemuck::cast_slice(&flatness[a..b]),
+            );
+            bytes += ((b - a) * 4) as u64;
+        }
+        bytes
+    }
+
+    /// Draws the GPU path's flatness (`GpuField::flatness`, one `f32` a
+    /// cell in the same order) from now on.
+    pub fn bind_gpu(&mut self, device: &wgpu::Device, flatness: &wgpu::Buffer) {
+        self.gpu_group = Some(bind(
+            device,
+            &self.layout,
+            &self.texture,
+            &self.sampler,
+            flatness,
+            &self.grid,
+        ));
     }
 
     /// Records the draw into `pass`.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(1, &self.bind_group, &[]);
+        pass.set_bind_group(1, self.gpu_group.as_ref().unwrap_or(&self.bind_group), &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.index_count, 0, 0..1);
     }
+}
+
+/// The ground's bind group: texture, sampler, the cells' flatness and
+/// where each cell is.
+fn bind(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    texture: &wgpu::TextureView,
+    sampler: &wgpu::Sampler,
+    flatness: &wgpu::Buffer,
+    grid: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("terrain"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(texture),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Sampler(sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: flatness.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: grid.as_entire_binding(),
+            },
+        ],
+    })
 }

@@ -3,6 +3,20 @@
 
 @group(1) @binding(0) var ground: texture_2d<f32>;
 @group(1) @binding(1) var ground_sampler: sampler;
+// Per cell (FieldLayout::cell_index order): how flattened its blades are, 0–1.
+@group(1) @binding(2) var<storage, read> flatness: array<f32>;
+
+// Where each cell is (terrain.rs `TrackGrid`).
+struct TrackGrid {
+    origin: vec2<f32>,
+    cell_size: f32,
+    // How much a fully flattened cell darkens the ground.
+    darkening: f32,
+    grid: vec2<u32>,
+    patches_x: u32,
+    cells_per_patch: u32,
+}
+@group(1) @binding(3) var<uniform> track: TrackGrid;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -27,12 +41,39 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return out;
 }
 
+// Flatness of cell (gx, gz) (FieldLayout::cell_index); 0 outside the field.
+fn cell_flatness(g: vec2<i32>) -> f32 {
+    if (any(g < vec2<i32>(0)) || any(vec2<u32>(g) >= track.grid)) {
+        return 0.0;
+    }
+    let c = vec2<u32>(g);
+    let n = track.cells_per_patch;
+    let p = (c.y / n) * track.patches_x + c.x / n;
+    return flatness[p * n * n + (c.y % n) * n + c.x % n];
+}
+
+// Flatness at world (x, z), bilinear between cell centres: the track the
+// cells' blades make, seen on the ground at every level of detail.
+fn flatness_at(xz: vec2<f32>) -> f32 {
+    let f = (xz - track.origin) / track.cell_size - 0.5;
+    let g = vec2<i32>(floor(f));
+    let t = f - floor(f);
+    let a = mix(cell_flatness(g), cell_flatness(g + vec2<i32>(1, 0)), t.x);
+    let b = mix(cell_flatness(g + vec2<i32>(0, 1)), cell_flatness(g + vec2<i32>(1, 1)), t.x);
+    return clamp(mix(a, b, t.y), 0.0, 1.0);
+}
+
 @fragment
 fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let texel = textureSample(ground, ground_sampler, v.world.xz / TILE_M).rgb;
     // Large-scale variation so the tiling does not show.
     let m = 0.85 + 0.15 * sin(v.world.x * 0.21 + sin(v.world.z * 0.17) * 2.0) * cos(v.world.z * 0.13);
-    var c = light(texel * m, normalize(v.normal), 0.0);
+    // Flattened grass: darker and browner (blades laid on the ground
+    // shade it and show their duller undersides). The square root makes a
+    // half-flattened patch read clearly as a track, continuously from 0.
+    let flat = sqrt(flatness_at(v.world.xz)) * track.darkening;
+    let albedo = mix(texel * m, texel * m * vec3<f32>(0.5, 0.45, 0.3), flat);
+    var c = light(albedo, normalize(v.normal), 0.0);
     if (globals.params.x != 0u) {
         // Debug view: Texture-LOD distance band grey, nearer ground dark.
         let d = distance(v.world, globals.eye.xyz);
