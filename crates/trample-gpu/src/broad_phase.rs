@@ -215,7 +215,7 @@ impl BroadPhase {
         })
     }
 
-    /// Where the per-patch object masks lie in [`BroadPhase::lists`]:
+    /// Where the per-patch object masks lie in `BroadPhase::lists`:
     /// (words per patch, first word), as the object table's header carries
     /// them to the narrow phase and the contact response
     /// ([`crate::object::GpuObjects::new`]).
