@@ -349,9 +349,16 @@ fn blade_scene(
         }
     }
     // Two copies at once when several precisions share one build.
-    let need = gib(f.memory_estimate_bytes()) * if copies > 1 { 2.0 } else { 1.0 };
+    let single = gib(f.memory_estimate_bytes());
+    let need = single * if copies > 1 { 2.0 } else { 1.0 };
     if memory_gib > 0.0 && need > 0.5 * memory_gib {
         bail!("needs about {need:.1} GiB, more than half of this machine's {memory_gib:.1} GiB");
+    }
+    // The machine check above guards a series; the derived scene's own
+    // limit (`sim.memory_limit_gib`) follows its estimate.
+    let limit = &mut s.file.sim.memory_limit_gib;
+    if f64::from(*limit) < single {
+        *limit = single.ceil() as f32;
     }
     s.validate()?;
     Ok(s)
