@@ -317,6 +317,54 @@ impl GpuObjects {
         ];
     }
 
+    /// Sets object `i`'s track owner id to `1 + body` (0 past 254): the
+    /// body whose collider it is (a part presses for its body).
+    pub fn set_owner(&mut self, i: usize, body: usize) {
+        self.params[i].extra[0] = u8::try_from(body + 1).map_or(0, u32::from);
+    }
+
+    /// Writes object `i`'s tree again: the same tree refitted to a deformed
+    /// mesh ([`trample::obb::ObbTree::refit`]: same topology, so the same
+    /// number of words; a refitted tree has no inside grid, and neither
+    /// has the object made from it: the inside test casts rays). The
+    /// object's thickness (the contact ramp's, as the CPU takes it from the
+    /// current root box) follows the root. A tree of another size is
+    /// ignored. Returns the bytes uploaded (in order with `encoder`'s
+    /// commands: [`crate::upload::Uploads`]).
+    pub fn write_tree(
+        &mut self,
+        i: usize,
+        tree: &ObbTree,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        uploads: &mut crate::upload::Uploads,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> u64 {
+        let (fresh, words) = object_words(tree);
+        let p = &mut self.params[i];
+        let (old_len, new_len) = (p.base[2] - p.base[0], fresh.base[2] - fresh.base[0]);
+        if old_len != new_len || fresh.field[3] != 0 || p.field[3] != 0 {
+            return 0;
+        }
+        p.local_velocity[3] = fresh.local_velocity[3];
+        let bytes: &[u8] = bytemuck::cast_slice(&words[..new_len as usize]);
+        uploads.upload(
+            device,
+            queue,
+            encoder,
+            &self.table,
+            u64::from(p.base[0]) * 16,
+            bytes,
+        );
+        bytes.len() as u64
+    }
+
+    /// Bytes [`GpuObjects::write_tree`] uploads for `tree`.
+    #[must_use]
+    pub fn tree_bytes(tree: &ObbTree) -> u64 {
+        ((tree.nodes.len() * NODE_WORDS + tree.triangles.len() * 3) * 16) as u64
+    }
+
     /// Sets every object's final depth (`precision`, root = 1; clamped to
     /// 1..=64 as on the CPU) and the field it runs over: blade count,
     /// segments per blade, blades per cell.

@@ -35,10 +35,14 @@ pub fn segment_hits_at_rest(
         f.layout.blades_per_cell,
         &f.layout.neighbours,
     )?;
-    let trees: Vec<_> = sim.bodies.iter().map(|b| &b.tree).collect();
+    // The bodies posed at t (skins posed, trees refitted, parts posed):
+    // one object per collider.
+    let posed = sim.bodies_at(t);
+    let colliders: Vec<_> = posed.iter().flat_map(trample::Body::colliders).collect();
+    let trees: Vec<_> = colliders.iter().map(|c| c.tree).collect();
     let mut objects = GpuObjects::new(device, &trees, (0, 0))?;
-    for (i, b) in sim.bodies.iter().enumerate() {
-        objects.set_pose(i, &b.object.pose_at(t));
+    for (i, c) in colliders.iter().enumerate() {
+        objects.set_pose(i, c.pose);
     }
     let n = blades.segments;
     if objects.is_empty() {

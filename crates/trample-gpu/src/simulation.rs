@@ -134,19 +134,13 @@ impl GpuSimulation {
             sim.field.max_blade_length,
             limit,
         )?;
-        for body in &sim.bodies {
-            if !body.parts.is_empty() {
-                return Err(GpuError::Unsupported(
-                    "articulated objects (objects with parts, issue 13): run the scene with --backend cpu",
-                ));
-            }
-            if body.object.animated.is_some() {
-                return Err(GpuError::Unsupported(
-                    "animated objects (a skinned glTF playing an animation, issue 13): run the scene with --backend cpu",
-                ));
-            }
-        }
-        GpuObjects::fits(device, sim.bodies.iter().map(|b| &b.tree))?;
+        GpuObjects::fits(
+            device,
+            sim.bodies
+                .iter()
+                .flat_map(trample::Body::colliders)
+                .map(|c| c.tree),
+        )?;
         Ok(())
     }
 
@@ -176,6 +170,7 @@ impl GpuSimulation {
         max_chunk_bytes: Option<u64>,
     ) -> Result<Self, GpuError> {
         Self::supports(device, &sim)?;
+        let colliders: usize = sim.bodies.iter().map(trample::Body::collider_count).sum();
         // The step uniform's ground height (the shaders read the terrain table).
         let ground = match sim.field.terrain {
             Terrain::Flat(h) => h,
@@ -209,12 +204,18 @@ impl GpuSimulation {
         });
         let world_roots = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("trample-gpu world root boxes"),
-            size: (sim.bodies.len().max(1) * std::mem::size_of::<GpuWorldObb>()) as u64,
+            size: (colliders.max(1) * std::mem::size_of::<GpuWorldObb>()) as u64,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let broad = BroadPhase::new(device, &field, &sim.field.layout, sim.bodies.len() as u32)?;
-        let trees: Vec<_> = sim.bodies.iter().map(|b| &b.tree).collect();
+        let broad = BroadPhase::new(device, &field, &sim.field.layout, colliders as u32)?;
+        // One object per collider (a body's own mesh, then its parts).
+        let trees: Vec<_> = sim
+            .bodies
+            .iter()
+            .flat_map(trample::Body::colliders)
+            .map(|c| c.tree)
+            .collect();
         let objects = GpuObjects::new(device, &trees, broad.mask_layout())?;
         Ok(Self {
             broad,
@@ -362,38 +363,55 @@ impl GpuSimulation {
         );
         let recovery_on = self.recovery.write_owners(queue, &self.sim);
         let p = self.sim.params.clone();
+        // An animated body's refitted tree is uploaded every sub-step.
+        let trees: u64 = self
+            .sim
+            .bodies
+            .iter()
+            .filter(|b| b.object.animated.is_some())
+            .map(|b| GpuObjects::tree_bytes(&b.tree))
+            .sum();
         let per_substep = (std::mem::size_of::<GpuStepParams>()
             + self.objects.len() * (std::mem::size_of::<GpuWorldObb>() + 16)
             + 16) as u64
             + self.objects.params_bytes()
+            + trees
             + 64;
         self.uploads
             .begin(device, per_substep * u64::from(substeps));
         for i in 1..=substeps {
             let t = self.sim.substep_time(i, h);
-            // Poses and the viewpoint: on the CPU (pure functions of time).
+            // Poses and the viewpoint: on the CPU (pure functions of time;
+            // an animated body's skin posed and its tree refitted there).
+            // One object per collider, pressing for its body.
             let mut roots = Vec::with_capacity(self.objects.len().max(1));
-            for (index, body) in self
-                .sim
-                .bodies
-                .iter_mut()
-                .take(self.objects.len())
-                .enumerate()
-            {
+            let mut refitted = Vec::new();
+            let mut k = 0;
+            for (index, body) in self.sim.bodies.iter_mut().enumerate() {
                 body.set_time(t);
-                self.objects.set_pose(index, &body.pose);
-                self.objects.set_contact(
-                    index,
-                    h,
-                    p.contact_shell_m,
-                    body.object.track.press,
-                    p.track_everywhere,
-                );
-                roots.push(GpuWorldObb::new(
-                    &body.world_root,
-                    &self.sim.field.layout,
-                    self.sim.field.max_blade_length,
-                ));
+                for c in body.colliders() {
+                    if k >= self.objects.len() {
+                        break;
+                    }
+                    if body.object.animated.is_some() && std::ptr::eq(c.tree, &body.tree) {
+                        refitted.push((k, index));
+                    }
+                    self.objects.set_pose(k, c.pose);
+                    self.objects.set_contact(
+                        k,
+                        h,
+                        p.contact_shell_m,
+                        body.object.track.press,
+                        p.track_everywhere,
+                    );
+                    self.objects.set_owner(k, index);
+                    roots.push(GpuWorldObb::new(
+                        c.world_root,
+                        &self.sim.field.layout,
+                        self.sim.field.max_blade_length,
+                    ));
+                    k += 1;
+                }
             }
             self.sim.update_view(t);
             let params = self.step_params(h, groups.0, recovery_on);
@@ -420,13 +438,29 @@ impl GpuSimulation {
                     bytemuck::cast_slice(&roots),
                 );
             }
+            for &(k, index) in &refitted {
+                self.objects.write_tree(
+                    k,
+                    &self.sim.bodies[index].tree,
+                    device,
+                    queue,
+                    &mut self.uploads,
+                    encoder,
+                );
+            }
             let mut laps = self.timer.laps(device, queue, encoder, self.profiling)?;
             self.propagation
                 .record_reset(device, encoder, &self.field, &self.params, &self.state);
             self.cells.record_classify(encoder, &cell_groups);
             laps.lap(device, queue, encoder, Stage::Lod);
             if !self.objects.is_empty() {
-                let obbs: Vec<_> = self.sim.bodies.iter().map(|b| b.world_root).collect();
+                let obbs: Vec<_> = self
+                    .sim
+                    .bodies
+                    .iter()
+                    .flat_map(trample::Body::colliders)
+                    .map(|c| *c.world_root)
+                    .collect();
                 self.broad.record(
                     device,
                     queue,
