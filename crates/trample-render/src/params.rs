@@ -73,9 +73,10 @@ pub struct RenderParams {
     /// How much a fully flattened cell darkens (and browns) the ground
     /// under it, in [0, 1] (default 0.8; the effect grows with the square
     /// root of the flatness): the track at every level of
-    /// detail, drawn from `Cells::flatness` — far cells at ground-texture
-    /// level show where an object went, near ones get a darker ground under
-    /// laid-down blades. 0 turns it off.
+    /// detail, drawn from `Cells::flatness` — cells at ground-texture
+    /// level show where an object went. Faded in across the billboard band
+    /// (`lod.geometry_m` to `lod.billboard_m`): nearer, the blades and
+    /// billboards show the track themselves. 0 turns it off.
     pub track_darkening: f32,
     /// Which of the scene's surroundings are drawn besides the grass
     /// (default: all; a host drawing its own world turns them off).

@@ -71,7 +71,12 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     // Flattened grass: darker and browner (blades laid on the ground
     // shade it and show their duller undersides). The square root makes a
     // half-flattened patch read clearly as a track, continuously from 0.
-    let flat = sqrt(flatness_at(v.world.xz)) * track.darkening;
+    // Faded in across the billboard band (geometry_m to billboard_m): the
+    // blades and billboards show the track themselves nearer, and a darker
+    // ground under them would change as cells change level (popping).
+    let d = distance(v.world, globals.eye.xyz);
+    let far = smoothstep(globals.fog.z, globals.fog.w, d);
+    let flat = sqrt(flatness_at(v.world.xz)) * track.darkening * far;
     let albedo = mix(texel * m, texel * m * vec3<f32>(0.5, 0.45, 0.3), flat);
     var c = light(albedo, normalize(v.normal), 0.0);
     if (globals.params.x != 0u) {
