@@ -307,10 +307,11 @@ fn frames(
                 .observe(save_to_disk(path.clone()));
         }
         // The capture is written a few frames later, on another thread.
-        Some(path) if *frame > n => {
-            if std::fs::metadata(path).is_ok_and(|m| m.len() > 0) || *frame > n + 600 {
-                exit.write(AppExit::Success);
-            }
+        Some(path)
+            if *frame > n
+                && (std::fs::metadata(path).is_ok_and(|m| m.len() > 0) || *frame > n + 600) =>
+        {
+            exit.write(AppExit::Success);
         }
         None if *frame >= n => {
             exit.write(AppExit::Success);
