@@ -56,7 +56,75 @@ pub struct BroadPhase {
     chunks: u32,
     patches: u32,
     per_chunk: u32,
+    /// Blades per patch.
+    per_patch: u32,
+    /// Patches along x.
+    row: u32,
+    /// Objects the rectangles, lists and masks have room for.
     objects: u32,
+}
+
+/// The broad phase's buffers whose size follows the number of objects.
+struct Sized {
+    params: wgpu::Buffer,
+    rects: wgpu::Buffer,
+    lists: wgpu::Buffer,
+}
+
+impl Sized {
+    /// `counts`: patches, patches per chunk, chunks, patches along x.
+    fn new(
+        device: &wgpu::Device,
+        counts: [u32; 4],
+        per_patch: u32,
+        objects: u32,
+    ) -> Result<Self, crate::GpuError> {
+        let [patches, _, chunks, _] = counts;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let bytes = lists_words(patches, chunks, objects) * 4;
+        if bytes > limit {
+            return Err(crate::GpuError::TooLarge {
+                what: "the broad phase's patch lists and per-patch object masks \
+                       (4 bytes a patch per 32 objects)",
+                bytes,
+                limit,
+            });
+        }
+        let params = GpuBroadParams {
+            counts,
+            dispatch: [
+                per_patch,
+                device.limits().max_compute_workgroups_per_dimension,
+                mask_words(objects),
+                0,
+            ],
+        };
+        use wgpu::BufferUsages as U;
+        let init = |label: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
+        };
+        Ok(Self {
+            params: init(
+                "trample-gpu broad phase params",
+                bytemuck::bytes_of(&params),
+                U::UNIFORM,
+            ),
+            rects: init(
+                "trample-gpu broad phase rectangles",
+                bytemuck::cast_slice(&vec![GpuPatchRect::default(); objects as usize + 1]),
+                U::STORAGE | U::COPY_DST,
+            ),
+            lists: init(
+                "trample-gpu broad phase lists",
+                bytemuck::cast_slice(&vec![0u32; lists_words(patches, chunks, objects) as usize]),
+                U::STORAGE | U::COPY_DST | U::COPY_SRC,
+            ),
+        })
+    }
 }
 
 /// 32-bit words of one patch's object mask for `objects` objects (≥ 1).
@@ -147,33 +215,12 @@ impl BroadPhase {
             })
             .collect();
         let chunks = field.chunks.len() as u32;
-        let limit = device.limits().max_storage_buffer_binding_size;
-        let bytes = lists_words(patches, chunks, objects) * 4;
-        if bytes > limit {
-            return Err(crate::GpuError::TooLarge {
-                what: "the broad phase's patch lists and per-patch object masks \
-                       (4 bytes a patch per 32 objects)",
-                bytes,
-                limit,
-            });
-        }
-        let params = GpuBroadParams {
-            counts: [patches, per_chunk, chunks, layout.patches[0]],
-            dispatch: [
-                per_patch,
-                device.limits().max_compute_workgroups_per_dimension,
-                mask_words(objects),
-                0,
-            ],
-        };
-        use wgpu::BufferUsages as U;
-        let init = |label: &str, contents: &[u8], usage| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage,
-            })
-        };
+        let sized = Sized::new(
+            device,
+            [patches, per_chunk, chunks, layout.patches[0]],
+            per_patch,
+            objects,
+        )?;
         use Slot::{Read, ReadWrite, Uniform};
         Ok(Self {
             kernel: Kernel::new(
@@ -183,36 +230,66 @@ impl BroadPhase {
                 &[Uniform, Read, Read, ReadWrite, ReadWrite, Read],
                 &["candidates", "dispatch_args"],
             ),
-            params: init(
-                "trample-gpu broad phase params",
-                bytemuck::bytes_of(&params),
-                U::UNIFORM,
-            ),
-            patch_aabbs: init(
-                "trample-gpu patch boxes",
-                bytemuck::cast_slice(&aabbs),
-                U::STORAGE,
-            ),
-            rects: init(
-                "trample-gpu broad phase rectangles",
-                bytemuck::cast_slice(&vec![GpuPatchRect::default(); objects as usize + 1]),
-                U::STORAGE | U::COPY_DST,
-            ),
-            lists: init(
-                "trample-gpu broad phase lists",
-                bytemuck::cast_slice(&vec![0u32; lists_words(patches, chunks, objects) as usize]),
-                U::STORAGE | U::COPY_DST | U::COPY_SRC,
-            ),
-            args: init(
-                "trample-gpu narrow phase dispatch",
-                bytemuck::cast_slice(&vec![0u32; 3 * chunks as usize]),
-                U::STORAGE | U::INDIRECT | U::COPY_SRC,
-            ),
+            params: sized.params,
+            patch_aabbs: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("trample-gpu patch boxes"),
+                contents: bytemuck::cast_slice(&aabbs),
+                usage: wgpu::BufferUsages::STORAGE,
+            }),
+            rects: sized.rects,
+            lists: sized.lists,
+            args: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("trample-gpu narrow phase dispatch"),
+                contents: bytemuck::cast_slice(&vec![0u32; 3 * chunks as usize]),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::INDIRECT
+                    | wgpu::BufferUsages::COPY_SRC,
+            }),
             chunks,
             patches,
             per_chunk,
+            per_patch,
+            row: layout.patches[0],
             objects,
         })
+    }
+
+    /// Objects the lists and masks have room for ([`BroadPhase::new`],
+    /// [`BroadPhase::reserve`]).
+    #[must_use]
+    pub fn capacity(&self) -> u32 {
+        self.objects
+    }
+
+    /// Makes room for `objects` objects (bodies added to a running
+    /// simulation): when there is not, the rectangles, lists and masks are
+    /// made again for twice as many as before, or `objects` if more (the
+    /// kernel is kept). The mask layout ([`BroadPhase::mask_layout`])
+    /// changes with it: the object table must be made again after a
+    /// `true` (made again).
+    ///
+    /// # Errors
+    /// [`crate::GpuError::TooLarge`] as [`BroadPhase::new`].
+    pub fn reserve(
+        &mut self,
+        device: &wgpu::Device,
+        objects: u32,
+    ) -> Result<bool, crate::GpuError> {
+        if objects <= self.objects {
+            return Ok(false);
+        }
+        let objects = objects.max(self.objects.saturating_mul(2));
+        let sized = Sized::new(
+            device,
+            [self.patches, self.per_chunk, self.chunks, self.row],
+            self.per_patch,
+            objects,
+        )?;
+        self.params = sized.params;
+        self.rects = sized.rects;
+        self.lists = sized.lists;
+        self.objects = objects;
+        Ok(true)
     }
 
     /// Where the per-patch object masks lie in `BroadPhase::lists`:

@@ -65,6 +65,7 @@ pub mod recovery;
 pub mod simulation;
 pub mod step_params;
 pub mod terrain;
+pub mod track_owners;
 pub mod upload;
 
 pub use chunk::{GpuChunk, GpuChunkParams};
@@ -126,5 +127,6 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ("propagation.wgsl", propagation::source()),
         ("bend.wgsl", bend::source()),
         ("recovery.wgsl", recovery::source()),
+        ("track_owners.wgsl", track_owners::source()),
     ]
 }

@@ -36,6 +36,72 @@ use crate::propagation::Propagation;
 use crate::readback::read_buffer;
 use crate::recovery::Recovery;
 use crate::step_params::{GpuCounters, GpuStepParams};
+use crate::track_owners::TrackOwners;
+
+/// One collider as the object table holds it: its body, its tree (where it
+/// lies, its node and triangle counts, whether it has an inside grid) and,
+/// for a body whose tree is not refitted every sub-step, its root box's
+/// bits, so that a mesh swapped in place (`Simulation::body_mut`) is seen.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct ColliderKey {
+    body: trample::BodyId,
+    tree: usize,
+    nodes: usize,
+    triangles: usize,
+    grid: bool,
+    root: Option<[u32; 6]>,
+}
+
+/// The object table's [`ColliderKey`]s for `sim`'s bodies now.
+fn collider_keys(sim: &Simulation) -> Vec<ColliderKey> {
+    sim.bodies
+        .iter()
+        .flat_map(|b| {
+            let animated = b.object.animated.is_some();
+            b.colliders().map(move |c| {
+                let t = c.tree;
+                let root = t.nodes.first().filter(|_| !animated).map(|n| {
+                    let (c, h) = (n.obb.center, n.obb.half);
+                    [c.x, c.y, c.z, h.x, h.y, h.z].map(f32::to_bits)
+                });
+                ColliderKey {
+                    body: b.id,
+                    tree: std::ptr::from_ref(t) as usize,
+                    nodes: t.nodes.len(),
+                    triangles: t.triangles.len(),
+                    grid: t.inside.is_some(),
+                    root,
+                }
+            })
+        })
+        .collect()
+}
+
+/// A buffer for `colliders` world root boxes (at least one).
+fn world_roots_buffer(device: &wgpu::Device, colliders: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("trample-gpu world root boxes"),
+        size: (colliders.max(1) * std::mem::size_of::<GpuWorldObb>()) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// The object table of `sim`'s colliders (a body's own mesh, then its
+/// parts), with `broad`'s mask layout.
+fn object_table(
+    device: &wgpu::Device,
+    sim: &Simulation,
+    broad: &BroadPhase,
+) -> Result<GpuObjects, GpuError> {
+    let trees: Vec<_> = sim
+        .bodies
+        .iter()
+        .flat_map(trample::Body::colliders)
+        .map(|c| c.tree)
+        .collect();
+    GpuObjects::new(device, &trees, broad.mask_layout())
+}
 
 /// A simulation whose blades live and move on the GPU.
 pub struct GpuSimulation {
@@ -45,6 +111,16 @@ pub struct GpuSimulation {
     /// The field on the GPU: draw from the chunks' `pos` ([`GpuField::chunks`]).
     pub field: GpuField,
     objects: GpuObjects,
+    /// What `objects` was made from ([`ColliderKey`], one per collider):
+    /// bodies added, removed or given another mesh since make it again.
+    colliders: Vec<ColliderKey>,
+    /// The bodies' ids, in order, when `objects` was made (for the track
+    /// owners' renumbering when bodies leave).
+    body_ids: Vec<trample::BodyId>,
+    /// Colliders `world_roots` has room for.
+    roots_capacity: usize,
+    /// Made when a body first leaves ([`TrackOwners`]).
+    track_owners: Option<TrackOwners>,
     broad: BroadPhase,
     /// Narrow-phase and contact dispatches recorded in the last sub-step.
     object_dispatches: u32,
@@ -202,22 +278,15 @@ impl GpuSimulation {
             contents: bytemuck::bytes_of(&GpuCounters::default()),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         });
-        let world_roots = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("trample-gpu world root boxes"),
-            size: (colliders.max(1) * std::mem::size_of::<GpuWorldObb>()) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let world_roots = world_roots_buffer(device, colliders);
         let broad = BroadPhase::new(device, &field, &sim.field.layout, colliders as u32)?;
         // One object per collider (a body's own mesh, then its parts).
-        let trees: Vec<_> = sim
-            .bodies
-            .iter()
-            .flat_map(trample::Body::colliders)
-            .map(|c| c.tree)
-            .collect();
-        let objects = GpuObjects::new(device, &trees, broad.mask_layout())?;
+        let objects = object_table(device, &sim, &broad)?;
         Ok(Self {
+            colliders: collider_keys(&sim),
+            body_ids: sim.bodies.iter().map(|b| b.id).collect(),
+            roots_capacity: colliders.max(1),
+            track_owners: None,
             broad,
             cells: Cells::new(device),
             world_roots,
@@ -344,6 +413,7 @@ impl GpuSimulation {
     ) -> Result<u32, GpuError> {
         let profiling = self.profiling && matches!(target, Target::Submit);
         let start = std::time::Instant::now();
+        self.follow_bodies(device, queue, &mut target)?;
         let plan = self
             .sim
             .begin_step(dt)
@@ -536,6 +606,67 @@ impl GpuSimulation {
         tm.substeps_needed = plan.needed;
         tm.total_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(substeps)
+    }
+
+    /// Follows the bodies the host added, removed or gave another mesh
+    /// since the object table was made (issue 14: bodies at any time, on
+    /// both paths): the table, the broad phase's room and the world root
+    /// boxes made again for the colliders there are now, and, when bodies
+    /// left, the blades' track owners renumbered on the GPU as the CPU's
+    /// `remove_body` renumbered its own ([`TrackOwners`]). Nothing to do
+    /// (one comparison a collider) when the bodies are the same.
+    ///
+    /// # Errors
+    /// [`GpuError::TooLarge`] when the new table or lists exceed one
+    /// storage binding; the simulation is left as it was (the next step
+    /// tries again).
+    fn follow_bodies(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &mut Target<'_>,
+    ) -> Result<(), GpuError> {
+        let keys = collider_keys(&self.sim);
+        if keys == self.colliders {
+            return Ok(());
+        }
+        GpuObjects::fits(
+            device,
+            self.sim
+                .bodies
+                .iter()
+                .flat_map(trample::Body::colliders)
+                .map(|c| c.tree),
+        )?;
+        self.broad.reserve(device, keys.len() as u32)?;
+        self.objects = object_table(device, &self.sim, &self.broad)?;
+        if keys.len() > self.roots_capacity {
+            self.roots_capacity = keys.len().max(2 * self.roots_capacity);
+            self.world_roots = world_roots_buffer(device, self.roots_capacity);
+        }
+        let ids: Vec<trample::BodyId> = self.sim.bodies.iter().map(|b| b.id).collect();
+        let table = trample::step::bodies::renumbered_owners(&self.body_ids, &ids);
+        let renumbers = table
+            .iter()
+            .enumerate()
+            .take(self.body_ids.len().min(255) + 1)
+            .any(|(o, &n)| usize::from(n) != o);
+        if renumbers {
+            let kernel = self
+                .track_owners
+                .get_or_insert_with(|| TrackOwners::new(device));
+            match target {
+                Target::Submit => {
+                    let mut encoder = new_encoder(device);
+                    kernel.record(device, &mut encoder, &self.field, &table);
+                    queue.submit([encoder.finish()]);
+                }
+                Target::Host(encoder) => kernel.record(device, encoder, &self.field, &table),
+            }
+        }
+        self.colliders = keys;
+        self.body_ids = ids;
+        Ok(())
     }
 
     /// Records into `encoder` the instance lists and indirect draws of the

@@ -591,6 +591,15 @@ fn cases() -> Vec<(&'static str, Want, String)> {
                 &[("walker.glb", WALKER_GLB)],
             ),
         ),
+        e(
+            "animation with a zero ground speed",
+            outcome(
+                &object_scene(&format!(
+                    "shape = {{ kind = \"mesh\", path = \"walker.glb\" }}\nanimation = {{ name = \"walk\", ground_speed_mps = 0.0 }}\n{STATIC}"
+                )),
+                &[("walker.glb", WALKER_GLB)],
+            ),
+        ),
         (
             "animated walker",
             Accepted,

@@ -387,3 +387,70 @@ fn a_skinned_body_built_in_code_plays_its_animation() {
         "{text}"
     );
 }
+
+/// A walker whose animation clock runs with its ground speed
+/// (`animation.ground_speed_mps`, issue 13 item 6: driven, it strides at
+/// the speed it is driven): standing, its mesh stays in the first pose;
+/// driven at the cycle's ground speed for 0.25 s its clock reads 0.25 s, at
+/// twice that speed for 0.25 s more, 0.75 s. Without the key the clock is
+/// time (it walks on the spot while standing).
+#[test]
+fn a_driven_walker_strides_at_the_speed_it_is_driven() {
+    use glam::Quat;
+    use trample::builder::BodyBuilder;
+    use trample::object::{Anchor, AnimatedScratch, ShapeParams};
+    let meshes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes");
+    let walker = |ground: Option<f32>| {
+        let b = BodyBuilder::new(
+            "walker",
+            ShapeParams::Mesh {
+                path: "walker.glb".into(),
+                anchor: Anchor::File,
+            },
+        )
+        .animation("walk", 1.0);
+        let b = match ground {
+            Some(g) => b.animation_ground_speed(g),
+            None => b,
+        };
+        b.build_in(0, &meshes).unwrap()
+    };
+    // How far the walker's mesh is from the walk's pose at `clock`.
+    let off = |sim: &Simulation, clock: f32| {
+        let body = &sim.bodies[0];
+        let animated = body.object.animated.as_ref().unwrap();
+        let mut out = Vec::new();
+        animated.pose_at_clock(clock, &mut AnimatedScratch::default(), &mut out);
+        out.iter()
+            .zip(&body.object.mesh.positions)
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0f32, f32::max)
+    };
+    let ground = 1.4;
+    for matched in [true, false] {
+        let mut sim = small_field();
+        let dt = sim.params.dt_s;
+        let id = sim.add_body(walker(matched.then_some(ground)));
+        let mut p = Vec3::ZERO;
+        let mut drive = |sim: &mut Simulation, speed: f32, seconds: f32| {
+            for _ in 0..(seconds / dt).round() as u32 {
+                p += Vec3::Z * speed * dt;
+                sim.move_body(id, p, Quat::IDENTITY, dt).unwrap();
+                sim.step(dt).unwrap();
+            }
+        };
+        drive(&mut sim, 0.0, 0.25);
+        if matched {
+            assert!(off(&sim, 0.0) < 1e-4, "standing: {}", off(&sim, 0.0));
+            drive(&mut sim, ground, 0.25);
+            assert!(off(&sim, 0.25) < 1e-3, "at 1.4 m/s: {}", off(&sim, 0.25));
+            drive(&mut sim, 2.0 * ground, 0.25);
+            assert!(off(&sim, 0.75) < 1e-3, "at 2.8 m/s: {}", off(&sim, 0.75));
+            sim.bodies[0].tree.assert_well_formed();
+        } else {
+            // The clock is time: a quarter of the walk, standing.
+            assert!(off(&sim, 0.25) < 1e-4, "{}", off(&sim, 0.25));
+            assert!(off(&sim, 0.0) > 0.05, "{}", off(&sim, 0.0));
+        }
+    }
+}

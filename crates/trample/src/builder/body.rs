@@ -161,7 +161,22 @@ impl BodyBuilder {
         self.params.animation = Some(AnimationParams {
             name: name.into(),
             speed,
+            ground_speed_mps: None,
         });
+        self
+    }
+
+    /// The ground speed (m/s) the animation's cycle is made for: its clock
+    /// then runs with the body's horizontal speed, so that it stands still
+    /// when the body does and strides at the speed a host drives it
+    /// (`animation = { ..., ground_speed_mps }`; see
+    /// [`AnimationParams::ground_speed_mps`]). Call after
+    /// [`BodyBuilder::animation`]; without an animation it does nothing.
+    #[must_use]
+    pub fn animation_ground_speed(mut self, ground_speed_mps: f32) -> Self {
+        if let Some(a) = &mut self.params.animation {
+            a.ground_speed_mps = Some(ground_speed_mps);
+        }
         self
     }
 

@@ -33,6 +33,15 @@ pub struct AnimationParams {
     /// seconds in simulation seconds, 2 twice as fast. Default 1.
     #[serde(default = "default_speed")]
     pub speed: f32,
+    /// The ground speed the cycle is made for, m/s (finite, > 0): a walk
+    /// cycle's planted foot keeps still on the ground when the body goes
+    /// this fast. When set, the animation's clock runs with the body's
+    /// horizontal speed, `speed · |v| / ground_speed_mps` animation seconds
+    /// a second: it stops when the body stands, and a body the viewer or a
+    /// host drives strides at the speed it is driven. Default: none, the
+    /// clock runs with simulation time (`speed`).
+    #[serde(default)]
+    pub ground_speed_mps: Option<f32>,
 }
 
 fn default_speed() -> f32 {
@@ -49,6 +58,9 @@ pub struct AnimatedMesh {
     pub animation: usize,
     /// Playback rate (see [`AnimationParams::speed`]).
     pub speed: f32,
+    /// The ground speed the cycle is made for (see
+    /// [`AnimationParams::ground_speed_mps`]); none: the clock is time.
+    pub ground_speed_mps: Option<f32>,
     /// Simulation time at which the animation starts (the object's
     /// `start_s`): before it the object stands in the animation's first
     /// pose, as it waits at its path's start.
@@ -97,6 +109,15 @@ impl AnimatedMesh {
                 "animation.speed",
                 params.speed.to_string(),
                 "must be a finite number >= 0",
+            ));
+        }
+        if let Some(g) = params.ground_speed_mps
+            && !(g.is_finite() && g > 0.0)
+        {
+            return Err(bad(
+                "animation.ground_speed_mps",
+                g.to_string(),
+                "must be a finite speed > 0 (m/s), or left out",
             ));
         }
         let ShapeParams::Mesh { path, anchor } = shape else {
@@ -171,6 +192,7 @@ impl AnimatedMesh {
                 skin,
                 animation,
                 speed: params.speed,
+                ground_speed_mps: params.ground_speed_mps,
                 start_s,
                 vertex_of,
                 bake,
@@ -187,18 +209,33 @@ impl AnimatedMesh {
         self.speed * (t - self.start_s).max(0.0)
     }
 
+    /// Animation seconds a second for a body going `velocity` (m/s,
+    /// world): `speed` without a ground speed, else `speed · |v_xz| /
+    /// ground_speed_mps` (see [`AnimationParams::ground_speed_mps`]).
+    #[must_use]
+    pub fn clock_rate(&self, velocity: Vec3) -> f32 {
+        match self.ground_speed_mps {
+            None => self.speed,
+            Some(g) => self.speed * Vec3::new(velocity.x, 0.0, velocity.z).length() / g,
+        }
+    }
+
     /// The object's mesh vertices (its local frame, metres) at simulation
-    /// time `t`: the animation sampled (looping), the skin posed (linear
-    /// blend skinning), baked as the mesh was. `out` is overwritten with one
-    /// position per vertex of the object's mesh.
+    /// time `t` with the clock on time ([`AnimatedMesh::animation_time`]):
+    /// as [`AnimatedMesh::pose_at_clock`].
     pub fn pose_into(&self, t: f32, scratch: &mut AnimatedScratch, out: &mut Vec<Vec3>) {
+        self.pose_at_clock(self.animation_time(t), scratch, out);
+    }
+
+    /// The object's mesh vertices (its local frame, metres) at the
+    /// animation's own time `clock` (seconds, before looping): the
+    /// animation sampled (looping), the skin posed (linear blend skinning),
+    /// baked as the mesh was. `out` is overwritten with one position per
+    /// vertex of the object's mesh.
+    pub fn pose_at_clock(&self, clock: f32, scratch: &mut AnimatedScratch, out: &mut Vec<Vec3>) {
         let animation = self.skin.animations.get(self.animation);
-        self.skin.pose_into(
-            animation,
-            self.animation_time(t),
-            &mut scratch.skin,
-            &mut scratch.bind_space,
-        );
+        self.skin
+            .pose_into(animation, clock, &mut scratch.skin, &mut scratch.bind_space);
         out.clear();
         out.extend(self.vertex_of.iter().map(|&v| {
             let p = scratch

@@ -38,7 +38,7 @@ pub mod shapes;
 pub mod skin;
 pub mod spline;
 
-pub use animated::{AnimatedMesh, AnimationParams};
+pub use animated::{AnimatedMesh, AnimatedScratch, AnimationParams};
 pub use animation::Animation;
 pub use error::MeshError;
 pub use mesh::TriMesh;

@@ -50,6 +50,26 @@ pub enum BodyError {
     },
 }
 
+/// The track owners after the bodies `before` became `after` (ids in
+/// body order; [`Simulation::track_owner`] holds 1 + a body's index, 0 for
+/// `[sim]`): `table[o]` is old owner `o`'s new number. A body still there
+/// keeps its blades under its new index; a body gone gives them to `[sim]`
+/// (0), as do owners past the table (over 254 bodies) and owner 0. The
+/// CPU's [`Simulation::remove_body`] and the GPU path (which renumbers its
+/// own copy of the owners when it sees the bodies change) both use it.
+#[must_use]
+pub fn renumbered_owners(before: &[BodyId], after: &[BodyId]) -> [u8; 256] {
+    let mut table = [0u8; 256];
+    for (index, id) in before.iter().enumerate().take(255) {
+        table[index + 1] = after
+            .iter()
+            .position(|a| a == id)
+            .and_then(|i| u8::try_from(i + 1).ok())
+            .unwrap_or(0);
+    }
+    table
+}
+
 impl Simulation {
     /// Adds `body` at the current time and returns its new id (never one a
     /// removed body had). It is posed at the current time at once; it acts
@@ -73,17 +93,12 @@ impl Simulation {
     /// [`BodyError::Unknown`] when there is no such body.
     pub fn remove_body(&mut self, id: BodyId) -> Result<Body, BodyError> {
         let index = self.index_of(id)?;
+        let before: Vec<BodyId> = self.bodies.iter().map(|b| b.id).collect();
         let body = self.bodies.remove(index);
-        // `track_owner` holds 1 + a body's index: the removed body's blades
-        // fall back to `[sim]` (0), later bodies' move down by one.
-        let owner = index + 1;
+        let after: Vec<BodyId> = self.bodies.iter().map(|b| b.id).collect();
+        let table = renumbered_owners(&before, &after);
         for o in &mut self.track_owner {
-            let o_us = usize::from(*o);
-            if o_us == owner {
-                *o = 0;
-            } else if o_us > owner {
-                *o -= 1;
-            }
+            *o = table[usize::from(*o)];
         }
         if let CameraTarget::Object(i) = self.camera.target {
             self.camera.target = match i.cmp(&index) {
@@ -120,5 +135,29 @@ impl Simulation {
                 id,
                 known: self.bodies.iter().map(|b| b.id.0).collect(),
             })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn owners_follow_their_bodies() {
+        let ids = |v: &[u32]| v.iter().map(|&i| BodyId(i)).collect::<Vec<_>>();
+        // Body 5 (owner 2) leaves; body 9 (owner 3) becomes owner 2; a new
+        // body 11 takes owner 4; [sim] stays 0.
+        let t = renumbered_owners(&ids(&[2, 5, 9, 7]), &ids(&[2, 9, 7, 11]));
+        assert_eq!(&t[..6], &[0, 1, 0, 2, 3, 0]);
+        assert!(t[6..].iter().all(|&o| o == 0));
+        // Nothing changed: the identity on the bodies' owners.
+        let same = renumbered_owners(&ids(&[0, 1]), &ids(&[0, 1]));
+        assert_eq!(&same[..3], &[0, 1, 2]);
+        // Past 255 bodies there is no owner number: body 300 of 300 keeps
+        // owner 0, body 255's blades (owner 255) move down to 254.
+        let before: Vec<BodyId> = (0..300).map(BodyId).collect();
+        let after: Vec<BodyId> = (1..300).map(BodyId).collect();
+        let t = renumbered_owners(&before, &after);
+        assert_eq!((t[1], t[2], t[255]), (0, 1, 254));
     }
 }

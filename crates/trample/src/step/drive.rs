@@ -25,6 +25,13 @@ use super::simulation::Simulation;
 use crate::object::Pose;
 use glam::{Quat, Vec3};
 
+/// How far past the end of a drive, as a fraction of its step, a pose
+/// still has the drive's velocity ([`Drive::pose_at`]), besides four ulps
+/// of the end time: above the rounding of sub-step times, below the next
+/// step's first sub-step (a step over at most 1024 sub-steps,
+/// `sim.max_substeps`' limit).
+pub const DRIVE_END_SLACK: f32 = 1e-4;
+
 /// One step of a driven body: from `from` at time `t0` to `to` at `t1`
 /// (seconds, `t1 > t0`). Set by [`Simulation::drive`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,13 +48,19 @@ pub struct Drive {
 
 impl Drive {
     /// The pose at time `t`: before `t0` the start pose, after `t1` the end
-    /// pose at rest, in between position lerped and rotation slerped, with
-    /// the constant linear and angular velocity that carry `from` to `to`
-    /// over `[t0, t1]`.
+    /// pose at rest, in between (`t1` included) position lerped and
+    /// rotation slerped, with the constant linear and angular velocity that
+    /// carry `from` to `to` over `[t0, t1]`. The step's last sub-step is
+    /// posed at `t1` give or take an ulp (the sub-step times are summed in
+    /// f64, `t1` in f32): up to [`DRIVE_END_SLACK`] of the step past `t1`
+    /// the body still moves (it arrives moving, and Eq. 2 pushes in that
+    /// sub-step whichever way the rounding went); later, the next step's
+    /// sub-steps when it is not driven again, it is at rest.
     #[must_use]
     pub fn pose_at(&self, t: f32) -> Pose {
         let span = self.t1 - self.t0;
-        if span.is_nan() || span <= 0.0 || t >= self.t1 {
+        let slack = 4.0 * f32::EPSILON * self.t1.abs() + DRIVE_END_SLACK * span;
+        if span.is_nan() || span <= 0.0 || t > self.t1 + slack {
             return Pose {
                 velocity: Vec3::ZERO,
                 angular_velocity: Vec3::ZERO,
@@ -296,4 +309,48 @@ name = "ball"
 shape = { kind = "sphere", radius_m = 0.3 }
 path = { kind = "line", from = [-1.5, 0.2, 0.0], to = [1.5, 0.2, 0.0], duration_s = 1.0 }
 "#;
+}
+
+#[cfg(test)]
+mod drive_end_tests {
+    use super::*;
+
+    /// The step's last sub-step is posed at `t1` give or take an ulp: the
+    /// body arrives moving whichever way the rounding went (Eq. 2 pushes
+    /// in that sub-step), and is at rest from the next step's first
+    /// sub-step on.
+    #[test]
+    fn a_drive_arrives_moving_and_rests_after() {
+        let rest = Pose {
+            position: Vec3::ZERO,
+            rotation: Quat::IDENTITY,
+            velocity: Vec3::ZERO,
+            angular_velocity: Vec3::ZERO,
+        };
+        let (t0, dt) = (12.345_f32, 1.0 / 60.0);
+        let d = Drive {
+            from: rest,
+            to: Pose {
+                position: Vec3::new(0.05, 0.0, 0.0),
+                ..rest
+            },
+            t0,
+            t1: t0 + dt,
+        };
+        let v = 0.05 / (d.t1 - d.t0);
+        for t in [
+            d.t1.next_down(),
+            d.t1,
+            d.t1.next_up(),
+            d.t1.next_up().next_up(),
+        ] {
+            let p = d.pose_at(t);
+            assert!((p.velocity.x - v).abs() < 1e-3 * v, "at {t}: {p:?}");
+            assert!((p.position.x - 0.05).abs() < 1e-5);
+        }
+        // The next step's first sub-step, even at 1024 sub-steps a step.
+        let p = d.pose_at(d.t1 + dt / 1024.0);
+        assert_eq!(p.velocity, Vec3::ZERO);
+        assert_eq!(p.position, d.to.position);
+    }
 }

@@ -80,6 +80,11 @@ pub(crate) struct RigState {
     positions: Vec<Vec3>,
     /// Time the mesh was last posed at.
     skinned_t: Option<f32>,
+    /// An animation whose clock runs with the ground speed
+    /// ([`crate::object::AnimationParams::ground_speed_mps`]): its own
+    /// time, seconds, and the simulation time it was advanced to.
+    clock: f32,
+    clock_t: Option<f32>,
 }
 
 impl RigState {
@@ -98,6 +103,7 @@ impl RigState {
 /// Poses `body`'s skin and parts at time `t` (its own pose is already set
 /// to its pose at `t`). See the module documentation.
 pub(crate) fn pose_rig(body: &mut Body, t: f32) {
+    advance_clock(body, t);
     skin_and_refit(body, t);
     if body.parts.is_empty() {
         return;
@@ -127,6 +133,7 @@ fn skin_and_refit(body: &mut Body, t: f32) {
         refit_scratch,
         positions,
         skinned_t,
+        clock,
         ..
     } = &mut body.rig
     else {
@@ -138,7 +145,11 @@ fn skin_and_refit(body: &mut Body, t: f32) {
     if *skinned_t == Some(t) {
         return;
     }
-    animated.pose_into(t, skin_scratch, positions);
+    let clock = match animated.ground_speed_mps {
+        Some(_) => *clock,
+        None => animated.animation_time(t),
+    };
+    animated.pose_at_clock(clock, skin_scratch, positions);
     let refitted = body.tree.refit(
         map,
         positions,
@@ -150,6 +161,49 @@ fn skin_and_refit(body: &mut Body, t: f32) {
         body.object.mesh.positions.clone_from(positions);
         *skinned_t = Some(t);
     }
+}
+
+/// An animation whose clock runs with the body's ground speed: the clock
+/// advanced from the last posed time to `t`, by trapezoids of
+/// [`crate::object::AnimatedMesh::clock_rate`] over slices of at most
+/// [`ODOMETER_SLICE_S`] of the body's poses (from its path or drive), as
+/// the wheels' odometer; restarted at 0 when `t` is earlier than the last
+/// time (the first pose, at 0, starts it).
+fn advance_clock(body: &mut Body, t: f32) {
+    let Some(animated) = body
+        .object
+        .animated
+        .as_ref()
+        .filter(|a| a.ground_speed_mps.is_some())
+    else {
+        return;
+    };
+    let start = match body.rig.clock_t {
+        Some(t0) if t >= t0 => t0,
+        _ => {
+            body.rig.clock = 0.0;
+            body.rig.clock_t = Some(t);
+            return;
+        }
+    };
+    let span = t - start;
+    if span <= 0.0 {
+        return;
+    }
+    let slices = (span / ODOMETER_SLICE_S).ceil().clamp(1.0, 1.0e6) as u32;
+    let dt = span / slices as f32;
+    let mut rate = animated.clock_rate(body.pose_at(start).velocity);
+    for k in 1..=slices {
+        let velocity = if k == slices {
+            body.pose.velocity
+        } else {
+            body.pose_at(start + dt * k as f32).velocity
+        };
+        let next = animated.clock_rate(velocity);
+        body.rig.clock += 0.5 * (rate + next) * dt;
+        rate = next;
+    }
+    body.rig.clock_t = Some(t);
 }
 
 /// Advances the wheels' odometer from the last posed time to `t` in slices
