@@ -102,6 +102,8 @@ struct Contact {
     dir: vec3<f32>,
     point: vec3<f32>,
     weight: f32,
+    // `SegmentContact::velocity`: the deforming mesh's own velocity there.
+    velocity: vec3<f32>,
 }
 
 fn contact(w: Walk, p0: vec3<f32>, p1: vec3<f32>) -> Contact {
@@ -110,7 +112,8 @@ fn contact(w: Walk, p0: vec3<f32>, p1: vec3<f32>) -> Contact {
     if sqrt(len2) > CANCELLED {
         dir = w.sum * (1.0 / sqrt(len2));
     }
-    return Contact(dir, closest_point(p0, p1, node_at(w.first).center.xyz), 1.0);
+    let n = node_at(w.first);
+    return Contact(dir, closest_point(p0, p1, n.center.xyz), 1.0, n.velocity.xyz);
 }
 
 // `narrow_phase::collide_segment`: hit flag in `hit`, contact when hit.
@@ -120,7 +123,7 @@ struct SegmentHit {
 }
 
 fn collide_segment(p0: vec3<f32>, p1: vec3<f32>) -> SegmentHit {
-    let miss = SegmentHit(false, Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0));
+    let miss = SegmentHit(false, Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0)));
     if tree.x == 0u {
         return miss;
     }
@@ -204,9 +207,9 @@ fn hits_local(f: Framed) -> bool {
     return all(faces) && all(cr <= reach);
 }
 
-// `LocalMotion::ramp_at`.
-fn ramp_at(p: vec3<f32>) -> f32 {
-    let v = obj.local_velocity.xyz + cross_scalar(obj.local_angular.xyz, p);
+// `LocalMotion::ramp_at`; `deform`: the node's deformation velocity.
+fn ramp_at(p: vec3<f32>, deform: vec3<f32>) -> f32 {
+    let v = obj.local_velocity.xyz + cross_scalar(obj.local_angular.xyz, p) + deform;
     let speed = sqrt(dot3(v, v));
     let r = RAMP_TRAVELS * min(max(obj.local_angular.w, RAMP_STEP_S) * speed, obj.local_velocity.w);
     if r < 3.0e38 {
@@ -219,14 +222,16 @@ fn ramp_at(p: vec3<f32>) -> f32 {
 struct Weighted {
     dir: vec3<f32>,
     point: vec3<f32>,
+    velocity: vec3<f32>,
     sum: f32,
     max_w: f32,
     max_dir: vec3<f32>,
 }
 
-fn weighted_add(acc: ptr<function, Weighted>, w: f32, dir: vec3<f32>, at: vec3<f32>) {
+fn weighted_add(acc: ptr<function, Weighted>, w: f32, dir: vec3<f32>, at: vec3<f32>, velocity: vec3<f32>) {
     (*acc).dir += dir * w;
     (*acc).point += at * w;
+    (*acc).velocity += velocity * w;
     (*acc).sum += w;
     if w > (*acc).max_w {
         (*acc).max_w = w;
@@ -274,7 +279,7 @@ fn below_patch(c: vec3<f32>, n: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, shell: 
 
 // `narrow_phase::contact_segment`: the weighted contact (weight 0: none).
 fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
-    let none = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+    let none = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0));
     if tree.x == 0u {
         return none;
     }
@@ -284,7 +289,7 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
         return none;
     }
     pen_asked = vec2<u32>(0u);
-    var acc = Weighted(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0));
+    var acc = Weighted(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0));
     var deepest = 0u;
     var stack: array<vec2<u32>, STACK_SIZE>;
     stack[0] = vec2<u32>(0u, 1u);
@@ -315,13 +320,13 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
         let d = max_depth_local_of(framed(centre, half, i, false, shell));
         if d > 0.0 {
             let at = closest_point(p0, p1, n.center.xyz);
-            let full = shell + ramp_at(at);
+            let full = shell + ramp_at(at, n.velocity.xyz);
             var reach = d;
             if n.dir.w == 1.0 && d < full {
                 reach = max(d, below_patch(n.center.xyz, n.dir.xyz, p0, p1, shell, d));
             }
             let w = min(reach / full, 1.0);
-            weighted_add(&acc, w, eqn_direction(i, p0, p1), at);
+            weighted_add(&acc, w, eqn_direction(i, p0, p1), at, n.velocity.xyz);
         }
     }
     // No final-depth box met: wholly outside, or wholly inside the mesh.
@@ -339,8 +344,8 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
             let l2 = dot3(away, away);
             let rcp = 1.0 / sqrt(l2);
             if rcp < 3.0e38 && rcp > 0.0 {
-                let w = min((pen.w + shell) / (shell + ramp_at(q)), 1.0);
-                weighted_add(&acc, w, away * rcp, q);
+                let w = min((pen.w + shell) / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0);
+                weighted_add(&acc, w, away * rcp, q, vec3<f32>(0.0));
             }
         }
     }
@@ -355,7 +360,7 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
             dir = acc.dir * rcp;
         }
     }
-    return Contact(dir, acc.point / acc.sum, acc.max_w);
+    return Contact(dir, acc.point / acc.sum, acc.max_w, acc.velocity / acc.sum);
 }
 
 fn max_depth_local_of(f: Framed) -> f32 {
@@ -424,7 +429,7 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
         let press = obj.contact.y;
         for (var k = 0u; k < segments; k++) {
             let next = to_local(pos[vertex_at(k + 1u, b)].xyz);
-            var c = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+            var c = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0));
             if weighted {
                 c = contact_segment(prev, next, shell);
             } else {
@@ -437,7 +442,9 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
                 mask |= 1u << k;
                 // Eq. 2: EqF = |v + ω × r| · EqN, EqN turned into the world,
                 // times the weight and the object's press (`eqf`).
-                let speed = length(point_velocity(to_world(c.point)));
+                // The deforming mesh's own velocity there adds to the
+                // rigid motion (`SegmentContact::velocity`).
+                let speed = length(point_velocity(to_world(c.point)) + rotate(obj.rotation, c.velocity));
                 let dir = rotate(obj.rotation, c.dir);
                 let dl = sqrt(dot3(dir, dir));
                 let rcp = 1.0 / dl;

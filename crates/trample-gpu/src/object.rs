@@ -9,7 +9,7 @@
 //! word 0 is the header (object count, mask words per patch of the broad
 //! phase, first mask word in the broad phase's lists, 0); object `o`'s
 //! [`GpuObjectParams`] are the 16 words from `1 + 16 o`; its nodes
-//! ([`GpuNode`], 9 words each), triangles (3 words each, one a corner) and
+//! ([`GpuNode`], 10 words each), triangles (3 words each, one a corner) and
 //! voxels (4 to a word) start at the words its `base` names. Only the
 //! parameters change during a run (one write of `16 · 16` bytes an object
 //! per sub-step).
@@ -46,8 +46,12 @@ pub struct GpuNode {
     pub reach_center: [f32; 4],
     /// Half extents of the reach box (w unused).
     pub reach_half: [f32; 4],
+    /// The node's deformation velocity in the object's frame, m/s
+    /// (`ObbTree::node_velocity`; zero for a mesh that does not deform)
+    /// (w unused).
+    pub velocity: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuNode>() == 144);
+const _: () = assert!(std::mem::size_of::<GpuNode>() == 160);
 
 /// An object's pose and tree header. Layout-compatible with `ObjectParams`
 /// in `object.wgsl` (read from the object table by `load_object`).
@@ -95,7 +99,7 @@ const _: () = assert!(std::mem::size_of::<GpuObjectParams>() == 256);
 /// 16-byte words of one object's [`GpuObjectParams`] in the table.
 const PARAM_WORDS: usize = 16;
 /// 16-byte words of one [`GpuNode`].
-const NODE_WORDS: usize = 9;
+const NODE_WORDS: usize = 10;
 
 fn v4(v: Vec3) -> [f32; 4] {
     [v.x, v.y, v.z, 0.0]
@@ -124,6 +128,7 @@ pub fn flatten_nodes(tree: &ObbTree) -> Vec<GpuNode> {
                 children: [n.children[0], n.children[1], n.first_tri, n.tri_count],
                 reach_center: v4(reach.center),
                 reach_half: v4(reach.half),
+                velocity: v4(tree.node_velocity(i as u32)),
             }
         })
         .collect()
@@ -146,6 +151,7 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
             n.children,
             words(n.reach_center),
             words(n.reach_half),
+            words(n.velocity),
         ]);
     }
     let mut params = GpuObjectParams::zeroed();

@@ -23,6 +23,9 @@ struct Node {
     // and half extents, holding the node's box and every descendant's.
     reach_center: vec4<f32>,
     reach_half: vec4<f32>,
+    // The node's deformation velocity in the object's frame, m/s
+    // (`ObbTree::node_velocity`; zero for a mesh that does not deform).
+    velocity: vec4<f32>,
 }
 
 // Layout-compatible with `GpuObjectParams` in object.rs.
@@ -55,7 +58,7 @@ struct ObjectParams {
 
 // The object table (`object.rs`): word 0 = (objects, mask words per patch,
 // first mask word in the broad phase's lists, 0); object o's parameters at
-// words 1 + 16 o ..; its nodes (9 words each), triangles (3 words each) and
+// words 1 + 16 o ..; its nodes (10 words each), triangles (3 words each) and
 // voxels (4 to a word) from the words its `base` names. Floats by their bits.
 @group(1) @binding(0) var<storage, read> objects: array<vec4<u32>>;
 
@@ -100,10 +103,10 @@ fn load_object(o: u32, gz: u32) {
 
 // Node i of the object's tree.
 fn node_at(i: u32) -> Node {
-    let a = obj.base.x + 9u * i;
+    let a = obj.base.x + 10u * i;
     return Node(
         word_f(a), word_f(a + 1u), word_f(a + 2u), word_f(a + 3u), word_f(a + 4u),
-        word_f(a + 5u), objects[a + 6u], word_f(a + 7u), word_f(a + 8u),
+        word_f(a + 5u), objects[a + 6u], word_f(a + 7u), word_f(a + 8u), word_f(a + 9u),
     );
 }
 

@@ -454,3 +454,58 @@ fn a_driven_walker_strides_at_the_speed_it_is_driven() {
         }
     }
 }
+
+/// Eq. 2's contact speed on a skinned mesh is the limb's own (issue 13:
+/// "the contact speed of Eq. 2 comes from the part's own motion"): the
+/// refitted tree carries each node's deformation velocity
+/// (`ObbTree::node_velocity`), which the narrow phase adds to the body's
+/// rigid motion. Walking in a straight line at the cycle's ground speed
+/// (1.4 m/s), the lowest final-depth box (a foot) is nearly at rest while
+/// it is planted and moves at about twice the body's speed while it swings;
+/// with the root's velocity alone it would always move at 1.4 m/s.
+#[test]
+fn a_planted_foot_is_at_rest_and_a_swinging_one_outruns_the_body() {
+    use trample::builder::BodyBuilder;
+    use trample::object::{Anchor, Orientation, PathParams, ShapeParams};
+    let meshes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes");
+    let precision = 5;
+    let mut body = BodyBuilder::new(
+        "walker",
+        ShapeParams::Mesh {
+            path: "walker.glb".into(),
+            anchor: Anchor::File,
+        },
+    )
+    .animation("walk", 1.0)
+    .animation_ground_speed(1.4)
+    .orientation(Orientation::FaceMotion)
+    .path(PathParams::Line {
+        from: [0.0, 0.0, -5.0],
+        to: [0.0, 0.0, 9.0],
+        duration_s: 10.0,
+    })
+    .build_in(0, &meshes)
+    .unwrap();
+    let (mut slowest, mut fastest) = (f32::INFINITY, 0.0f32);
+    let dt = 1.0 / 120.0;
+    for k in 0..=240 {
+        body.set_time(1.0 + k as f32 * dt);
+        let tree = &body.tree;
+        let pose = body.pose;
+        // The final-depth boxes near the ground: the feet.
+        for (i, n) in tree.nodes.iter().enumerate() {
+            let last = n.depth == precision || (n.is_leaf() && n.depth < precision);
+            let centre = pose.to_world(n.obb.center);
+            if !last || centre.y > 0.2 {
+                continue;
+            }
+            let v = pose.point_velocity(centre) + pose.rotation * tree.node_velocity(i as u32);
+            let horizontal = glam::Vec2::new(v.x, v.z).length();
+            slowest = slowest.min(horizontal);
+            fastest = fastest.max(horizontal);
+        }
+    }
+    eprintln!("foot boxes: {slowest:.2} .. {fastest:.2} m/s (body 1.40 m/s)");
+    assert!(slowest < 0.5, "a planted foot moves at {slowest} m/s");
+    assert!(fastest > 2.0, "a swinging foot moves at only {fastest} m/s");
+}

@@ -66,6 +66,12 @@ pub struct SegmentContact {
     /// final-depth nodes of (depth of the segment in the shell-grown box) /
     /// shell, clamped (see [`contact_segment`]).
     pub weight: f32,
+    /// How fast the object's surface moves at the contact because the mesh
+    /// deforms, object frame, m/s: the final-depth nodes'
+    /// [`ObbTree::node_velocity`] (weighted as `point` is; the first
+    /// node's for [`collide_segment`]). Zero for a mesh that does not
+    /// deform. Eq. 2's contact speed is `|v + ω × r + R · velocity|`.
+    pub velocity: Vec3,
 }
 
 /// The contacts of one blade: bit `k` of `mask` is set when segment `k`
@@ -215,7 +221,8 @@ pub fn contact_segment(
         let depth = segment_depth_in_obb(centre, half, &node.obb, shell);
         if depth > 0.0 {
             let at = closest_point_on_segment(p0, p1, node.obb.center);
-            let full = shell + motion.ramp_at(at);
+            let moving = tree.node_velocity(i);
+            let full = shell + motion.ramp_at(at, moving);
             // The below-patch depth only matters where it can raise the
             // weight: the box depth is short of `full` (weight < 1).
             let reach = match tree.eqn_unit(i) {
@@ -231,7 +238,7 @@ pub fn contact_segment(
                 _ => depth,
             };
             let w = (reach / full).min(1.0);
-            acc.add(w, tree.eqn_direction(i, p0, p1), at);
+            acc.add(w, tree.eqn_direction(i, p0, p1), at, moving);
         }
     });
     // No final-depth box (grown by the shell) met: the segment crosses no
@@ -246,8 +253,8 @@ pub fn contact_segment(
         if let Some((q, surface, depth)) = deeper
             && let Some(out) = (surface - q).try_normalize()
         {
-            let w = ((depth + shell) / (shell + motion.ramp_at(q))).min(1.0);
-            acc.add(w, out, q);
+            let w = ((depth + shell) / (shell + motion.ramp_at(q, Vec3::ZERO))).min(1.0);
+            acc.add(w, out, q, Vec3::ZERO);
         }
     }
     (acc.max > 0.0).then(|| acc.contact())
@@ -379,11 +386,13 @@ impl LocalMotion {
     /// [`RAMP_TRAVELS`] times the distance the material point at local
     /// position `p` travels in the sub-step, or in [`RAMP_STEP_S`] if the
     /// sub-step is shorter, but no more than the object's thickness, metres
-    /// (0 if not finite).
+    /// (0 if not finite). `deform` is the surface's own velocity there
+    /// from the mesh's deformation (object frame, m/s; zero for a rigid
+    /// mesh: [`ObbTree::node_velocity`]).
     #[must_use]
     #[inline]
-    pub fn ramp_at(&self, p: Vec3) -> f32 {
-        let speed = (self.velocity + self.angular_velocity.cross(p)).length();
+    pub fn ramp_at(&self, p: Vec3, deform: Vec3) -> f32 {
+        let speed = (self.velocity + self.angular_velocity.cross(p) + deform).length();
         let r = RAMP_TRAVELS * (self.h.max(RAMP_STEP_S) * speed).min(self.thickness);
         if r.is_finite() { r } else { 0.0 }
     }
@@ -453,6 +462,7 @@ impl FirstAndSum {
             dir,
             point: closest_point_on_segment(p0, p1, centre),
             weight: 1.0,
+            velocity: tree.node_velocity(self.first),
         }
     }
 }
@@ -464,6 +474,8 @@ struct Weighted {
     dir: Vec3,
     /// Σ w_j · c_j.
     point: Vec3,
+    /// Σ w_j · (node j's deformation velocity).
+    velocity: Vec3,
     /// Σ w_j.
     sum: f32,
     /// max_j w_j, and the direction of that node.
@@ -472,9 +484,10 @@ struct Weighted {
 }
 
 impl Weighted {
-    fn add(&mut self, w: f32, dir: Vec3, at: Vec3) {
+    fn add(&mut self, w: f32, dir: Vec3, at: Vec3, velocity: Vec3) {
         self.dir += dir * w;
         self.point += at * w;
+        self.velocity += velocity * w;
         self.sum += w;
         if w > self.max {
             self.max = w;
@@ -492,6 +505,7 @@ impl Weighted {
             dir,
             point: self.point / self.sum,
             weight: self.max,
+            velocity: self.velocity / self.sum,
         }
     }
 }

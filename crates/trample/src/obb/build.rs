@@ -157,6 +157,7 @@ impl ObbTree {
             nested: false,
             inside: None,
             reach: Vec::new(),
+            velocity: Vec::new(),
         };
         tree.reach = super::reach::reach_boxes(&tree.nodes);
         tree.inside = InsideGrid::build(&tree, |p| point_inside_by_ray(&tree, p));
@@ -167,6 +168,17 @@ impl ObbTree {
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.triangles.is_empty()
+    }
+
+    /// Node `node`'s deformation velocity in the object's frame, m/s
+    /// ([`ObbTree::velocity`]; zero for a mesh that does not deform).
+    #[must_use]
+    #[inline]
+    pub fn node_velocity(&self, node: u32) -> Vec3 {
+        self.velocity
+            .get(node as usize)
+            .copied()
+            .unwrap_or(Vec3::ZERO)
     }
 
     /// Eq. 3's EqN of node `node`, normalised, when it is a reliable normal

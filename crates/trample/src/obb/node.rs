@@ -102,4 +102,11 @@ pub struct ObbTree {
     /// final-depth node whose box a segment meets even where a child's box
     /// sticks out of its parent's.
     pub reach: Vec<Obb>,
+    /// Per node, how fast its box's centre moves in the object's frame
+    /// because the mesh deforms, m/s (a skinned limb's own swing, set when
+    /// the tree is refitted to a posed skin: `step/rig.rs`). Eq. 2's contact
+    /// speed adds it to the body's rigid motion ([`ObbTree::node_velocity`]),
+    /// so a planted foot pushes as little as it moves and a swinging one as
+    /// fast as it swings. Empty for a mesh that does not deform: zero.
+    pub velocity: Vec<Vec3>,
 }

@@ -32,7 +32,9 @@ pub(crate) struct BladeHit {
 /// once and tested down to the precision with the contact shell
 /// ([`contact_blade`], weights set by the object's travel in the sub-step
 /// of `h` seconds); returns the blades touched, ascending, with
-/// `Σ_k w_k · press · |v + ω × r| · EqN_k` (Eq. 2 per segment, weighted).
+/// `Σ_k w_k · press · |v + ω × r + R · v_k| · EqN_k` (Eq. 2 per segment,
+/// weighted; `v_k` the deforming mesh's own velocity at the contact,
+/// [`crate::collision::narrow_phase::SegmentContact::velocity`]).
 pub(crate) fn narrow_phase(
     sim: &Simulation,
     body: &Body,
@@ -86,7 +88,11 @@ pub(crate) fn narrow_phase(
             for k in 0..n {
                 if contacts.mask & (1 << k) != 0 {
                     let c = contacts.contacts[k];
-                    let speed = pose.point_velocity(pose.to_world(c.point)).length();
+                    // The surface's speed there: the collider's rigid
+                    // motion and, for a deforming mesh, the limb's own.
+                    let speed = (pose.point_velocity(pose.to_world(c.point))
+                        + pose.rotation * c.velocity)
+                        .length();
                     force += eqf(speed, pose.rotation * c.dir) * (c.weight * press);
                 }
             }

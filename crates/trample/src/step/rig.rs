@@ -85,6 +85,8 @@ pub(crate) struct RigState {
     /// time, seconds, and the simulation time it was advanced to.
     clock: f32,
     clock_t: Option<f32>,
+    /// The nodes' box centres before the latest refit (scratch).
+    centres: Vec<Vec3>,
 }
 
 impl RigState {
@@ -134,6 +136,7 @@ fn skin_and_refit(body: &mut Body, t: f32) {
         positions,
         skinned_t,
         clock,
+        centres,
         ..
     } = &mut body.rig
     else {
@@ -150,6 +153,8 @@ fn skin_and_refit(body: &mut Body, t: f32) {
         None => animated.animation_time(t),
     };
     animated.pose_at_clock(clock, skin_scratch, positions);
+    centres.clear();
+    centres.extend(body.tree.nodes.iter().map(|n| n.obb.center));
     let refitted = body.tree.refit(
         map,
         positions,
@@ -159,6 +164,20 @@ fn skin_and_refit(body: &mut Body, t: f32) {
     );
     if refitted.is_ok() {
         body.object.mesh.positions.clone_from(positions);
+        // Each node's own velocity: how far its box's centre moved since
+        // the last pose, over the time between (zero at the first pose or
+        // after time went back).
+        let tree = &mut body.tree;
+        let span = skinned_t.map_or(0.0, |t0| t - t0);
+        tree.velocity.clear();
+        tree.velocity
+            .extend(tree.nodes.iter().zip(centres.iter()).map(|(n, c)| {
+                if span > 0.0 {
+                    (n.obb.center - *c) / span
+                } else {
+                    Vec3::ZERO
+                }
+            }));
         *skinned_t = Some(t);
     }
 }
