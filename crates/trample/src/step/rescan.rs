@@ -4,16 +4,33 @@
 //! (DESIGN §6) only relaxes the blades and billboards the CPU step itself
 //! marked as displaced. [`Simulation::rescan_displaced`] marks them again
 //! from the field, so a simulation handed back from the GPU goes on
-//! recovering exactly as if the CPU had bent those blades.
+//! recovering exactly as if the CPU had bent those blades. It also lists
+//! as touched every blade with a generation ([`Simulation::generation`],
+//! read back too): the next sub-step clears the generations of the blades
+//! it lists, and force propagation counts on every other blade being
+//! untouched (`NO_GENERATION`); a generation left over from the GPU's last
+//! sub-step would stop propagation at that blade.
 
 use super::simulation::Simulation;
 
 impl Simulation {
     /// Rebuilds the sets of displaced blades (any vertex not bit for bit at
-    /// rest) and bent billboards (slope not at its origin) from the field.
-    /// Call it after writing `field.blades.pos` or `field.cells.slope` from
-    /// outside [`Simulation::step`]. Costs one pass over every vertex.
+    /// rest) and bent billboards (slope not at its origin) from the field,
+    /// and adds every blade with a generation to the blades the latest
+    /// sub-step touched (see the module docs). Call it after writing
+    /// `field.blades.pos`, `field.cells.slope` or `generation` from outside
+    /// [`Simulation::step`]. Costs one pass over every vertex.
     pub fn rescan_displaced(&mut self) {
+        let s = &mut self.scratch;
+        s.touched.extend(
+            self.generation
+                .iter()
+                .enumerate()
+                .filter(|(_, g)| **g != crate::force::propagation::NO_GENERATION)
+                .map(|(b, _)| b as u32),
+        );
+        s.touched.sort_unstable();
+        s.touched.dedup();
         let blades = &self.field.blades;
         let s = &mut self.scratch;
         s.displaced_flag.clear();
