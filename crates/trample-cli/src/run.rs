@@ -41,6 +41,11 @@ pub struct Args {
     /// at the current precision over the scene); patches (the patch grid).
     #[arg(long, default_value = "none")]
     pub debug_view: DebugView,
+    /// Render density: blades drawn per simulated blade near the camera
+    /// (1 = the simulated blades alone; default 6, `RenderParams::near_density`).
+    /// The simulation is the same; drawing costs more.
+    #[arg(long, default_value_t = RenderParams::default().near_density, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub near_density: u32,
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]
     pub precision: Option<u32>,
@@ -76,6 +81,8 @@ struct RunSummary {
     size: [u32; 2],
     msaa: u32,
     debug_view: String,
+    /// Blades drawn per simulated blade near the camera (`--near-density`).
+    near_density: u32,
     /// Render + read-back time per rendered frame, ms.
     render_ms: Stats,
     render_ms_per_frame: Vec<f64>,
@@ -191,6 +198,7 @@ pub fn run(a: &Args) -> Result<()> {
         height,
         samples,
         debug: a.debug_view,
+        near_density: a.near_density,
         ..RenderParams::default()
     };
     eprintln!(
@@ -320,6 +328,7 @@ pub fn run(a: &Args) -> Result<()> {
         size: [width, height],
         msaa: samples,
         debug_view: format!("{:?}", a.debug_view).to_lowercase(),
+        near_density: a.near_density,
         render_ms: Stats::of(&render_ms),
         render_ms_per_frame: render_ms,
         fps: Fps {

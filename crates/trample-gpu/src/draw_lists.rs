@@ -37,7 +37,9 @@ pub struct GpuDrawParams {
     /// Vertices of a blade, of a billboard; 1 to colour blades by class;
     /// the billboards' debug colour (RGBA8, 0 = textured).
     pub draw: [u32; 4],
-    /// Billboard half width (m), unused ×3.
+    /// Billboard half width (m); drawn blades per listed blade (the
+    /// renderer's render density: the blade draws' instance counts are the
+    /// listed blades times this, at least 1; 0 reads as 1); unused ×2.
     pub size: [f32; 4],
     /// Debug colours (RGBA8): DBG this step, DBG earlier, PBG earlier, untouched.
     pub palette: [u32; 4],

@@ -16,7 +16,8 @@ struct DrawParams {
     // blade vertices, billboard vertices, classes view (1) or not (0),
     // billboard debug colour (RGBA8)
     draw: vec4<u32>,
-    // billboard half width (m), unused ×3
+    // billboard half width (m), drawn blades per listed blade (≥ 1; 0
+    // reads as 1), unused ×2
     size: vec4<f32>,
     // debug colours (RGBA8): DBG this step, DBG earlier, PBG earlier, untouched
     palette: vec4<u32>,
@@ -116,7 +117,13 @@ fn list_args(@builtin(global_invocation_id) gid: vec3<u32>) {
         verts = draw.draw.y;
     }
     args[4u * k] = verts;
-    args[4u * k + 1u] = atomicLoad(&counts[k]);
+    // Blade chunks: `size.y` drawn copies of each listed blade (the
+    // renderer's render density, at least 1).
+    var copies = max(u32(draw.size.y), 1u);
+    if k == draw.counts.w {
+        copies = 1u;
+    }
+    args[4u * k + 1u] = atomicLoad(&counts[k]) * copies;
     args[4u * k + 2u] = 0u;
     args[4u * k + 3u] = 0u;
 }

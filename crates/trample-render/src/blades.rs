@@ -260,14 +260,16 @@ impl BladePass {
         self.list.len()
     }
 
-    /// Records the draw into `pass`.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+    /// Records the draw into `pass`, `copies` drawn blades for each listed
+    /// one ([`crate::RenderParams::near_density`]; at least 1).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, copies: u32) {
         let Some(group) = self.bind_group.as_ref().filter(|_| !self.list.is_empty()) else {
             return;
         };
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(1, group, &[]);
-        pass.draw(0..2 * (self.segments + 1), 0..self.list.len() as u32);
+        let instances = (self.list.len() as u32).saturating_mul(copies.max(1));
+        pass.draw(0..2 * (self.segments + 1), 0..instances);
     }
 
     /// The vertices of one blade's strip.

@@ -28,9 +28,37 @@ fn vertex_of(k: u32, b: u32) -> vec3<f32> {
     let root = pos[l].xyz;
     return blade_wind_vertex(root, pos[k * chunk.y + l].xyz, k, globals.params.y, wind_tip_offset(root));
 }
+// Render density beyond the simulation's (issue 15 item 2): each simulated
+// blade is drawn `copies` times (globals.gusts.z, ≥ 1; instance ii is copy
+// ii % copies of listed blade ii / copies). Copy 0 is the simulated blade;
+// copy j > 0 is its bent shape (so it follows the deformation: a track, the
+// wind) moved by a fixed random offset within the blade spacing
+// (globals.sky_zenith.w, m), with its own facing, height and tint. Copies
+// thin out with the root's distance d from the eye: copy j is drawn to
+// reach_j = near_m · (1 − (j − 1) / copies), near_m = min(globals.gusts.w,
+// NEAR_OF_GEOMETRY · geometry_m), and shrinks to its root over the last
+// fifth of that, so nothing pops: the drawn density is back to the
+// simulated one well before cells change level (the copies would vanish
+// with their blades there).
+fn drawn_copies() -> u32 {
+    return max(u32(globals.gusts.z), 1u);
+}
+
+// How much of copy `copy` (≥ 1) of `copies` shows at distance `d` (m):
+// 1 near, 0 past its reach, linear between.
+const NEAR_OF_GEOMETRY: f32 = 0.6;
+
+fn copy_scale(copy: u32, copies: u32, d: f32) -> f32 {
+    let near = min(globals.gusts.w, NEAR_OF_GEOMETRY * globals.fog.z);
+    let reach = near * (1.0 - f32(copy - 1u) / f32(copies));
+    return clamp((reach - d) / max(0.2 * reach, 1e-3), 0.0, 1.0);
+}
+
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
-    let inst = instances[chunk.x + ii];
+    let copies = drawn_copies();
+    let inst = instances[chunk.x + ii / copies];
+    let copy = ii % copies;
     let b = inst.x;
     let n = globals.params.y;
     let k = vi / 2u;
@@ -38,10 +66,22 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let p = vertex_of(k, b);
     // Tangent of the bent shape at vertex k (central difference).
     let dir = normalize(vertex_of(min(k + 1u, n), b) - vertex_of(max(k, 1u) - 1u, b));
+    // A copy's own seed: its facing, offset, height and tint.
+    let seed = select(b, b * 7919u + copy * 104729u, copy != 0u);
     // The blade's flat side faces a fixed random direction, kept perpendicular to the tangent.
-    let across = blade_across(b, dir);
+    let across = blade_across(seed, dir);
     let t = f32(k) / f32(n);
-    let world = p + across * side * blade_width(shape[b].x, t);
+    var world = p + across * side * blade_width(shape[b].x, t);
+    var tint = shape[b].y;
+    if (copy != 0u) {
+        let root = vertex_of(0u, b);
+        let offset = vec3<f32>(hash01(seed ^ 0x68e31da4u) - 0.5, 0.0, hash01(seed ^ 0xb5297a4du) - 0.5)
+            * globals.sky_zenith.w;
+        let d = distance(root.xz + offset.xz, globals.eye.xz);
+        let height = 0.8 + 0.35 * hash01(seed ^ 0x1b56c4e9u);
+        world = root + offset + (world - root) * (height * copy_scale(copy, copies, d));
+        tint = fract(tint + 0.618034 * hash01(seed));
+    }
 
     var out: VertexOut;
     out.clip = globals.view_proj * vec4<f32>(world, 1.0);
@@ -51,7 +91,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     if (inst.y != 0u) {
         out.albedo = unpack4x8unorm(inst.y).rgb;
     } else {
-        out.albedo = blade_albedo(shape[b].y, t);
+        out.albedo = blade_albedo(tint, t);
     }
     return out;
 }

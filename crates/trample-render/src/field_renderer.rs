@@ -262,7 +262,15 @@ impl FieldRenderer {
             eye: camera.eye.extend(sim.time as f32),
             sun_dir: self.params.sun_dir.normalize_or(Vec3::Y).extend(0.55),
             sun_color: Vec4::new(1.0, 0.93, 0.8, 0.0) * 1.1,
-            sky_zenith: Vec4::new(0.16, 0.32, 0.72, 0.0),
+            // w: the spacing of simulated blades (m), over which
+            // `blades.wgsl` scatters the drawn copies.
+            sky_zenith: Vec4::new(
+                0.16,
+                0.32,
+                0.72,
+                sim.field.layout.cell_size
+                    / (sim.field.layout.blades_per_cell.max(1) as f32).sqrt(),
+            ),
             sky_horizon: Vec4::new(0.62, 0.72, 0.82, 0.0),
             fog: Vec4::new(
                 self.params.fog_start_m,
@@ -280,7 +288,12 @@ impl FieldRenderer {
                 let d = sim.wind.direction();
                 Vec4::new(d.x, sim.wind.strength_m, d.z, sim.wind.gust_m)
             },
-            gusts: Vec4::new(sim.wind.gust_period_s, sim.wind.gust_wavelength_m, 0.0, 0.0),
+            gusts: Vec4::new(
+                sim.wind.gust_period_s,
+                sim.wind.gust_wavelength_m,
+                self.params.near_density.max(1) as f32,
+                self.params.near_density_m,
+            ),
         }
     }
 
@@ -355,7 +368,7 @@ impl FieldRenderer {
             ],
             size: [
                 crate::billboards::half_width(gpu.sim.field.layout.cell_size),
-                0.0,
+                self.params.near_density.max(1) as f32,
                 0.0,
                 0.0,
             ],
@@ -406,7 +419,7 @@ impl FieldRenderer {
         match &self.source {
             Source::Nothing => {}
             Source::Cpu => {
-                self.blades.draw(pass);
+                self.blades.draw(pass, self.params.near_density);
                 self.billboards.draw(pass);
             }
             Source::Gpu {

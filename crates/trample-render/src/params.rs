@@ -81,6 +81,21 @@ pub struct RenderParams {
     /// Which of the scene's surroundings are drawn besides the grass
     /// (default: all; a host drawing its own world turns them off).
     pub layers: Layers,
+    /// Render density beyond the simulation's (issue 15 item 2): near the
+    /// camera each simulated blade is drawn this many times (≥ 1; 1 draws
+    /// the simulated blades alone), the copies scattered within the blade
+    /// spacing around it, following its deformation (its bent shape,
+    /// moved), each with its own facing, height and tint. The simulation,
+    /// its dumps and its cost are unchanged; drawing costs up to this many
+    /// times the blades' vertices. Default 6: the paper's one blade per
+    /// 10 cm cell reads as bare ground from a few metres.
+    pub near_density: u32,
+    /// How far from the eye the copies reach, metres (default 8; at most
+    /// 0.6 · `lod.geometry_m`, so that the grass is back to the simulated
+    /// density well before cells change level): copy j of `near_density`
+    /// is drawn to `reach · (1 − (j − 1) / near_density)` and shrinks to
+    /// its root over the last fifth of that, so the grass thins smoothly.
+    pub near_density_m: f32,
 }
 
 /// What a [`crate::FieldRenderer`] draws besides the grass (blades and
@@ -122,6 +137,8 @@ impl Default for RenderParams {
             fog_end_m: 140.0,
             track_darkening: 0.8,
             layers: Layers::default(),
+            near_density: 6,
+            near_density_m: 8.0,
         }
     }
 }

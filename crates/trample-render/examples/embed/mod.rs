@@ -221,11 +221,15 @@ impl Host {
                 .build()?,
         );
         // The host draws the cube itself: trample's objects layer is off.
+        // The simulated blades alone (`near_density: 1`): the meadow's
+        // denser near grass would hide most of the host's small cube from
+        // this low camera, and the example is about sharing the frame.
         let params = RenderParams {
             layers: Layers {
                 objects: false,
                 ..Layers::default()
             },
+            near_density: 1,
             ..RenderParams::default()
         };
         let grass = FieldRenderer::new(device, queue, &sim, target, params)?;
