@@ -46,6 +46,16 @@ pub struct Args {
     /// The simulation is the same; drawing costs more.
     #[arg(long, default_value_t = RenderParams::default().near_density, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub near_density: u32,
+    /// Blend band past `lod.geometry_m`, metres: there the blades of
+    /// billboard cells thin out while the billboards fade in (0 = the
+    /// paper's hard switch; default 4, `RenderParams::lod_blend_m`; at most
+    /// half the billboard band).
+    #[arg(long, default_value_t = RenderParams::default().lod_blend_m, value_parser = non_negative_metres, allow_negative_numbers = true)]
+    pub lod_blend: f32,
+    /// Blend band before `lod.billboard_m`, metres: the billboards thin
+    /// out over the ground (0 = none; default 6, `RenderParams::texture_blend_m`).
+    #[arg(long, default_value_t = RenderParams::default().texture_blend_m, value_parser = non_negative_metres, allow_negative_numbers = true)]
+    pub texture_blend: f32,
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]
     pub precision: Option<u32>,
@@ -61,6 +71,16 @@ pub struct Args {
     /// renderer does not draw from the GPU buffers yet).
     #[arg(long, value_enum, default_value_t = crate::backend::Backend::Auto)]
     pub backend: crate::backend::Backend,
+}
+
+/// A `--lod-blend`/`--texture-blend` value: a finite distance ≥ 0 metres.
+fn non_negative_metres(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
+        _ => Err(format!(
+            "{s:?} is not a distance: expected metres >= 0, e.g. 4"
+        )),
+    }
 }
 
 /// Frames per second of the rendered frames, each timed over its simulation
@@ -199,6 +219,8 @@ pub fn run(a: &Args) -> Result<()> {
         samples,
         debug: a.debug_view,
         near_density: a.near_density,
+        lod_blend_m: a.lod_blend,
+        texture_blend_m: a.texture_blend,
         ..RenderParams::default()
     };
     eprintln!(

@@ -289,6 +289,13 @@ fn bad_input_exits_non_zero_with_one_line() {
             d.join("h.npy").display().to_string(),
         ],
         vec!["check".into(), d.display().to_string()],
+        // A blend band is a distance >= 0.
+        vec![
+            "run".into(),
+            scene.clone(),
+            "--lod-blend".into(),
+            "-2".into(),
+        ],
         // --out names a file, not a folder.
         vec![
             "simulate".into(),

@@ -39,7 +39,10 @@ pub struct GpuDrawParams {
     pub draw: [u32; 4],
     /// Billboard half width (m); drawn blades per listed blade (the
     /// renderer's render density: the blade draws' instance counts are the
-    /// listed blades times this, at least 1; 0 reads as 1); unused ×2.
+    /// listed blades times this, at least 1; 0 reads as 1); the near blend
+    /// band (m: Billboard-LOD cells nearer to the viewpoint than
+    /// `geometry_m` plus this list their blades too, untouched ones in the
+    /// billboards' debug colour; 0: none); unused.
     pub size: [f32; 4],
     /// Debug colours (RGBA8): DBG this step, DBG earlier, PBG earlier, untouched.
     pub palette: [u32; 4],

@@ -17,7 +17,8 @@ struct DrawParams {
     // billboard debug colour (RGBA8)
     draw: vec4<u32>,
     // billboard half width (m), drawn blades per listed blade (≥ 1; 0
-    // reads as 1), unused ×2
+    // reads as 1), near blend band (m: billboard cells nearer than
+    // geometry_m + this list their blades too), unused
     size: vec4<f32>,
     // debug colours (RGBA8): DBG this step, DBG earlier, PBG earlier, untouched
     palette: vec4<u32>,
@@ -80,7 +81,12 @@ fn list_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
         return;
     }
     let level = cell_state[c] & 3u;
-    if level == DRAW_GEOMETRY {
+    // The near blend band (trample-render's `BladePass::prepare`): a
+    // billboard cell this near lists its blades as well as its billboard.
+    let to_eye = cell_rest[2u * c].xyz - params.eye.xyz;
+    let reach = params.eye.w + draw.size.z;
+    let in_band = level == DRAW_BILLBOARD && draw.size.z > 0.0 && dot(to_eye, to_eye) < reach * reach;
+    if level == DRAW_GEOMETRY || in_band {
         let bpc = params.cells.y;
         let chunk = c / max(draw.counts.z, 1u);
         let slot = atomicAdd(&counts[chunk], bpc);
@@ -90,10 +96,16 @@ fn list_cells(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
             var colour = 0u;
             if draw.draw.z == 1u {
                 colour = class_colour(b);
+                // trample-render's `band_colour`: untouched blades of a
+                // billboard cell show the billboards' colour.
+                if in_band && colour == draw.palette.w {
+                    colour = draw.draw.w;
+                }
             }
             blade_instances[first + slot + j] = vec2<u32>(b, colour);
         }
-    } else if level == DRAW_BILLBOARD {
+    }
+    if level == DRAW_BILLBOARD {
         let base = cell_rest[2u * c].xyz;
         let top = billboard_top(base, slope[c].xyz, cell_rest[2u * c].w);
         let slot = atomicAdd(&counts[draw.counts.w], 1u);

@@ -17,6 +17,9 @@ pub const WIDTH_OVER_CELL: f32 = 1.6;
 /// geometric band once the texture is split across two crossed quads).
 pub const CLUMP_BLADES: u32 = 6;
 
+/// Seed of the clump texture's blades.
+pub const CLUMP_SEED: u64 = 7;
+
 /// One drawn billboard. Layout-compatible with `Billboard` in billboards.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
@@ -56,7 +59,7 @@ impl BillboardPass {
             device,
             queue,
             "grass clump",
-            crate::textures::grass_clump(7, CLUMP_BLADES),
+            crate::textures::grass_clump(CLUMP_SEED, CLUMP_BLADES),
         );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("clump"),

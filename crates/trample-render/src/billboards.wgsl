@@ -22,6 +22,9 @@ struct VertexOut {
     @location(2) normal: vec3<f32>,
     @location(3) @interpolate(flat) debug: u32,
     @location(4) shade: f32,
+    // How much of the billboard shows (blend bands, globals.wgsl), its seed.
+    @location(5) @interpolate(flat) presence: f32,
+    @location(6) @interpolate(flat) seed: u32,
 }
 
 @vertex
@@ -47,6 +50,9 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     out.normal = normalize(cross(axis, top));
     out.debug = bb.extra.x;
     out.shade = 0.85 + 0.3 * hash01(seed ^ 0x51u);
+    let d = distance(bb.base.xyz, globals.eye.xyz);
+    out.presence = billboard_fade_in(d) * billboard_fade_out(d);
+    out.seed = seed * 2u + quad;
     return out;
 }
 
@@ -54,6 +60,13 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
 fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let texel = textureSample(clump, clump_sampler, v.uv);
     if (texel.a < 0.5) {
+        discard;
+    }
+    // Blend bands: a share `presence` of the billboard's columns shows
+    // (thin vertical strips, like blades: a dithered fade that keeps the
+    // drawn density as the blades thin out or the ground takes over).
+    let column = u32(floor(v.uv.x * 96.0));
+    if (hash01(column * 0x9e3779b9u ^ v.seed * 0x85ebca6bu) >= v.presence) {
         discard;
     }
     var n = normalize(v.normal);

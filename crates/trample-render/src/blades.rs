@@ -187,15 +187,20 @@ impl BladePass {
     }
 
     /// Uploads the blade vertices and this frame's instance list: the blades
-    /// of Geometry-LOD cells in visible patches. `debug` gives a blade's debug
-    /// colour (0 = normal shading). `upload` says which vertices to write;
-    /// returns the bytes of blade vertices and of the instance list written.
+    /// of Geometry-LOD cells in visible patches, and those of Billboard-LOD
+    /// cells nearer than `lod.geometry_m + band` to the viewpoint (the near
+    /// blend band, [`crate::RenderParams::lod_blend_m`]; the shader thins
+    /// them out). `debug` gives a blade's debug colour from its index and
+    /// its cell's level (0 = normal shading). `upload` says which vertices
+    /// to write; returns the bytes of blade vertices and of the instance
+    /// list written.
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         sim: &Simulation,
-        debug: impl Fn(usize) -> u32,
+        band: f32,
+        debug: impl Fn(usize, Lod) -> u32,
         upload: Upload,
     ) -> (u64, u64) {
         let blades = &sim.field.blades;
@@ -218,6 +223,10 @@ impl BladePass {
 
         let layout = &sim.field.layout;
         let per_cell = layout.blades_per_cell as usize;
+        let cells = &sim.field.cells;
+        // The near blend band: Billboard-LOD cells this near (squared).
+        let (eye, reach) = (sim.eye(), sim.lod.geometry_m + band.max(0.0));
+        let in_band = |c: usize| band > 0.0 && cells.base[c].distance_squared(eye) < reach * reach;
         self.list.clear();
         for (p, patch) in layout.patch_list.iter().enumerate() {
             if !sim.visible.get(p).copied().unwrap_or(true) {
@@ -225,7 +234,8 @@ impl BladePass {
             }
             let first = patch.first_cell as usize;
             for c in first..first + layout.cells_in_patch() {
-                if sim.field.cells.lod[c] != Lod::Geometry {
+                let level = cells.lod[c];
+                if level != Lod::Geometry && !(level == Lod::Billboard && in_band(c)) {
                     continue;
                 }
                 for b in c * per_cell..(c + 1) * per_cell {
@@ -233,7 +243,7 @@ impl BladePass {
                     if blades.seg_len[b] > 0.0 {
                         self.list.push(BladeInstance {
                             blade: b as u32,
-                            debug_rgba: debug(b),
+                            debug_rgba: debug(b, level),
                         });
                     }
                 }

@@ -73,8 +73,12 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let t = f32(k) / f32(n);
     var world = p + across * side * blade_width(shape[b].x, t);
     var tint = shape[b].y;
+    let root = vertex_of(0u, b);
+    // The near blend band (billboard cells' blades): a growing share
+    // shrinks to the root with distance as the billboards fade in.
+    let fade = blade_fade(hash01(seed ^ 0x2c1b3c6du), distance(root, globals.eye.xyz));
+    world = root + (world - root) * fade;
     if (copy != 0u) {
-        let root = vertex_of(0u, b);
         let offset = vec3<f32>(hash01(seed ^ 0x68e31da4u) - 0.5, 0.0, hash01(seed ^ 0xb5297a4du) - 0.5)
             * globals.sky_zenith.w;
         let d = distance(root.xz + offset.xz, globals.eye.xz);

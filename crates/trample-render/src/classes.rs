@@ -45,3 +45,15 @@ pub(crate) fn class_colour(sim: &Simulation, b: usize) -> u32 {
     };
     pack(c)
 }
+
+/// Classes view colour of a blade drawn in the near blend band (its cell at
+/// Billboard level, [`crate::RenderParams::lod_blend_m`]): an untouched one
+/// is a billboard cell's (yellow, `billboard`), a touched one keeps its
+/// class colour (the track); blades of Geometry-LOD cells keep `colour`.
+pub(crate) fn band_colour(colour: u32, level: trample::field::Lod, billboard: u32) -> u32 {
+    if level == trample::field::Lod::Billboard && colour == pack(UNTOUCHED) {
+        billboard
+    } else {
+        colour
+    }
+}

@@ -53,8 +53,8 @@
 use crate::billboards::BillboardPass;
 use crate::blades::{BladePass, Upload};
 use crate::classes::{
-    BILLBOARD_DEBUG, DBG_EARLIER, DBG_NOW, PBG_EARLIER, PBG_FADE, PBG_NOW, UNTOUCHED, class_colour,
-    pack,
+    BILLBOARD_DEBUG, DBG_EARLIER, DBG_NOW, PBG_EARLIER, PBG_FADE, PBG_NOW, UNTOUCHED, band_colour,
+    class_colour, pack,
 };
 use crate::error::RenderError;
 use crate::globals::Globals;
@@ -294,6 +294,10 @@ impl FieldRenderer {
                 self.params.near_density.max(1) as f32,
                 self.params.near_density_m,
             ),
+            blend: {
+                let [near, far] = self.params.blend_bands(&sim.lod);
+                Vec4::new(near, far, 0.0, 0.0)
+            },
         }
     }
 
@@ -317,11 +321,20 @@ impl FieldRenderer {
             Some(f) if f + 1 == sim.frame => Upload::Changed,
             _ => Upload::All,
         };
+        let [band, _] = self.params.blend_bands(&sim.lod);
         let (vertex_bytes, mut bytes) = if self.params.debug == DebugView::Classes {
-            self.blades
-                .prepare(device, queue, sim, |b| class_colour(sim, b), upload)
+            let billboard = pack(BILLBOARD_DEBUG);
+            self.blades.prepare(
+                device,
+                queue,
+                sim,
+                band,
+                |b, level| band_colour(class_colour(sim, b), level, billboard),
+                upload,
+            )
         } else {
-            self.blades.prepare(device, queue, sim, |_| 0, upload)
+            self.blades
+                .prepare(device, queue, sim, band, |_, _| 0, upload)
         };
         self.uploaded_frame = Some(sim.frame);
         bytes += match upload {
@@ -369,7 +382,7 @@ impl FieldRenderer {
             size: [
                 crate::billboards::half_width(gpu.sim.field.layout.cell_size),
                 self.params.near_density.max(1) as f32,
-                0.0,
+                self.params.blend_bands(&gpu.sim.lod)[0],
                 0.0,
             ],
             palette: [

@@ -33,11 +33,17 @@ pub struct Globals {
     /// Wind ([`trample::wind`]): xz unit direction, y steady tip
     /// displacement (m), w gust amplitude (m).
     pub wind: Vec4,
-    /// Wind gusts: x period (s), y wavelength (m).
+    /// Wind gusts: x period (s), y wavelength (m); z drawn copies per
+    /// simulated blade, w their reach (m) (render density).
     pub gusts: Vec4,
+    /// Blend bands between levels of detail (issue 15 item 1), metres: x
+    /// past `geometry_m`, where the blades of billboard cells thin out as
+    /// the billboards fade in; y before `billboard_m`, where the billboards
+    /// thin out over the ground. zw unused.
+    pub blend: Vec4,
 }
 
-const _: () = assert!(std::mem::size_of::<Globals>() == 272);
+const _: () = assert!(std::mem::size_of::<Globals>() == 288);
 
 /// The full source of a pass: the blade shape every renderer shares
 /// ([`trample::blade_shape::WGSL`]: hash, wind bend, strip, colour), the

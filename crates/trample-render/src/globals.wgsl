@@ -21,8 +21,13 @@ struct Globals {
     params: vec4<u32>,
     // xz: wind direction (unit), y: steady tip displacement (m), w: gust amplitude (m).
     wind: vec4<f32>,
-    // x: gust period (s), y: gust wavelength (m).
+    // x: gust period (s), y: gust wavelength (m), z: drawn copies per
+    // simulated blade, w: their reach (m).
     gusts: vec4<f32>,
+    // Blend bands between levels of detail (m): x past geometry_m (blades
+    // thin out, billboards fade in), y before billboard_m (billboards thin
+    // out over the ground).
+    blend: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> globals: Globals;
@@ -33,6 +38,43 @@ fn light(albedo: vec3<f32>, n: vec3<f32>, wrap: f32) -> vec3<f32> {
     let diffuse = max((ndl + wrap) / (1.0 + wrap), 0.0);
     let sky = mix(globals.sky_horizon.rgb, globals.sky_zenith.rgb, clamp(n.y * 0.5 + 0.5, 0.0, 1.0));
     return albedo * (globals.sun_color.rgb * diffuse + sky * globals.sun_dir.w);
+}
+
+// Blend bands between levels of detail (issue 15 item 1). How far the
+// billboards have faded in at distance `d` (m) from the eye: 0 up to
+// geometry_m, 1 past the near band (globals.blend.x; 1 everywhere without
+// one). The blades of billboard cells in the near band are drawn too, a
+// share 1 - billboard_fade_in(d) of them (blades.wgsl): the drawn density
+// is kept across the change of level.
+fn billboard_fade_in(d: f32) -> f32 {
+    if (globals.blend.x <= 0.0) {
+        return 1.0;
+    }
+    return clamp((d - globals.fog.z) / globals.blend.x, 0.0, 1.0);
+}
+
+// How much of the billboards is left at distance `d` (m): 1 up to the far
+// band (globals.blend.y), 0 at billboard_m, where the ground shows alone.
+fn billboard_fade_out(d: f32) -> f32 {
+    if (globals.blend.y <= 0.0) {
+        return 1.0;
+    }
+    return clamp((globals.fog.w - d) / globals.blend.y, 0.0, 1.0);
+}
+
+// Height scale of a blade (or drawn copy) whose own random value is `h` in
+// [0, 1), rooted `d` m from the eye: 1 nearer than geometry_m; in the near
+// band the blades with the lowest `h` shrink to their root first, so that
+// about 1 - billboard_fade_in(d) of them stand, each shrinking over a
+// short range (no blade pops).
+const BLEND_SOFTNESS: f32 = 0.3;
+
+fn blade_fade(h: f32, d: f32) -> f32 {
+    if (globals.blend.x <= 0.0) {
+        return 1.0;
+    }
+    let f = billboard_fade_in(d);
+    return clamp((h + BLEND_SOFTNESS - (1.0 + BLEND_SOFTNESS) * f) / BLEND_SOFTNESS, 0.0, 1.0);
 }
 
 // Distance fog towards the horizon colour.

@@ -96,6 +96,19 @@ pub struct RenderParams {
     /// is drawn to `reach · (1 − (j − 1) / near_density)` and shrinks to
     /// its root over the last fifth of that, so the grass thins smoothly.
     pub near_density_m: f32,
+    /// Width of the blend band past `lod.geometry_m`, metres (issue 15
+    /// item 1; default 4): there the blades of Billboard-LOD cells are
+    /// drawn too, a growing share of them shrinking away with distance,
+    /// while the billboards fade in (a dithered share of each), so the
+    /// drawn grass changes level without a ring round the camera. 0 turns
+    /// the band off (the paper's hard switch). At most half the billboard
+    /// band (`lod.billboard_m − lod.geometry_m`).
+    pub lod_blend_m: f32,
+    /// Width of the blend band before `lod.billboard_m`, metres (default
+    /// 6): the billboards thin out over the ground texture, which shows
+    /// alone past `lod.billboard_m`. 0 turns it off. At most half the
+    /// billboard band.
+    pub texture_blend_m: f32,
 }
 
 /// What a [`crate::FieldRenderer`] draws besides the grass (blades and
@@ -139,6 +152,31 @@ impl Default for RenderParams {
             layers: Layers::default(),
             near_density: 6,
             near_density_m: 8.0,
+            lod_blend_m: 4.0,
+            texture_blend_m: 6.0,
         }
+    }
+}
+
+impl RenderParams {
+    /// The blend bands in use for `lod`'s distances, metres: `[near, far]`
+    /// ([`RenderParams::lod_blend_m`], [`RenderParams::texture_blend_m`]),
+    /// each at most half the billboard band, 0 for a non-finite or
+    /// negative setting.
+    #[must_use]
+    pub fn blend_bands(&self, lod: &trample::field::lod::LodParams) -> [f32; 2] {
+        let room = if lod.billboard_m.is_finite() {
+            0.5 * (lod.billboard_m - lod.geometry_m).max(0.0)
+        } else {
+            f32::INFINITY
+        };
+        let clean = |m: f32| {
+            if m.is_finite() && m > 0.0 {
+                m.min(room)
+            } else {
+                0.0
+            }
+        };
+        [clean(self.lod_blend_m), clean(self.texture_blend_m)]
     }
 }

@@ -15,6 +15,8 @@ struct TrackGrid {
     grid: vec2<u32>,
     patches_x: u32,
     cells_per_patch: u32,
+    // rgb: the ground's tint at ground-texture level (terrain.rs `far_tint`).
+    far_tint: vec4<f32>,
 }
 @group(1) @binding(3) var<uniform> track: TrackGrid;
 
@@ -77,7 +79,11 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let d = distance(v.world, globals.eye.xyz);
     let far = smoothstep(globals.fog.z, globals.fog.w, d);
     let flat = sqrt(flatness_at(v.world.xz)) * track.darkening * far;
-    let albedo = mix(texel * m, texel * m * vec3<f32>(0.5, 0.45, 0.3), flat);
+    // At ground-texture level the ground stands for the grass: tinted to
+    // the billboards' mean colour, faded in across the billboard band
+    // (under the billboards), so no ring shows where they end.
+    let grass = texel * m * mix(vec3<f32>(1.0), track.far_tint.rgb, far);
+    let albedo = mix(grass, grass * vec3<f32>(0.5, 0.45, 0.3), flat);
     var c = light(albedo, normalize(v.normal), 0.0);
     if (globals.params.x != 0u) {
         // Debug view: Texture-LOD distance band grey, nearer ground dark.

@@ -28,6 +28,7 @@ pub const GROUND_TILE_M: f32 = 2.0;
 pub const CLUMP_SIZE: u32 = 128;
 
 /// An RGBA8 image (sRGB colour, linear alpha), row-major.
+#[derive(Clone)]
 pub struct Pixels {
     /// Width, texels.
     pub width: u32,
@@ -168,7 +169,74 @@ pub fn half(p: &Pixels) -> Pixels {
     }
 }
 
-/// Uploads `p` and its mip chain as an `Rgba8UnormSrgb` texture; returns its view.
+/// Mean linear colour of `p`'s opaque texels (alpha-weighted; sRGB decoded).
+#[must_use]
+pub fn mean_linear(p: &Pixels) -> [f32; 3] {
+    let decode = |c: u8| {
+        let x = f32::from(c) / 255.0;
+        if x <= 0.04045 {
+            x / 12.92
+        } else {
+            ((x + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let (mut sum, mut weight) = ([0.0f64; 3], 0.0f64);
+    for c in p.rgba.chunks(4) {
+        let a = f64::from(c[3]) / 255.0;
+        for (s, &v) in sum.iter_mut().zip(&c[..3]) {
+            *s += f64::from(decode(v)) * a;
+        }
+        weight += a;
+    }
+    sum.map(|s| (s / weight.max(1e-9)) as f32)
+}
+
+/// The alpha threshold of the billboards' alpha test (billboards.wgsl).
+pub const ALPHA_TEST: f32 = 0.5;
+
+/// Share of `p`'s texels that pass the alpha test with alpha scaled by `scale`.
+fn coverage(p: &Pixels, scale: f32) -> f32 {
+    let n = p.rgba.chunks(4).count().max(1);
+    let pass = p
+        .rgba
+        .chunks(4)
+        .filter(|c| f32::from(c[3]) / 255.0 * scale >= ALPHA_TEST)
+        .count();
+    pass as f32 / n as f32
+}
+
+/// Scales `p`'s alpha so that the share of texels passing the alpha test
+/// is as near `target` as it can be (coverage-preserving mip maps,
+/// Castaño 2010): a box-filtered mip of a sparse alpha-tested texture
+/// averages its alpha below the threshold and the billboards vanish with
+/// distance — a second ring where billboards give way to the ground.
+pub fn keep_coverage(p: &mut Pixels, target: f32) {
+    // coverage(scale) grows with scale: bisect in [0, 255] (255 brings
+    // any texel with alpha ≥ 1/255 over the threshold).
+    let (mut lo, mut hi) = (0.0f32, 255.0f32);
+    for _ in 0..24 {
+        let mid = 0.5 * (lo + hi);
+        if coverage(p, mid) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let (c_lo, c_hi) = (coverage(p, lo), coverage(p, hi));
+    let scale = if (c_hi - target).abs() <= (target - c_lo).abs() {
+        hi
+    } else {
+        lo
+    };
+    for c in p.rgba.chunks_mut(4) {
+        c[3] = (f32::from(c[3]) * scale).round().clamp(0.0, 255.0) as u8;
+    }
+}
+
+/// Uploads `p` and its mip chain as an `Rgba8UnormSrgb` texture; returns
+/// its view. A texture with transparent texels keeps its alpha-test
+/// coverage down the chain ([`keep_coverage`]); mips are made from the
+/// previous level before its alpha was rescaled.
 #[must_use]
 pub fn upload(
     device: &wgpu::Device,
@@ -191,8 +259,17 @@ pub fn upload(
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
+    let target = coverage(&p, 1.0);
     let mut level = p;
     for mip in 0..levels {
+        let mut scaled;
+        let upload = if mip > 0 && target < 1.0 {
+            scaled = level.clone();
+            keep_coverage(&mut scaled, target);
+            &scaled
+        } else {
+            &level
+        };
         queue.write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture: &texture,
@@ -200,15 +277,15 @@ pub fn upload(
                 origin: wgpu::Origin3d::ZERO,
                 aspect: wgpu::TextureAspect::All,
             },
-            &level.rgba,
+            &upload.rgba,
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
-                bytes_per_row: Some(level.width * 4),
-                rows_per_image: Some(level.height),
+                bytes_per_row: Some(upload.width * 4),
+                rows_per_image: Some(upload.height),
             },
             wgpu::Extent3d {
-                width: level.width,
-                height: level.height,
+                width: upload.width,
+                height: upload.height,
                 depth_or_array_layers: 1,
             },
         );
@@ -243,6 +320,36 @@ mod tests {
         let opaque = p.rgba.chunks(4).filter(|c| c[3] == 255).count();
         let all = (p.width * p.height) as usize;
         assert!(opaque > all / 20 && opaque < all / 2, "{opaque} of {all}");
+    }
+
+    #[test]
+    fn clump_mips_keep_their_coverage() {
+        let p = grass_clump(7, 6);
+        let target = coverage(&p, 1.0);
+        let mut level = p;
+        let mut box_filtered = Vec::new();
+        let mut kept = Vec::new();
+        while level.width > 4 {
+            level = half(&level);
+            box_filtered.push(coverage(&level, 1.0));
+            let mut scaled = level.clone();
+            keep_coverage(&mut scaled, target);
+            kept.push(coverage(&scaled, 1.0));
+        }
+        // Box filtering alone loses the billboards with distance...
+        assert!(
+            box_filtered.last().unwrap() < &(0.5 * target),
+            "{box_filtered:?} against {target}"
+        );
+        // ...kept coverage holds within a texel's share at every level.
+        for (i, c) in kept.iter().enumerate() {
+            let texel = 1.0 / ((CLUMP_SIZE >> (i + 1)) as f32).powi(2);
+            assert!(
+                (c - target).abs() <= 0.05 + texel,
+                "mip {}: coverage {c} against {target}",
+                i + 1
+            );
+        }
     }
 
     #[test]
