@@ -42,6 +42,7 @@ use super::exact::{STACK_SIZE, point_inside};
 use super::segment_obb::{
     centred, segment_depth_in_obb, segment_hits_obb_centred, segment_hits_obb_inflated,
 };
+use super::segment_obb_wide::Segments4;
 use crate::field::MAX_SEGMENTS;
 use crate::obb::build::closest_point_on_segment;
 use crate::obb::{MAX_TREE_DEPTH, ObbTree};
@@ -210,41 +211,73 @@ pub fn contact_segment(
     // True depths of the ends inside a closed mesh, asked at most once each.
     let mut known: [Option<Option<f32>>; 2] = [None, None];
     let mut pen = |q: Vec3| -> Option<f32> {
-        if !tree.closed {
-            return None;
-        }
         let k = usize::from(q != p0);
-        *known[k].get_or_insert_with(|| penetration(tree, q, 0.0).map(|(_, d)| d))
+        *known[k].get_or_insert_with(|| end_depth(tree, q))
     };
+    let ends = (p0, p1);
     let deepest = walk(tree, p0, p1, final_depth, shell, |i| {
-        let node = &tree.nodes[i as usize];
-        let depth = segment_depth_in_obb(centre, half, &node.obb, shell);
-        if depth > 0.0 {
-            let at = closest_point_on_segment(p0, p1, node.obb.center);
-            let moving = tree.node_velocity(i);
-            let full = shell + motion.ramp_at(at, moving);
-            // The below-patch depth only matters where it can raise the
-            // weight: the box depth is short of `full` (weight < 1).
-            let reach = match tree.eqn_unit(i) {
-                Some(n) if depth < full => depth.max(below_patch(
-                    node.obb.center,
-                    n,
-                    p0,
-                    p1,
-                    shell,
-                    depth,
-                    &mut pen,
-                )),
-                _ => depth,
-            };
-            let w = (reach / full).min(1.0);
-            acc.add(w, tree.eqn_direction(i, p0, p1), at, moving);
-        }
+        contact_node(tree, i, ends, shell, motion, &mut pen, &mut acc);
     });
-    // No final-depth box (grown by the shell) met: the segment crosses no
-    // triangle and is wholly outside a closed mesh, or wholly inside it,
-    // at least a shell deep; then its deeper end pushes towards the nearest
-    // surface.
+    contact_finish(tree, ends, shell, motion, deepest, acc)
+}
+
+/// How deep point `q` lies inside `tree`'s closed mesh (`None` outside, or
+/// for an open mesh): what `below_patch` asks.
+fn end_depth(tree: &ObbTree, q: Vec3) -> Option<f32> {
+    if !tree.closed {
+        return None;
+    }
+    penetration(tree, q, 0.0).map(|(_, d)| d)
+}
+
+/// The contact walk's work at final-depth node `i` hit by segment `ends`
+/// (see [`contact_segment`]): its weight, direction, point and velocity
+/// added to `acc` when the segment reaches into the node's grown box.
+/// `pen` answers [`end_depth`] for the segment's ends (cached by the caller).
+#[inline]
+fn contact_node(
+    tree: &ObbTree,
+    i: u32,
+    (p0, p1): (Vec3, Vec3),
+    shell: f32,
+    motion: &LocalMotion,
+    pen: &mut impl FnMut(Vec3) -> Option<f32>,
+    acc: &mut Weighted,
+) {
+    let node = &tree.nodes[i as usize];
+    let (centre, half) = centred(p0, p1);
+    let depth = segment_depth_in_obb(centre, half, &node.obb, shell);
+    if depth > 0.0 {
+        let at = closest_point_on_segment(p0, p1, node.obb.center);
+        let moving = tree.node_velocity(i);
+        let full = shell + motion.ramp_at(at, moving);
+        // The below-patch depth only matters where it can raise the
+        // weight: the box depth is short of `full` (weight < 1).
+        let reach = match tree.eqn_unit(i) {
+            Some(n) if depth < full => {
+                depth.max(below_patch(node.obb.center, n, p0, p1, shell, depth, pen))
+            }
+            _ => depth,
+        };
+        let w = (reach / full).min(1.0);
+        acc.add(w, tree.eqn_direction(i, p0, p1), at, moving);
+    }
+}
+
+/// The contact of segment `ends` once the walk is done (`deepest`: the
+/// deepest node it hit, 0 if none; `acc`: its final nodes): when no
+/// final-depth box (grown by the shell) was met, the segment crosses no
+/// triangle and is wholly outside a closed mesh, or wholly inside it, at
+/// least a shell deep; then its deeper end pushes towards the nearest
+/// surface.
+fn contact_finish(
+    tree: &ObbTree,
+    (p0, p1): (Vec3, Vec3),
+    shell: f32,
+    motion: &LocalMotion,
+    deepest: u32,
+    mut acc: Weighted,
+) -> Option<SegmentContact> {
     if acc.max == 0.0 && tree.closed && deepest > 0 && point_inside(tree, (p0 + p1) * 0.5) {
         let deeper = [p0, p1]
             .into_iter()
@@ -328,6 +361,14 @@ pub fn collide_blade(
 /// [`collide_blade`] with [`contact_segment`]: the weighted contacts of
 /// one blade's segments (object-local vertices), boxes grown by `shell`,
 /// weights reaching 1 at `ramp`.
+///
+/// The same contacts as [`contact_segment`] on each segment, bit for bit
+/// (tested), found by one walk of the tree for four segments at a time
+/// (issue 16 item 2): each node's box is tested against the four with the
+/// wide test ([`Segments4::hit_mask_grown`], the same answers as the
+/// scalar test), the walk carries the mask of segments still in, and each
+/// segment's final nodes are met in the scalar walk's order. A vertex's
+/// depth inside a closed mesh is asked at most once for the blade.
 pub fn contact_blade(
     verts_local: &[Vec3],
     tree: &ObbTree,
@@ -336,9 +377,109 @@ pub fn contact_blade(
     motion: &LocalMotion,
     out: &mut BladeContacts,
 ) {
-    blade(verts_local, out, |p0, p1| {
-        contact_segment(p0, p1, tree, precision, shell, motion)
-    });
+    let root = tree.reach.first().or(tree.nodes.first().map(|n| &n.obb));
+    let (Some(root), false) = (root, shell.is_nan() || shell <= 0.0) else {
+        blade(verts_local, out, |p0, p1| {
+            contact_segment(p0, p1, tree, precision, shell, motion)
+        });
+        return;
+    };
+    *out = BladeContacts::default();
+    let n = verts_local.len().saturating_sub(1).min(MAX_SEGMENTS);
+    let final_depth = precision.clamp(1, MAX_TREE_DEPTH);
+    // Depths of the blade's vertices inside a closed mesh, asked at most once.
+    let mut known = [None::<Option<f32>>; MAX_SEGMENTS + 1];
+    for first in (0..n).step_by(LANES) {
+        let lanes = (n - first).min(LANES);
+        // Lanes past the blade's last segment get NaN ends: they miss.
+        let mut ends = [(Vec3::NAN, Vec3::NAN); LANES];
+        for (l, e) in ends.iter_mut().enumerate().take(lanes) {
+            *e = (verts_local[first + l], verts_local[first + l + 1]);
+        }
+        let segments = Segments4::new(ends.map(|e| e.0), ends.map(|e| e.1));
+        // The scalar query's first test: the root's reach box, grown.
+        let mask = segments.hit_mask_grown(root, shell);
+        if mask == 0 {
+            continue;
+        }
+        let mut acc: [Weighted; LANES] = Default::default();
+        let deepest = walk4(tree, &segments, mask, final_depth, shell, |l, i| {
+            let (p0, _) = ends[l];
+            let mut pen = |q: Vec3| -> Option<f32> {
+                let v = first + l + usize::from(q != p0);
+                *known[v].get_or_insert_with(|| end_depth(tree, q))
+            };
+            contact_node(tree, i, ends[l], shell, motion, &mut pen, &mut acc[l]);
+        });
+        for (l, acc) in acc.into_iter().enumerate() {
+            if mask & (1 << l) == 0 {
+                continue;
+            }
+            if let Some(c) = contact_finish(tree, ends[l], shell, motion, deepest[l], acc) {
+                out.mask |= 1 << (first + l);
+                out.contacts[first + l] = c;
+            }
+        }
+    }
+}
+
+/// Segments [`walk4`] tests at once.
+const LANES: usize = 4;
+
+/// [`walk`] for the segments of `segments` whose bits are set in `mask`,
+/// with the contact walk's boxes (`shell > 0`): one wide box test per node
+/// for all of them; the mask of segments that met a node goes down to its
+/// children. Calls `final_node(lane, node)` for each final node each
+/// segment hits — for one segment, the nodes and their order are those of
+/// [`walk`] on it alone (the same depth-first, left-first order, the same
+/// tests). Returns the deepest node hit per lane (0: none).
+#[inline]
+fn walk4(
+    tree: &ObbTree,
+    segments: &Segments4,
+    mask: u32,
+    final_depth: u32,
+    shell: f32,
+    mut final_node: impl FnMut(usize, u32),
+) -> [u32; LANES] {
+    let mut deepest_hit = [0; LANES];
+    // (node index, depth, lanes in).
+    let mut stack = [(0u32, 1u32, 0u32); STACK_SIZE];
+    stack[0].2 = mask;
+    let mut len = 1;
+    while len > 0 {
+        len -= 1;
+        let (i, depth, lanes) = stack[len];
+        let Some(node) = tree.nodes.get(i as usize) else {
+            continue;
+        };
+        let [l, r] = node.children;
+        // As in `walk`: children only at larger indices, a bounded stack.
+        let descend =
+            depth < final_depth && !node.is_leaf() && l > i && r > i && len + 2 <= STACK_SIZE;
+        let reach = tree.reach.get(i as usize).filter(|_| descend);
+        let hit = lanes & segments.hit_mask_grown(reach.unwrap_or(&node.obb), shell);
+        if hit == 0 {
+            continue;
+        }
+        for (lane, d) in deepest_hit.iter_mut().enumerate() {
+            if hit & (1 << lane) != 0 {
+                *d = (*d).max(depth);
+            }
+        }
+        if descend {
+            stack[len] = (r, depth + 1, hit);
+            stack[len + 1] = (l, depth + 1, hit);
+            len += 2;
+        } else {
+            for lane in 0..LANES {
+                if hit & (1 << lane) != 0 {
+                    final_node(lane, i);
+                }
+            }
+        }
+    }
+    deepest_hit
 }
 
 /// How many sub-step travels of the object's surface deep a segment must
@@ -468,7 +609,7 @@ impl FirstAndSum {
 }
 
 /// The final-depth nodes of [`contact_segment`], weighted.
-#[derive(Default)]
+#[derive(Clone, Copy, Default)]
 struct Weighted {
     /// Σ w_j · dir_j.
     dir: Vec3,
@@ -566,4 +707,157 @@ fn walk(
         }
     }
     deepest_hit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::obb::Obb;
+    use crate::object::shapes::{cuboid, knot, sphere};
+    use glam::Quat;
+
+    /// xorshift in [-1, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+        }
+        fn vec(&mut self, r: f32) -> Vec3 {
+            Vec3::new(self.next(), self.next(), self.next()) * r
+        }
+    }
+
+    /// The grown wide test answers as the scalar grown test on every lane,
+    /// on random segments and on segments ending exactly on the grown
+    /// box's faces and corners (ties).
+    #[test]
+    fn wide_grown_test_equals_scalar_grown_test() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let mut hits = 0;
+        for g in 0..20_000 {
+            let rot = Quat::from_scaled_axis(rng.vec(3.0));
+            let obb = Obb {
+                center: rng.vec(2.0),
+                axes: [rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z],
+                half: rng.vec(1.0).abs(),
+            };
+            let shell = [0.0, 0.005, 0.05, rng.next().abs()][g % 4];
+            let grown = obb.half + shell;
+            let on_surface = |rng: &mut Rng| {
+                let mut q = rng.vec(1.0) * grown;
+                let k = (rng.next().abs() * 3.0) as usize % 3;
+                q[k] = grown[k].copysign(q[k]);
+                obb.center + obb.axes[0] * q.x + obb.axes[1] * q.y + obb.axes[2] * q.z
+            };
+            let (p0, p1) = if g % 2 == 0 {
+                (
+                    [(); 4].map(|_| obb.center + rng.vec(2.5)),
+                    [(); 4].map(|_| obb.center + rng.vec(2.5)),
+                )
+            } else {
+                (
+                    [(); 4].map(|_| on_surface(&mut rng)),
+                    [(); 4].map(|_| on_surface(&mut rng)),
+                )
+            };
+            let mask = Segments4::new(p0, p1).hit_mask_grown(&obb, shell);
+            for i in 0..4 {
+                let (c, h) = centred(p0[i], p1[i]);
+                let scalar = segment_hits_obb_inflated(c, h, &obb, shell);
+                assert_eq!(mask >> i & 1 == 1, scalar, "group {g}, lane {i}");
+                hits += u32::from(scalar);
+            }
+        }
+        assert!(hits > 10_000 && hits < 70_000, "{hits}");
+    }
+
+    /// The one-walk-per-blade contact query gives each segment's
+    /// `contact_segment` answer, bit for bit: random blades of 1 to 9
+    /// segments around closed and open meshes, at rest and moving, every
+    /// precision, some blades with a non-finite vertex.
+    #[test]
+    fn contact_blade_equals_contact_segment_on_each_segment() {
+        let mut sheet = cuboid(Vec3::ONE);
+        sheet
+            .indices
+            .retain(|t| t.iter().all(|&i| sheet.positions[i as usize].y > 0.5));
+        let meshes = [
+            sphere(1.0, 3),
+            knot(2.4),
+            cuboid(Vec3::new(0.6, 0.3, 0.9)),
+            sheet,
+        ];
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let (mut hit_segments, mut blades) = (0, 0);
+        for mesh in &meshes {
+            let tree = ObbTree::build(mesh, 10);
+            for precision in 1..=9 {
+                for b in 0..300 {
+                    let motion = if b % 2 == 0 {
+                        LocalMotion::STILL
+                    } else {
+                        LocalMotion {
+                            velocity: rng.vec(3.0),
+                            angular_velocity: rng.vec(2.0),
+                            h: 1.0 / 120.0,
+                            thickness: 1.0,
+                        }
+                    };
+                    let n = 1 + b % 9;
+                    let mut verts = vec![rng.vec(1.4)];
+                    for _ in 0..n {
+                        let last = *verts.last().unwrap();
+                        verts.push(last + rng.vec(0.15));
+                    }
+                    if b % 37 == 0 {
+                        verts[b % (n + 1)].y = f32::NAN;
+                    }
+                    let shell = [0.005, 0.02][b % 2];
+                    let mut wide = BladeContacts::default();
+                    contact_blade(&verts, &tree, precision, shell, &motion, &mut wide);
+                    for k in 0..n {
+                        let one = contact_segment(
+                            verts[k],
+                            verts[k + 1],
+                            &tree,
+                            precision,
+                            shell,
+                            &motion,
+                        );
+                        assert_eq!(
+                            wide.mask >> k & 1 == 1,
+                            one.is_some(),
+                            "precision {precision}, blade {b}, segment {k}"
+                        );
+                        if let Some(c) = one {
+                            let w = wide.contacts[k];
+                            let bits = |c: &SegmentContact| {
+                                [c.dir, c.point, c.velocity]
+                                    .map(|v| v.to_array().map(f32::to_bits))
+                                    .concat()
+                                    .into_iter()
+                                    .chain([c.weight.to_bits()])
+                                    .collect::<Vec<_>>()
+                            };
+                            assert_eq!(
+                                bits(&w),
+                                bits(&c),
+                                "precision {precision}, blade {b}, segment {k}"
+                            );
+                            hit_segments += 1;
+                        }
+                    }
+                    blades += 1;
+                }
+            }
+        }
+        // Contacts are common and not universal.
+        assert!(
+            hit_segments > blades / 2 && hit_segments < blades * 4,
+            "{hit_segments} of {blades} blades"
+        );
+    }
 }

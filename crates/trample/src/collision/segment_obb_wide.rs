@@ -16,7 +16,10 @@
 //!
 //! Use: a traversal moves a blade's segments into the object's frame once,
 //! packs them with [`Segments4::new`], and tests them against each node's
-//! box with [`Segments4::hit_mask`]. Not yet wired into the narrow phase.
+//! box with [`Segments4::hit_mask`] ([`Segments4::hit_mask_grown`] for the
+//! contact walk's boxes grown by the shell): the narrow phase's
+//! [`super::narrow_phase::contact_blade`] walks the tree once for four
+//! segments of a blade.
 
 use glam::{Vec3, Vec4};
 
@@ -63,6 +66,24 @@ impl Segments4 {
     #[must_use]
     #[inline]
     pub fn hit_mask(&self, obb: &Obb) -> u32 {
+        self.mask_within(obb, [obb.half.x, obb.half.y, obb.half.z])
+    }
+
+    /// [`Segments4::hit_mask`] against `obb` grown by `shell` metres on
+    /// every side: the same answers as the scalar
+    /// `segment_hits_obb_inflated` on each segment (the grown half extents
+    /// are summed as it sums them).
+    #[must_use]
+    #[inline]
+    pub fn hit_mask_grown(&self, obb: &Obb, shell: f32) -> u32 {
+        let grown = glam::Vec3A::from(obb.half) + shell;
+        self.mask_within(obb, [grown.x, grown.y, grown.z])
+    }
+
+    /// The lanes whose segment meets the box of `obb`'s centre and axes
+    /// with half extents `half`.
+    #[inline]
+    fn mask_within(&self, obb: &Obb, half: [f32; 3]) -> u32 {
         let [u, v, w] = obb.axes;
         let o = obb.center;
         let d = [0, 1, 2].map(|k| self.centre[k] - Vec4::splat(o[k]));
@@ -77,7 +98,7 @@ impl Segments4 {
             frame(w, &self.half),
         ];
         let ah = h.map(Vec4::abs);
-        let e = [obb.half.x, obb.half.y, obb.half.z].map(Vec4::splat);
+        let e = half.map(Vec4::splat);
         // The three face normals (the slab test).
         let faces = c[0].abs().cmple(e[0] + ah[0])
             & c[1].abs().cmple(e[1] + ah[1])
