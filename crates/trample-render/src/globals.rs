@@ -33,11 +33,18 @@ pub struct Globals {
     /// Wind ([`trample::wind`]): xz unit direction, y steady tip
     /// displacement (m), w gust amplitude (m).
     pub wind: Vec4,
-    /// Wind gusts: x period (s), y wavelength (m).
+    /// Wind gusts: x period (s), y wavelength (m), z drawn blades per
+    /// simulated blade, w their reach (m).
     pub gusts: Vec4,
+    /// World → the sun's shadow-map clip space ([`crate::shadows::light_view_proj`]).
+    pub light_view_proj: Mat4,
+    /// x shadow strength (0 = no shadows: the map is not sampled), y
+    /// ambient-occlusion strength, z depth bias of the shadow test (clip
+    /// depth), w unused.
+    pub shadow: Vec4,
 }
 
-const _: () = assert!(std::mem::size_of::<Globals>() == 272);
+const _: () = assert!(std::mem::size_of::<Globals>() == 352);
 
 /// The full source of a pass: the blade shape every renderer shares
 /// ([`trample::blade_shape::WGSL`]: hash, wind bend, strip, colour), the

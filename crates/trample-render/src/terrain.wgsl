@@ -63,6 +63,12 @@ fn flatness_at(xz: vec2<f32>) -> f32 {
     return clamp(mix(a, b, t.y), 0.0, 1.0);
 }
 
+// 1 over the field's cells, 0 outside.
+fn in_field(xz: vec2<f32>) -> f32 {
+    let g = (xz - track.origin) / track.cell_size;
+    return select(0.0, 1.0, all(g >= vec2<f32>(0.0)) && all(g < vec2<f32>(track.grid)));
+}
+
 @fragment
 fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let texel = textureSample(ground, ground_sampler, v.world.xz / TILE_M).rgb;
@@ -78,7 +84,10 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let far = smoothstep(globals.fog.z, globals.fog.w, d);
     let flat = sqrt(flatness_at(v.world.xz)) * track.darkening * far;
     let albedo = mix(texel * m, texel * m * vec3<f32>(0.5, 0.45, 0.3), flat);
-    var c = light(albedo, normalize(v.normal), 0.0);
+    // The bodies' shadows; among the geometric blades the ground is as dark
+    // as their roots (ambient occlusion, faded out with them).
+    let ao = mix(grass_ao(0.0, 1.0), 1.0, max(far, 1.0 - in_field(v.world.xz)));
+    var c = light_shaded(albedo, normalize(v.normal), 0.0, sun_visibility(v.world), ao);
     if (globals.params.x != 0u) {
         // Debug view: Texture-LOD distance band grey, nearer ground dark.
         let d = distance(v.world, globals.eye.xyz);
