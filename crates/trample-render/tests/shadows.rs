@@ -177,6 +177,47 @@ fn the_ball_shadows_the_grass_in_its_footprint() {
     );
 }
 
+#[test]
+fn the_gpu_path_draws_the_shadow_too() {
+    // The same frame drawn from the GPU path's buffers (`prepare_gpu`
+    // records the shadow pass too).
+    let gpu = gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let cpu = scene_with_ball();
+    let mut g = trample_gpu::GpuSimulation::new(device, queue, cpu.clone()).unwrap();
+    g.step(device, queue, 1.0 / 60.0).unwrap();
+    let frame = |shadow_strength: f32, g: &mut trample_gpu::GpuSimulation| {
+        let params = RenderParams {
+            width: W,
+            height: H,
+            samples: gpu.msaa(4),
+            shadow_strength,
+            ..RenderParams::default()
+        };
+        Renderer::new_gpu(device, queue, g, params)
+            .unwrap()
+            .render_gpu(device, queue, g)
+            .unwrap()
+    };
+    let (on, off) = (frame(1.0, &mut g), frame(0.0, &mut g));
+    let _ = on.save(std::env::temp_dir().join("trample-shadows-gpu-on.png"));
+    let (shadow_on, beside_on) = footprint_and_beside(&cpu, &on);
+    let (shadow_off, beside_off) = footprint_and_beside(&cpu, &off);
+    eprintln!(
+        "GPU path: footprint / beside {:.2} with shadows, {:.2} without",
+        shadow_on / beside_on,
+        shadow_off / beside_off
+    );
+    assert!(
+        shadow_on < 0.7 * beside_on,
+        "{shadow_on:.1} / {beside_on:.1}"
+    );
+    assert!(
+        shadow_off > 0.9 * beside_off,
+        "{shadow_off:.1} / {beside_off:.1}"
+    );
+}
+
 /// Whether `p` reads as grass: green above red and blue (not the sky).
 fn is_grass(p: &image::Rgba<u8>) -> bool {
     let [r, g, b, _] = p.0;
