@@ -46,6 +46,14 @@ pub struct Args {
     /// The simulation is the same; drawing costs more.
     #[arg(long, default_value_t = RenderParams::default().near_density, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub near_density: u32,
+    /// Shadow strength of the bodies' shadows on the grass, 0..=1 (0 = no
+    /// shadow pass; default 1, `RenderParams::shadow_strength`).
+    #[arg(long, default_value_t = RenderParams::default().shadow_strength)]
+    pub shadows: f32,
+    /// Ambient-occlusion strength of the grass (0 = none; default 1,
+    /// `RenderParams::ambient_occlusion`).
+    #[arg(long, default_value_t = RenderParams::default().ambient_occlusion)]
+    pub ambient_occlusion: f32,
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]
     pub precision: Option<u32>,
@@ -83,6 +91,10 @@ struct RunSummary {
     debug_view: String,
     /// Blades drawn per simulated blade near the camera (`--near-density`).
     near_density: u32,
+    /// Shadow strength (`--shadows`).
+    shadows: f32,
+    /// Ambient-occlusion strength (`--ambient-occlusion`).
+    ambient_occlusion: f32,
     /// Render + read-back time per rendered frame, ms.
     render_ms: Stats,
     render_ms_per_frame: Vec<f64>,
@@ -199,6 +211,8 @@ pub fn run(a: &Args) -> Result<()> {
         samples,
         debug: a.debug_view,
         near_density: a.near_density,
+        shadow_strength: a.shadows.clamp(0.0, 1.0),
+        ambient_occlusion: a.ambient_occlusion.max(0.0),
         ..RenderParams::default()
     };
     eprintln!(
@@ -329,6 +343,8 @@ pub fn run(a: &Args) -> Result<()> {
         msaa: samples,
         debug_view: format!("{:?}", a.debug_view).to_lowercase(),
         near_density: a.near_density,
+        shadows: a.shadows.clamp(0.0, 1.0),
+        ambient_occlusion: a.ambient_occlusion.max(0.0),
         render_ms: Stats::of(&render_ms),
         render_ms_per_frame: render_ms,
         fps: Fps {

@@ -1,7 +1,8 @@
 //! The field's renderer as wgpu middleware (issue 14 item 3; the pattern of
 //! STYLE.md, as egui-wgpu and glyphon): made from the host's device and
 //! target formats, [`FieldRenderer::prepare`] uploads a frame (recording
-//! into the host's encoder where it needs to), [`FieldRenderer::render`]
+//! into the host's encoder where it needs to: the GPU path's draw lists,
+//! the sun's shadow map), [`FieldRenderer::render`]
 //! records the draws into the render pass the host opened. It never opens,
 //! clears or ends a pass and never owns a surface, so grass and the host's
 //! own geometry share one colour and one depth buffer and hide each other
@@ -336,10 +337,13 @@ impl FieldRenderer {
     /// Uploads `sim`'s current state for a frame seen by `camera` (the
     /// host's matrices): the blades the last step changed (all of them
     /// when this renderer did not see the step before), the draw lists of
-    /// the visible patches, the bodies' poses. Call once a frame, after
-    /// the step and before [`FieldRenderer::render`]; submit `encoder`
-    /// after it (the CPU path writes through `queue`, which lands before
-    /// the encoder's commands; the GPU path records into `encoder`).
+    /// the visible patches, the bodies' poses, and the sun's shadow map (a
+    /// depth-only pass of its own, recorded into `encoder`:
+    /// [`crate::shadows`]). Call once a frame, after the step and before
+    /// [`FieldRenderer::render`]; open the host's pass on `encoder` after
+    /// it (or on an encoder submitted after it); submit `encoder` after it
+    /// (the CPU path writes through `queue`, which lands before the
+    /// encoder's commands).
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
