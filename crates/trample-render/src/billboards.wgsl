@@ -22,6 +22,8 @@ struct VertexOut {
     @location(2) normal: vec3<f32>,
     @location(3) @interpolate(flat) debug: u32,
     @location(4) shade: f32,
+    // The sun's visibility (globals.wgsl), per vertex as the blades'.
+    @location(5) sun: f32,
 }
 
 @vertex
@@ -46,6 +48,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     out.uv = vec2<f32>(u0 + x * 0.5, 1.0 - y);
     out.normal = normalize(cross(axis, top));
     out.debug = bb.extra.x;
+    out.sun = sun_visibility(world);
     // Ambient occlusion as the cell lies flatter (globals.wgsl; towards the base: fs_main).
     out.shade = (0.85 + 0.3 * hash01(seed ^ 0x51u)) * grass_ao(1.0, bb.top.y / max(length(bb.top.xyz), 1e-6));
     return out;
@@ -64,7 +67,7 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     }
     // Lit like a blade seen side-on: mostly wrapped, so the quad does not flash as it turns.
     n = normalize(n + vec3<f32>(0.0, 1.2, 0.0));
-    var c = light_shaded(texel.rgb * v.shade, n, 0.4, sun_visibility(v.world), grass_ao(1.0 - v.uv.y, 1.0));
+    var c = light_shaded(texel.rgb * v.shade, n, 0.4, v.sun, grass_ao(1.0 - v.uv.y, 1.0));
     if (v.debug != 0u) {
         c = unpack4x8unorm(v.debug).rgb * (0.6 + 0.4 * (1.0 - v.uv.y));
     }

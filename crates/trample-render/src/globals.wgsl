@@ -53,9 +53,10 @@ fn light_shaded(albedo: vec3<f32>, n: vec3<f32>, wrap: f32, sun: f32, ao: f32) -
 }
 
 // How much of the sun reaches `world`: 1 in the light, 1 - shadow strength
-// in a body's shadow; 1 outside the map or with shadows off. Four taps of
-// the linear comparison sampler (2x2 PCF each) half a texel apart soften
-// the edge.
+// in a body's shadow; 1 outside the map or with shadows off. One tap of
+// the linear comparison sampler: 2x2 PCF, bilinear between the texels'
+// tests (four taps cost llvmpipe a third more render time on the default
+// scene: it runs both sides of a branch).
 fn sun_visibility(world: vec3<f32>) -> f32 {
     if (globals.shadow.x <= 0.0) {
         return 1.0;
@@ -65,13 +66,8 @@ fn sun_visibility(world: vec3<f32>) -> f32 {
     if (any(uv <= vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) || p.z >= 1.0) {
         return 1.0;
     }
-    let z = p.z - globals.shadow.z;
-    let t = 0.5 / vec2<f32>(textureDimensions(shadow_map));
-    let lit = textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-t.x, -t.y), z)
-        + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(t.x, -t.y), z)
-        + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(-t.x, t.y), z)
-        + textureSampleCompareLevel(shadow_map, shadow_sampler, uv + vec2<f32>(t.x, t.y), z);
-    return 1.0 - globals.shadow.x * (1.0 - 0.25 * lit);
+    let lit = textureSampleCompareLevel(shadow_map, shadow_sampler, uv, p.z - globals.shadow.z);
+    return 1.0 - globals.shadow.x * (1.0 - lit);
 }
 
 // Ambient occlusion of grass: 1 at the tip of a standing blade, darker

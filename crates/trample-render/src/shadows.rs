@@ -38,13 +38,14 @@ pub struct ShadowPass {
 }
 
 /// Group-0 layout entries of the map and its comparison sampler (bindings
-/// 1 and 2, fragment stage), beside the globals at binding 0.
+/// 1 and 2; vertex and fragment stages: blades and billboards look up
+/// per vertex), beside the globals at binding 0.
 #[must_use]
 pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
     [
         wgpu::BindGroupLayoutEntry {
             binding: 1,
-            visibility: wgpu::ShaderStages::FRAGMENT,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
             ty: wgpu::BindingType::Texture {
                 sample_type: wgpu::TextureSampleType::Depth,
                 view_dimension: wgpu::TextureViewDimension::D2,
@@ -54,7 +55,7 @@ pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
         },
         wgpu::BindGroupLayoutEntry {
             binding: 2,
-            visibility: wgpu::ShaderStages::FRAGMENT,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
             ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
             count: None,
         },
