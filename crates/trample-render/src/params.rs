@@ -102,7 +102,10 @@ pub struct RenderParams {
     /// turns shadows off: no shadow pass, no shadow-map lookups. The sun's
     /// shadow map ([`crate::shadows`]) holds the bodies only: they shadow
     /// the grass; grass does not cast (its own darkening is
-    /// [`RenderParams::ambient_occlusion`]).
+    /// [`RenderParams::ambient_occlusion`]). Cost on llvmpipe, default
+    /// scene at 1280×720: about +8 % render time (the blades and billboards
+    /// look the map up per vertex); about as much with shadows off (a
+    /// software rasteriser runs the lookup under a false branch too).
     pub shadow_strength: f32,
     /// Side of the shadow map, texels (default 2048, `Depth32Float`: 16
     /// MiB; with the default `shadow_m` a texel is 4 cm, well under a

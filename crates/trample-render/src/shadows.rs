@@ -3,7 +3,8 @@
 //! the sun sees them, orthographic, into a square `Depth32Float` texture
 //! around the eye. The blades, billboards, ground and bodies sample it
 //! (`sun_visibility` in `globals.wgsl`, 2×2 PCF through a linear comparison
-//! sampler): in a body's shadow only the sky's ambient light is left.
+//! sampler; the blades and billboards per vertex, the ground and bodies per
+//! fragment): in a body's shadow only the sky's ambient light is left.
 //! Grass does not cast (the grass's own darkening is its ambient occlusion,
 //! `grass_ao`).
 //!
