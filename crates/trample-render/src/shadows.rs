@@ -24,7 +24,7 @@ pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float
 
 /// Metres of the light's depth range on either side of the eye: bodies up
 /// to this far above (along the sun) or below the eye cast.
-const DEPTH_RANGE_M: f32 = 250.0;
+pub const DEPTH_RANGE_M: f32 = 250.0;
 
 /// The shadow map, its pipeline and what the receivers bind.
 pub struct ShadowPass {
