@@ -56,6 +56,14 @@ pub struct Args {
     /// out over the ground (0 = none; default 6, `RenderParams::texture_blend_m`).
     #[arg(long, default_value_t = RenderParams::default().texture_blend_m, value_parser = non_negative_metres, allow_negative_numbers = true)]
     pub texture_blend: f32,
+    /// Shadow strength of the bodies' shadows on the grass, 0..=1 (0 = no
+    /// shadow pass; default 1, `RenderParams::shadow_strength`).
+    #[arg(long, default_value_t = RenderParams::default().shadow_strength)]
+    pub shadows: f32,
+    /// Ambient-occlusion strength of the grass (0 = none; default 1,
+    /// `RenderParams::ambient_occlusion`).
+    #[arg(long, default_value_t = RenderParams::default().ambient_occlusion)]
+    pub ambient_occlusion: f32,
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]
     pub precision: Option<u32>,
@@ -103,6 +111,10 @@ struct RunSummary {
     debug_view: String,
     /// Blades drawn per simulated blade near the camera (`--near-density`).
     near_density: u32,
+    /// Shadow strength (`--shadows`).
+    shadows: f32,
+    /// Ambient-occlusion strength (`--ambient-occlusion`).
+    ambient_occlusion: f32,
     /// Render + read-back time per rendered frame, ms.
     render_ms: Stats,
     render_ms_per_frame: Vec<f64>,
@@ -221,6 +233,8 @@ pub fn run(a: &Args) -> Result<()> {
         near_density: a.near_density,
         lod_blend_m: a.lod_blend,
         texture_blend_m: a.texture_blend,
+        shadow_strength: a.shadows.clamp(0.0, 1.0),
+        ambient_occlusion: a.ambient_occlusion.max(0.0),
         ..RenderParams::default()
     };
     eprintln!(
@@ -351,6 +365,8 @@ pub fn run(a: &Args) -> Result<()> {
         msaa: samples,
         debug_view: format!("{:?}", a.debug_view).to_lowercase(),
         near_density: a.near_density,
+        shadows: a.shadows.clamp(0.0, 1.0),
+        ambient_occlusion: a.ambient_occlusion.max(0.0),
         render_ms: Stats::of(&render_ms),
         render_ms_per_frame: render_ms,
         fps: Fps {

@@ -25,6 +25,8 @@ struct VertexOut {
     // How much of the billboard shows (blend bands, globals.wgsl), its seed.
     @location(5) @interpolate(flat) presence: f32,
     @location(6) @interpolate(flat) seed: u32,
+    // The sun's visibility (globals.wgsl), per vertex as the blades'.
+    @location(7) sun: f32,
 }
 
 @vertex
@@ -49,10 +51,12 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     out.uv = vec2<f32>(u0 + x * 0.5, 1.0 - y);
     out.normal = normalize(cross(axis, top));
     out.debug = bb.extra.x;
-    out.shade = 0.85 + 0.3 * hash01(seed ^ 0x51u);
     let d = distance(bb.base.xyz, globals.eye.xyz);
     out.presence = billboard_fade_in(d) * billboard_fade_out(d);
     out.seed = seed * 2u + quad;
+    out.sun = sun_visibility(world);
+    // Ambient occlusion as the cell lies flatter (globals.wgsl; towards the base: fs_main).
+    out.shade = (0.85 + 0.3 * hash01(seed ^ 0x51u)) * grass_ao(1.0, bb.top.y / max(length(bb.top.xyz), 1e-6));
     return out;
 }
 
@@ -76,7 +80,7 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     }
     // Lit like a blade seen side-on: mostly wrapped, so the quad does not flash as it turns.
     n = normalize(n + vec3<f32>(0.0, 1.2, 0.0));
-    var c = light(texel.rgb * v.shade, n, 0.4);
+    var c = light_shaded(texel.rgb * v.shade, n, 0.4, v.sun, grass_ao(1.0 - v.uv.y, 1.0));
     if (v.debug != 0u) {
         c = unpack4x8unorm(v.debug).rgb * (0.6 + 0.4 * (1.0 - v.uv.y));
     }

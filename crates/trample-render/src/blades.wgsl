@@ -20,6 +20,9 @@ struct VertexOut {
     @location(2) albedo: vec3<f32>,
     // 0 at the root, 1 at the tip.
     @location(3) along: f32,
+    // The sun's visibility (globals.wgsl), per vertex: blades are thin,
+    // and a lookup per fragment costs llvmpipe about a sixth of the frame.
+    @location(4) sun: f32,
 }
 
 fn vertex_of(k: u32, b: u32) -> vec3<f32> {
@@ -52,6 +55,14 @@ fn copy_scale(copy: u32, copies: u32, d: f32) -> f32 {
     let near = min(globals.gusts.w, NEAR_OF_GEOMETRY * globals.fog.z);
     let reach = near * (1.0 - f32(copy - 1u) / f32(copies));
     return clamp((reach - d) / max(0.2 * reach, 1e-3), 0.0, 1.0);
+}
+
+// How upright blade b stands as stored (without the drawn wind): the sine
+// of its root-to-tip elevation, 1 standing, 0 laid flat (grass_ao).
+fn blade_upright(b: u32) -> f32 {
+    let l = b - chunk.x;
+    let chord = pos[globals.params.y * chunk.y + l].xyz - pos[l].xyz;
+    return chord.y / max(length(chord), 1e-6);
 }
 
 @vertex
@@ -92,10 +103,12 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     out.world = world;
     out.normal = blade_normal(across, dir, side);
     out.along = t;
+    out.sun = sun_visibility(world);
     if (inst.y != 0u) {
         out.albedo = unpack4x8unorm(inst.y).rgb;
     } else {
-        out.albedo = blade_albedo(tint, t);
+        // Ambient occlusion (globals.wgsl): darker to the root and when laid flat.
+        out.albedo = blade_albedo(tint, t) * grass_ao(t, blade_upright(b));
     }
     return out;
 }
@@ -108,10 +121,12 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     if (dot(n, to_eye) < 0.0) {
         n = -n;
     }
-    var c = light(v.albedo, n, 0.4);
+    // The bodies' shadows (globals.wgsl): the sun's light and glow go.
+    let sun = v.sun;
+    var c = light_shaded(v.albedo, n, 0.4, sun, 1.0);
     // Translucency: thin blades glow when the sun is behind them.
     let back = pow(max(dot(-to_eye, globals.sun_dir.xyz), 0.0), 4.0);
-    c = c + v.albedo * globals.sun_color.rgb * back * 0.6 * v.along;
+    c = c + v.albedo * globals.sun_color.rgb * back * 0.6 * v.along * sun;
     if (globals.params.x != 0u) {
         c = v.albedo * (0.6 + 0.4 * max(dot(n, globals.sun_dir.xyz), 0.0));
     }

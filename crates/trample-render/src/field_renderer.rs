@@ -1,7 +1,8 @@
 //! The field's renderer as wgpu middleware (issue 14 item 3; the pattern of
 //! STYLE.md, as egui-wgpu and glyphon): made from the host's device and
 //! target formats, [`FieldRenderer::prepare`] uploads a frame (recording
-//! into the host's encoder where it needs to), [`FieldRenderer::render`]
+//! into the host's encoder where it needs to: the GPU path's draw lists,
+//! the sun's shadow map), [`FieldRenderer::render`]
 //! records the draws into the render pass the host opened. It never opens,
 //! clears or ends a pass and never owns a surface, so grass and the host's
 //! own geometry share one colour and one depth buffer and hide each other
@@ -61,6 +62,7 @@ use crate::globals::Globals;
 use crate::lines::LinePass;
 use crate::objects::ObjectPass;
 use crate::params::{DebugView, Layers, RenderParams};
+use crate::shadows::ShadowPass;
 use crate::sky::SkyPass;
 use crate::terrain::TerrainPass;
 use crate::{FrameCamera, TargetFormat};
@@ -112,6 +114,7 @@ pub struct FieldRenderer {
     billboards: BillboardPass,
     blades: BladePass,
     objects: ObjectPass,
+    shadows: ShadowPass,
     lines: LinePass,
     /// `Simulation::frame` of the blade vertices on the GPU; `None`: none
     /// (or not known to be those of the simulation drawn).
@@ -164,18 +167,25 @@ impl FieldRenderer {
         params: RenderParams,
         gpu: bool,
     ) -> Result<Self, RenderError> {
+        // Group 0: the globals, and the sun's shadow map with its
+        // comparison sampler (shadows.rs).
+        let [map_entry, sampler_entry] = crate::shadows::layout_entries();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("globals"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
                 },
-                count: None,
-            }],
+                map_entry,
+                sampler_entry,
+            ],
         });
         let globals = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("globals"),
@@ -183,15 +193,22 @@ impl FieldRenderer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let t = &target;
+        let objects = ObjectPass::new(device, &layout, sim, t);
+        let shadows = ShadowPass::new(device, &globals, objects.layout(), &params);
+        let [map, sampler] = shadows.bind_entries();
         let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
             layout: &layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: globals.as_entire_binding(),
-            }],
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: globals.as_entire_binding(),
+                },
+                map,
+                sampler,
+            ],
         });
-        let t = &target;
         Ok(Self {
             params,
             target,
@@ -205,7 +222,8 @@ impl FieldRenderer {
             } else {
                 BladePass::new(device, queue, &layout, sim, t)?
             },
-            objects: ObjectPass::new(device, &layout, sim, t),
+            objects,
+            shadows,
             lines: LinePass::new(device, &layout, t),
             uploaded_frame: None,
             source: Source::Nothing,
@@ -256,11 +274,19 @@ impl FieldRenderer {
     #[must_use]
     pub fn globals_of(&self, sim: &Simulation, camera: &FrameCamera) -> Globals {
         let view_proj = camera.view_proj;
+        let sun = self.params.sun_dir.normalize_or(Vec3::Y);
+        let map = self.shadows.size();
+        let radius = self.params.shadow_m.max(1.0);
+        let (light_view_proj, depth_per_m) =
+            crate::shadows::light_view_proj(sun, camera.eye, radius, map);
+        // Receivers test 1.5 texels (at least 2 cm) nearer the sun than
+        // they are: no acne on the bodies' own lit sides.
+        let bias_m = (3.0 * radius / map as f32).max(0.02);
         Globals {
             view_proj,
             inv_view_proj: view_proj.inverse(),
             eye: camera.eye.extend(sim.time as f32),
-            sun_dir: self.params.sun_dir.normalize_or(Vec3::Y).extend(0.55),
+            sun_dir: sun.extend(0.55),
             sun_color: Vec4::new(1.0, 0.93, 0.8, 0.0) * 1.1,
             // w: the spacing of simulated blades (m), over which
             // `blades.wgsl` scatters the drawn copies.
@@ -298,21 +324,35 @@ impl FieldRenderer {
                 let [near, far] = self.params.blend_bands(&sim.lod);
                 Vec4::new(near, far, 0.0, 0.0)
             },
+            light_view_proj,
+            shadow: Vec4::new(
+                if self.shadows.enabled() {
+                    self.params.shadow_strength.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                },
+                self.params.ambient_occlusion.max(0.0),
+                bias_m * depth_per_m,
+                0.0,
+            ),
         }
     }
 
     /// Uploads `sim`'s current state for a frame seen by `camera` (the
     /// host's matrices): the blades the last step changed (all of them
     /// when this renderer did not see the step before), the draw lists of
-    /// the visible patches, the bodies' poses. Call once a frame, after
-    /// the step and before [`FieldRenderer::render`]; submit `encoder`
-    /// after it (the CPU path writes through `queue`, which lands before
-    /// the encoder's commands; the GPU path records into `encoder`).
+    /// the visible patches, the bodies' poses, and the sun's shadow map (a
+    /// depth-only pass of its own, recorded into `encoder`:
+    /// [`crate::shadows`]). Call once a frame, after the step and before
+    /// [`FieldRenderer::render`]; open the host's pass on `encoder` after
+    /// it (or on an encoder submitted after it); submit `encoder` after it
+    /// (the CPU path writes through `queue`, which lands before the
+    /// encoder's commands).
     pub fn prepare(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        _encoder: &mut wgpu::CommandEncoder,
+        encoder: &mut wgpu::CommandEncoder,
         sim: &Simulation,
         camera: &FrameCamera,
     ) -> FrameCounts {
@@ -344,7 +384,7 @@ impl FieldRenderer {
         };
         let bb_colour = self.billboard_colour();
         bytes += self.billboards.prepare(device, queue, sim, bb_colour);
-        bytes += self.prepare_scene(device, queue, sim, camera);
+        bytes += self.prepare_scene(device, queue, encoder, sim, camera);
         self.source = Source::Cpu;
         FrameCounts {
             blades: self.blades.drawn(),
@@ -397,7 +437,7 @@ impl FieldRenderer {
         // The CPU copy of the field is not what the GPU path draws.
         self.uploaded_frame = None;
         self.terrain.bind_gpu(device, &gpu.field.flatness);
-        let bytes = self.prepare_scene(device, queue, &gpu.sim, camera);
+        let bytes = self.prepare_scene(device, queue, encoder, &gpu.sim, camera);
         self.source = match gpu.draw_lists() {
             Some(lists) => Source::Gpu {
                 blades: self.blades.bind_gpu(device, &gpu.field, lists),
@@ -457,21 +497,25 @@ impl FieldRenderer {
         }
     }
 
-    /// Globals, objects and debug lines of `sim`'s frame; returns the
-    /// bytes written.
+    /// Globals, objects, the shadow map (recorded into `encoder`) and
+    /// debug lines of `sim`'s frame; returns the bytes written.
     fn prepare_scene(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
         sim: &Simulation,
         camera: &FrameCamera,
     ) -> u64 {
         let globals = self.globals_of(sim, camera);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         let mut bytes = std::mem::size_of::<Globals>() as u64;
-        if self.params.layers.objects {
+        // The bodies cast shadows even when the host draws them itself
+        // (the objects layer off).
+        if self.params.layers.objects || self.shadows.enabled() {
             bytes += self.objects.prepare(device, queue, sim);
         }
+        self.shadows.encode(encoder, &self.objects);
         let view = self.params.debug;
         bytes += self.lines.prepare(
             device,

@@ -41,9 +41,15 @@ pub struct Globals {
     /// the billboards fade in; y before `billboard_m`, where the billboards
     /// thin out over the ground. zw unused.
     pub blend: Vec4,
+    /// World → the sun's shadow-map clip space ([`crate::shadows::light_view_proj`]).
+    pub light_view_proj: Mat4,
+    /// x shadow strength (0 = no shadows: the map is not sampled), y
+    /// ambient-occlusion strength, z depth bias of the shadow test (clip
+    /// depth), w unused.
+    pub shadow: Vec4,
 }
 
-const _: () = assert!(std::mem::size_of::<Globals>() == 288);
+const _: () = assert!(std::mem::size_of::<Globals>() == 368);
 
 /// The full source of a pass: the blade shape every renderer shares
 /// ([`trample::blade_shape::WGSL`]: hash, wind bend, strip, colour), the

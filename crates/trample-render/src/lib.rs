@@ -35,6 +35,7 @@ pub mod objects;
 pub mod params;
 pub mod pipeline;
 pub mod renderer;
+pub mod shadows;
 pub mod sky;
 pub mod target;
 pub mod target_format;
@@ -69,6 +70,7 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ("objects.wgsl", shader_source(include_str!("objects.wgsl"))),
         ("sky.wgsl", shader_source(include_str!("sky.wgsl"))),
         ("lines.wgsl", shader_source(include_str!("lines.wgsl"))),
+        ("shadows.wgsl", shader_source(include_str!("shadows.wgsl"))),
     ]
 }
 

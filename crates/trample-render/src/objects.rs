@@ -164,14 +164,27 @@ impl ObjectPass {
         bytes + (self.objects.len() * std::mem::size_of::<ObjectUniform>()) as u64
     }
 
-    /// Records the draws into `pass`.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        pass.set_pipeline(&self.pipeline);
+    /// The layout of each collider's group 1 (its uniform).
+    #[must_use]
+    pub fn layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+
+    /// Records every collider's triangles into `pass` with the pipeline
+    /// and group 0 the caller set (the shadow map's casters,
+    /// `shadows.rs`): group 1 and the vertex buffer per collider.
+    pub fn draw_casters(&self, pass: &mut wgpu::RenderPass<'_>) {
         for o in &self.objects {
             pass.set_bind_group(1, &o.bind_group, &[]);
             pass.set_vertex_buffer(0, o.vertices.slice(..));
             pass.draw(0..o.count, 0..1);
         }
+    }
+
+    /// Records the draws into `pass`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_pipeline(&self.pipeline);
+        self.draw_casters(pass);
     }
 }
 

@@ -43,9 +43,11 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
         }
     }
     let n = normalize(v.normal);
-    var c = light(albedo, n, 0.0);
+    // Bodies shadow each other and themselves (shadows.rs).
+    let sun = sun_visibility(v.world);
+    var c = light_shaded(albedo, n, 0.0, sun, 1.0);
     // A little specular so the object reads as solid.
     let h = normalize(globals.sun_dir.xyz + normalize(globals.eye.xyz - v.world));
-    c = c + globals.sun_color.rgb * pow(max(dot(n, h), 0.0), 40.0) * 0.25;
+    c = c + globals.sun_color.rgb * pow(max(dot(n, h), 0.0), 40.0) * 0.25 * sun;
     return out_color(fog(c, v.world));
 }

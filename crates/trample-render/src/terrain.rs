@@ -43,36 +43,41 @@ pub struct TrackGrid {
     /// Cells along a patch side.
     pub cells_per_patch: u32,
     /// rgb: what the ground texture's colour is multiplied by far from
-    /// the eye ([`far_tint`]); w unused.
+    /// the eye, without ambient occlusion ([`far_tint`]); w unused.
     pub far_tint: [f32; 4],
+    /// rgb: what the billboards' ambient occlusion at full strength takes
+    /// off `far_tint` ([`far_tint`]; terrain.wgsl scales it by the
+    /// strength); w unused.
+    pub far_occlusion: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<TrackGrid>() == 48);
+const _: () = assert!(std::mem::size_of::<TrackGrid>() == 64);
 
 /// The ground's tint at ground-texture level (issue 15 item 1): the mean
 /// colour of the billboards' grass clump over the mean colour of the
-/// ground texture (linear), times [`FAR_GROUND_BALANCE`], so that the
-/// ground where cells are at ground-texture level shows, on average, the
-/// colour the billboards show nearer (no ring where they give way to it).
-/// The texture keeps its detail; terrain.wgsl fades the tint in across the
-/// billboard band.
+/// ground texture (linear), so that the ground where cells are at
+/// ground-texture level shows, on average, the colour the billboards show
+/// nearer (no ring where they give way to it); and the part of it the
+/// billboards' ambient occlusion takes off at full strength (darker
+/// towards their base, globals.wgsl `grass_ao`: `0.55 · v²` at texture row
+/// `v`, 1 at the base). Returns `(far_tint, far_occlusion)`. The texture
+/// keeps its detail; terrain.wgsl fades the tint in across the billboard
+/// band.
 #[must_use]
-pub fn far_tint(ground: &crate::textures::Pixels) -> [f32; 4] {
-    let clump = crate::textures::mean_linear(&crate::textures::grass_clump(
+pub fn far_tint(ground: &crate::textures::Pixels) -> ([f32; 4], [f32; 4]) {
+    let clump = crate::textures::grass_clump(
         crate::billboards::CLUMP_SEED,
         crate::billboards::CLUMP_BLADES,
-    ));
+    );
+    let colour = crate::textures::mean_linear(&clump);
+    let occluded = crate::textures::mean_linear_by_row(&clump, |v| 0.55 * v * v);
     let ground = crate::textures::mean_linear(ground);
-    let t = |c: usize| FAR_GROUND_BALANCE[c] * clump[c] / ground[c].max(1e-4);
-    [t(0), t(1), t(2), 0.0]
+    let over = |x: [f32; 3]| {
+        let t = |c: usize| x[c] / ground[c].max(1e-4);
+        [t(0), t(1), t(2), 0.0]
+    };
+    (over(colour), over(occluded))
 }
-
-/// Per-channel balance of [`far_tint`]: the billboards are lit with
-/// wrapped normals that lean towards the viewer (billboards.wgsl), the
-/// ground with its own normal; measured on the default scene's frame
-/// (tests/seam.rs), so that the billboards and the ground beyond them
-/// match.
-pub const FAR_GROUND_BALANCE: [f32; 3] = [1.0, 1.0, 1.0];
 
 /// The ground pass.
 pub struct TerrainPass {
@@ -162,7 +167,7 @@ impl TerrainPass {
             usage: wgpu::BufferUsages::INDEX,
         });
         let ground = crate::textures::ground_grass(11);
-        let far_tint = far_tint(&ground);
+        let (far_tint, far_occlusion) = far_tint(&ground);
         let texture = crate::textures::upload(device, queue, "ground grass", ground);
         let sampler = crate::textures::repeat_sampler(device);
         let [t, smp] = crate::pipeline::texture_and_sampler(0);
@@ -199,6 +204,7 @@ impl TerrainPass {
             patches_x: field.patches[0],
             cells_per_patch: field.cells_per_patch,
             far_tint,
+            far_occlusion,
         };
         let grid = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("track grid"),

@@ -15,8 +15,11 @@ struct TrackGrid {
     grid: vec2<u32>,
     patches_x: u32,
     cells_per_patch: u32,
-    // rgb: the ground's tint at ground-texture level (terrain.rs `far_tint`).
+    // rgb: the ground's tint at ground-texture level (terrain.rs
+    // `far_tint`), and what the billboards' ambient occlusion at full
+    // strength takes off it.
     far_tint: vec4<f32>,
+    far_occlusion: vec4<f32>,
 }
 @group(1) @binding(3) var<uniform> track: TrackGrid;
 
@@ -65,6 +68,12 @@ fn flatness_at(xz: vec2<f32>) -> f32 {
     return clamp(mix(a, b, t.y), 0.0, 1.0);
 }
 
+// 1 over the field's cells, 0 outside.
+fn in_field(xz: vec2<f32>) -> f32 {
+    let g = (xz - track.origin) / track.cell_size;
+    return select(0.0, 1.0, all(g >= vec2<f32>(0.0)) && all(g < vec2<f32>(track.grid)));
+}
+
 @fragment
 fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     let texel = textureSample(ground, ground_sampler, v.world.xz / TILE_M).rgb;
@@ -82,9 +91,13 @@ fn fs_main(v: VertexOut) -> @location(0) vec4<f32> {
     // At ground-texture level the ground stands for the grass: tinted to
     // the billboards' mean colour, faded in across the billboard band
     // (under the billboards), so no ring shows where they end.
-    let grass = texel * m * mix(vec3<f32>(1.0), track.far_tint.rgb, far);
+    let tint = track.far_tint.rgb - globals.shadow.y * track.far_occlusion.rgb;
+    let grass = texel * m * mix(vec3<f32>(1.0), tint, far);
     let albedo = mix(grass, grass * vec3<f32>(0.5, 0.45, 0.3), flat);
-    var c = light(albedo, normalize(v.normal), 0.0);
+    // The bodies' shadows; among the geometric blades the ground is as dark
+    // as their roots (ambient occlusion, faded out with them).
+    let ao = mix(grass_ao(0.0, 1.0), 1.0, max(far, 1.0 - in_field(v.world.xz)));
+    var c = light_shaded(albedo, normalize(v.normal), 0.0, sun_visibility(v.world), ao);
     if (globals.params.x != 0u) {
         // Debug view: Texture-LOD distance band grey, nearer ground dark.
         let d = distance(v.world, globals.eye.xyz);

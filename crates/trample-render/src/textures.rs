@@ -172,6 +172,13 @@ pub fn half(p: &Pixels) -> Pixels {
 /// Mean linear colour of `p`'s opaque texels (alpha-weighted; sRGB decoded).
 #[must_use]
 pub fn mean_linear(p: &Pixels) -> [f32; 3] {
+    mean_linear_by_row(p, |_| 1.0)
+}
+
+/// [`mean_linear`] of the texels' colours times `factor(v)`, `v` the
+/// texel row's texture coordinate (0 at the top, 1 at the bottom).
+#[must_use]
+pub fn mean_linear_by_row(p: &Pixels, factor: impl Fn(f32) -> f32) -> [f32; 3] {
     let decode = |c: u8| {
         let x = f32::from(c) / 255.0;
         if x <= 0.04045 {
@@ -181,10 +188,13 @@ pub fn mean_linear(p: &Pixels) -> [f32; 3] {
         }
     };
     let (mut sum, mut weight) = ([0.0f64; 3], 0.0f64);
-    for c in p.rgba.chunks(4) {
+    let row_bytes = (p.width as usize * 4).max(1);
+    for (i, c) in p.rgba.chunks(4).enumerate() {
         let a = f64::from(c[3]) / 255.0;
-        for (s, &v) in sum.iter_mut().zip(&c[..3]) {
-            *s += f64::from(decode(v)) * a;
+        let v = ((i * 4 / row_bytes) as f32 + 0.5) / p.height.max(1) as f32;
+        let f = f64::from(factor(v));
+        for (s, &x) in sum.iter_mut().zip(&c[..3]) {
+            *s += f64::from(decode(x)) * a * f;
         }
         weight += a;
     }

@@ -311,3 +311,35 @@ fn golden_embed_headless_host_cube_in_the_grass() {
     );
     check("embed_headless", &frame);
 }
+
+#[test]
+fn golden_ball_shadow() {
+    // Light (issue 15 item 3): a still ball above the grass between it and
+    // the sun; its shadow on the grass below right, the blades darker to
+    // their roots (tests/shadows.rs measures both).
+    let sun = RenderParams::default().sun_dir.normalize();
+    let ball = glam::Vec3::new(0.0, 0.25, 0.0) + sun * 1.3;
+    let toml = format!(
+        r#"
+[field]
+patches = [4, 4]
+cells_per_patch = 8
+cell_size_m = 0.1
+blade_height_m = 0.45
+blade_width_m = 0.03
+[lod]
+geometry_m = 50.0
+billboard_m = 60.0
+[camera]
+path = {{ kind = "static", position = [0.95, 1.6, 1.67] }}
+look_at = {{ kind = "point", at = [0.0, 0.1, 0.0] }}
+[[objects]]
+name = "ball"
+shape = {{ kind = "sphere", radius_m = 0.3, subdivisions = 3 }}
+path = {{ kind = "static", position = [{}, {}, {}] }}
+"#,
+        ball.x, ball.y, ball.z
+    );
+    let sim = stepped(&toml, 1);
+    check("ball_shadow", &render(&sim, DebugView::None));
+}

@@ -3,8 +3,9 @@
 //! of the shaded frame across the blade/billboard boundary, found from the
 //! classes view, is at most 2× the same step measured inside the blade
 //! zone; the same across the billboard/texture boundary against the step
-//! inside the billboard zone. Before the blend bands the first ratio was
-//! about 8× (a ring round the camera). Runs on the adapter of
+//! inside the billboard zone. Before the blend bands (issue 15 item 1) the
+//! default scene measured 4.1 and 3.5 here (the issue's own measure said
+//! 7.9 for the first: a ring round the camera). Runs on the adapter of
 //! `WGPU_BACKEND`; no adapter = failure. `TRAMPLE_SEAM_DUMP=DIR` writes the
 //! frames measured.
 
@@ -20,6 +21,12 @@ const H: u32 = 360;
 const BLOCK: u32 = 16;
 /// Allowed ratio of the step across a boundary to the step inside a zone.
 const MAX_RATIO: f64 = 2.0;
+/// Rows a window at the blade/billboard boundary.
+const ROWS: u32 = 6;
+/// Rows a window at the billboard/texture boundary: the billboard band is
+/// 20–40 rows high at 640×360, and near the horizon a row spans metres
+/// (the fog's gradient is steep there).
+const FAR_ROWS: u32 = 4;
 
 /// What a pixel of the classes view shows.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -130,8 +137,10 @@ fn boundary(classes: &[Vec<Class>], x0: u32, from: u32, c: Class, among: &[Class
     })
 }
 
-/// Measures the seams of `sim`'s frame 0, `k` rows per window.
-fn seams(sim: &Simulation, name: &str, k: u32, bands: bool) -> Seams {
+/// Measures the seams of `sim`'s frame 0, [`ROWS`] and [`FAR_ROWS`] rows
+/// per window; `bands`: the renderer's blend bands on, or the hard switch.
+fn seams(sim: &Simulation, name: &str, bands: bool) -> Seams {
+    let k = ROWS;
     let name = &format!("{name}{}", if bands { "" } else { "-no-bands" });
     let shaded = render(sim, DebugView::None, bands);
     let debug = render(sim, DebugView::Classes, bands);
@@ -180,6 +189,7 @@ fn seams(sim: &Simulation, name: &str, k: u32, bands: bool) -> Seams {
         ) else {
             continue;
         };
+        let k = FAR_ROWS;
         if yt >= k && yt + 3 * k <= yb && clean(&classes, x0, yt - k..yt + 3 * k) {
             let above = mean(&shaded, xs.clone(), yt - k..yt);
             let below = mean(&shaded, xs.clone(), yt..yt + k);
@@ -200,7 +210,7 @@ fn seams(sim: &Simulation, name: &str, k: u32, bands: bool) -> Seams {
         ("billboard/texture", s.billboard_texture),
     ] {
         eprintln!(
-            "{name}: {what} step {across:.1} across, {inside:.1} inside, ratio {:.2} ({n} blocks of {BLOCK} columns, {k} rows a window)",
+            "{name}: {what} step {across:.1} across, {inside:.1} inside, ratio {:.2} ({n} blocks of {BLOCK} columns)",
             across / inside
         );
     }
@@ -219,7 +229,19 @@ fn frame0(toml_path: &str, edit: impl Fn(String) -> String) -> Simulation {
     sim
 }
 
-fn check(name: &str, s: &Seams) {
+/// Both ratios of `s` within [`MAX_RATIO`], and the near blend band at
+/// least 30 % better than the hard switch (`hard`), so that the test fails
+/// without the band. (The ambient occlusion of issue 15 item 3 darkens the
+/// billboards' bases and brought the hard switch's ratio itself to 1.8–2.0
+/// from 2.4–2.9.)
+fn check(name: &str, s: &Seams, hard: &Seams) {
+    let ratio = |(a, b, _): (f64, f64, usize)| a / b;
+    assert!(
+        ratio(s.blade_billboard) <= 0.7 * ratio(hard.blade_billboard),
+        "{name}: the blend band's blade/billboard ratio {:.2} is not 30 % below the hard switch's {:.2}",
+        ratio(s.blade_billboard),
+        ratio(hard.blade_billboard)
+    );
     for (what, (across, inside, n)) in [
         ("blade/billboard", s.blade_billboard),
         ("billboard/texture", s.billboard_texture),
@@ -239,15 +261,15 @@ fn check(name: &str, s: &Seams) {
 #[test]
 fn no_ring_on_the_default_scene() {
     let sim = frame0("scenes/default.toml", |t| t);
-    seams(&sim, "default", 6, false);
-    check("default", &seams(&sim, "default", 6, true));
+    let hard = seams(&sim, "default", false);
+    check("default", &seams(&sim, "default", true), &hard);
 }
 
 #[test]
 fn no_ring_on_the_car_scene() {
     let sim = frame0("scenes/car.toml", |t| t);
-    seams(&sim, "car", 6, false);
-    check("car", &seams(&sim, "car", 6, true));
+    let hard = seams(&sim, "car", false);
+    check("car", &seams(&sim, "car", true), &hard);
 }
 
 /// In both scenes above the billboards end at the field's far edge, a
@@ -262,6 +284,6 @@ fn no_ring_where_billboards_give_way_to_the_ground() {
         assert_ne!(edited, t, "scenes/default.toml's billboard_m moved");
         edited
     });
-    seams(&sim, "default-22m", 6, false);
-    check("default-22m", &seams(&sim, "default-22m", 6, true));
+    let hard = seams(&sim, "default-22m", false);
+    check("default-22m", &seams(&sim, "default-22m", true), &hard);
 }

@@ -155,8 +155,8 @@ fn the_shaders_wind_is_the_cores_formula() {
         })
         .collect();
     let source = trample_render::globals::shader_source(
-        "@group(0) @binding(1) var<storage, read> roots: array<vec4<f32>>;
-         @group(0) @binding(2) var<storage, read_write> out: array<vec4<f32>>;
+        "@group(0) @binding(3) var<storage, read> roots: array<vec4<f32>>;
+         @group(0) @binding(4) var<storage, read_write> out: array<vec4<f32>>;
          @compute @workgroup_size(64)
          fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
              out[gid.x] = vec4<f32>(wind_tip_offset(roots[gid.x].xyz), 0.0);
@@ -208,12 +208,13 @@ fn the_shaders_wind_is_the_cores_formula() {
                     binding: 0,
                     resource: globals.as_entire_binding(),
                 },
+                // 1 and 2: the shadow map's, declared by globals.wgsl.
                 wgpu::BindGroupEntry {
-                    binding: 1,
+                    binding: 3,
                     resource: roots_buf.as_entire_binding(),
                 },
                 wgpu::BindGroupEntry {
-                    binding: 2,
+                    binding: 4,
                     resource: out.as_entire_binding(),
                 },
             ],
