@@ -58,11 +58,11 @@ pub struct Args {
     pub texture_blend: f32,
     /// Shadow strength of the bodies' shadows on the grass, 0..=1 (0 = no
     /// shadow pass; default 1, `RenderParams::shadow_strength`).
-    #[arg(long, default_value_t = RenderParams::default().shadow_strength)]
+    #[arg(long, default_value_t = RenderParams::default().shadow_strength, value_parser = unit_interval, allow_negative_numbers = true)]
     pub shadows: f32,
     /// Ambient-occlusion strength of the grass (0 = none; default 1,
     /// `RenderParams::ambient_occlusion`).
-    #[arg(long, default_value_t = RenderParams::default().ambient_occlusion)]
+    #[arg(long, default_value_t = RenderParams::default().ambient_occlusion, value_parser = non_negative, allow_negative_numbers = true)]
     pub ambient_occlusion: f32,
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]
@@ -79,6 +79,26 @@ pub struct Args {
     /// renderer does not draw from the GPU buffers yet).
     #[arg(long, value_enum, default_value_t = crate::backend::Backend::Auto)]
     pub backend: crate::backend::Backend,
+}
+
+/// A `--shadows` value: a strength from 0 to 1.
+fn unit_interval(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
+        _ => Err(format!(
+            "{s:?} is not a strength: expected a number from 0 to 1, e.g. 0.8"
+        )),
+    }
+}
+
+/// An `--ambient-occlusion` value: a finite strength ≥ 0.
+fn non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!(
+            "{s:?} is not a strength: expected a number >= 0, e.g. 1"
+        )),
+    }
 }
 
 /// A `--lod-blend`/`--texture-blend` value: a finite distance ≥ 0 metres.

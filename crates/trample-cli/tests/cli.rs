@@ -289,12 +289,30 @@ fn bad_input_exits_non_zero_with_one_line() {
             d.join("h.npy").display().to_string(),
         ],
         vec!["check".into(), d.display().to_string()],
-        // A blend band is a distance >= 0.
+        // A blend band is a distance >= 0; strengths are numbers in range.
         vec![
             "run".into(),
             scene.clone(),
             "--lod-blend".into(),
             "-2".into(),
+        ],
+        vec![
+            "run".into(),
+            scene.clone(),
+            "--shadows".into(),
+            "1.5".into(),
+        ],
+        vec![
+            "run".into(),
+            scene.clone(),
+            "--shadows".into(),
+            "NaN".into(),
+        ],
+        vec![
+            "run".into(),
+            scene.clone(),
+            "--ambient-occlusion".into(),
+            "-1".into(),
         ],
         // --out names a file, not a folder.
         vec![
