@@ -102,17 +102,23 @@ pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Opti
     }
     let mut best_sq = max_distance * max_distance;
     let mut best: Option<SurfacePoint> = None;
-    let mut stack = [0u32; STACK_SIZE];
+    // (node, its box's squared distance, computed once when it is pushed).
+    let mut stack = [(0u32, 0.0f32); STACK_SIZE];
+    stack[0].1 = tree
+        .nodes
+        .first()
+        .map_or(f32::INFINITY, |n| distance_sq_to_box(p, &n.obb));
     let mut len = 1;
     while len > 0 {
         len -= 1;
-        let i = stack[len];
+        let (i, box_sq) = stack[len];
+        // The bound may have shrunk since the node was pushed.
+        if box_sq > best_sq {
+            continue;
+        }
         let Some(node) = tree.nodes.get(i as usize) else {
             continue;
         };
-        if distance_sq_to_box(p, &node.obb) > best_sq {
-            continue;
-        }
         let [l, r] = node.children;
         if node.is_leaf() || l <= i || r <= i || len + 2 > STACK_SIZE {
             let (first, count) = (node.first_tri as usize, node.tri_count as usize);
@@ -142,7 +148,11 @@ pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Opti
                     .get(r as usize)
                     .map_or(f32::INFINITY, |n| distance_sq_to_box(p, &n.obb)),
             );
-            let (near, far) = if dr < dl { (r, l) } else { (l, r) };
+            let (near, far) = if dr < dl {
+                ((r, dr), (l, dl))
+            } else {
+                ((l, dl), (r, dr))
+            };
             stack[len] = far;
             stack[len + 1] = near;
             len += 2;
