@@ -458,7 +458,7 @@ fn walk4(
         let descend =
             depth < final_depth && !node.is_leaf() && l > i && r > i && len + 2 <= STACK_SIZE;
         let reach = tree.reach.get(i as usize).filter(|_| descend);
-        let hit = lanes & segments.hit_mask_grown(reach.unwrap_or(&node.obb), shell);
+        let hit = segments.hit_mask_grown_in(reach.unwrap_or(&node.obb), shell, lanes);
         if hit == 0 {
             continue;
         }

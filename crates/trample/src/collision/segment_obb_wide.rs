@@ -66,7 +66,7 @@ impl Segments4 {
     #[must_use]
     #[inline]
     pub fn hit_mask(&self, obb: &Obb) -> u32 {
-        self.mask_within(obb, [obb.half.x, obb.half.y, obb.half.z])
+        self.mask_within(obb, [obb.half.x, obb.half.y, obb.half.z], 0b1111)
     }
 
     /// [`Segments4::hit_mask`] against `obb` grown by `shell` metres on
@@ -76,14 +76,26 @@ impl Segments4 {
     #[must_use]
     #[inline]
     pub fn hit_mask_grown(&self, obb: &Obb, shell: f32) -> u32 {
-        let grown = glam::Vec3A::from(obb.half) + shell;
-        self.mask_within(obb, [grown.x, grown.y, grown.z])
+        self.hit_mask_grown_in(obb, shell, 0b1111)
     }
 
-    /// The lanes whose segment meets the box of `obb`'s centre and axes
-    /// with half extents `half`.
+    /// [`Segments4::hit_mask_grown`] for the lanes set in `lanes` only (the
+    /// others come back clear): a traversal passes the segments still in,
+    /// and the test stops as soon as all of those are separated.
+    #[must_use]
     #[inline]
-    fn mask_within(&self, obb: &Obb, half: [f32; 3]) -> u32 {
+    pub fn hit_mask_grown_in(&self, obb: &Obb, shell: f32, lanes: u32) -> u32 {
+        let grown = glam::Vec3A::from(obb.half) + shell;
+        self.mask_within(obb, [grown.x, grown.y, grown.z], lanes)
+    }
+
+    /// The lanes of `lanes` whose segment meets the box of `obb`'s centre
+    /// and axes with half extents `half`. Axis by axis, each face axis's
+    /// answer as soon as it is known: when no lane of `lanes` is left the
+    /// rest is skipped (the answer is the AND over the axes, so skipping
+    /// changes no bit of it).
+    #[inline]
+    fn mask_within(&self, obb: &Obb, half: [f32; 3], lanes: u32) -> u32 {
         let [u, v, w] = obb.axes;
         let o = obb.center;
         let d = [0, 1, 2].map(|k| self.centre[k] - Vec4::splat(o[k]));
@@ -91,18 +103,21 @@ impl Segments4 {
         let frame = |a: Vec3, x: &[Vec4; 3]| {
             x[0] * Vec4::splat(a.x) + x[1] * Vec4::splat(a.y) + x[2] * Vec4::splat(a.z)
         };
-        let c = [frame(u, &d), frame(v, &d), frame(w, &d)];
-        let h = [
-            frame(u, &self.half),
-            frame(v, &self.half),
-            frame(w, &self.half),
-        ];
-        let ah = h.map(Vec4::abs);
         let e = half.map(Vec4::splat);
-        // The three face normals (the slab test).
-        let faces = c[0].abs().cmple(e[0] + ah[0])
-            & c[1].abs().cmple(e[1] + ah[1])
-            & c[2].abs().cmple(e[2] + ah[2]);
+        // The three face normals (the slab test), one at a time.
+        let mut c = [Vec4::ZERO; 3];
+        let mut h = [Vec4::ZERO; 3];
+        let mut ah = [Vec4::ZERO; 3];
+        let mut mask = lanes;
+        for (k, axis) in [u, v, w].into_iter().enumerate() {
+            c[k] = frame(axis, &d);
+            h[k] = frame(axis, &self.half);
+            ah[k] = h[k].abs();
+            mask &= c[k].abs().cmple(e[k] + ah[k]).bitmask();
+            if mask == 0 {
+                return 0;
+            }
+        }
         // The three cross products h × e_i, as glam's `Vec3A::cross`.
         let cross = [
             (c[1] * h[2] - h[1] * c[2]).abs(),
@@ -115,6 +130,6 @@ impl Segments4 {
             e[0] * ah[1] + e[1] * ah[0],
         ];
         let edges = cross[0].cmple(reach[0]) & cross[1].cmple(reach[1]) & cross[2].cmple(reach[2]);
-        (faces & edges).bitmask()
+        mask & edges.bitmask()
     }
 }
