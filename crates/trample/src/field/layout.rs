@@ -177,6 +177,18 @@ impl FieldLayout {
         min: [f32; 2],
         max: [f32; 2],
     ) -> impl Iterator<Item = usize> + '_ {
+        let ([x0, x1], [z0, z1]) = self.patch_cell_range(p, min, max);
+        let first = p * self.cells_in_patch();
+        let cpp = self.cells_per_patch as usize;
+        (z0..=z1).flat_map(move |lz| (x0..=x1).map(move |lx| first + lz * cpp + lx))
+    }
+
+    /// The cells of [`FieldLayout::patch_cells_overlapping`] as ranges of
+    /// patch-local columns and rows, `([x0, x1], [z0, z1])` inclusive
+    /// (empty, `x0 > x1` or `z0 > z1`, when none): cell `(lx, lz)` is
+    /// stored at `p · cells_in_patch + lz · cells_per_patch + lx`.
+    #[must_use]
+    pub fn patch_cell_range(&self, p: usize, min: [f32; 2], max: [f32; 2]) -> ([usize; 2], [usize; 2]) {
         let cpp = self.cells_per_patch as i64;
         let (px, pz) = (
             (p % self.patches[0] as usize) as i64,
@@ -184,18 +196,21 @@ impl FieldLayout {
         );
         let range = |lo: f32, hi: f32, origin: f32, first: i64| {
             if lo.is_nan() || hi.is_nan() || lo > hi {
-                return (1, 0); // NaN or inverted: no cells.
+                return [1, 0]; // NaN or inverted: no cells.
             }
             let a = ((lo - origin) / self.cell_size).floor();
             let b = ((hi - origin) / self.cell_size).floor();
             // Saturating float→int casts keep absurd rectangles harmless.
             let (a, b) = ((a as i64).max(first), (b as i64).min(first + cpp - 1));
-            (a - first, b - first)
+            if a > b {
+                return [1, 0];
+            }
+            [(a - first) as usize, (b - first) as usize]
         };
-        let (x0, x1) = range(min[0], max[0], self.origin[0], px * cpp);
-        let (z0, z1) = range(min[1], max[1], self.origin[1], pz * cpp);
-        let first = p * self.cells_in_patch();
-        (z0..=z1).flat_map(move |lz| (x0..=x1).map(move |lx| first + (lz * cpp + lx) as usize))
+        (
+            range(min[0], max[0], self.origin[0], px * cpp),
+            range(min[1], max[1], self.origin[1], pz * cpp),
+        )
     }
 
     /// Global cell coordinates containing world point (x, z), if inside the field.
