@@ -58,6 +58,22 @@ pub fn world_obb(local: &Obb, pose: &Pose) -> Obb {
 /// non-finite input gives `false`.
 #[must_use]
 pub fn obb_overlaps_aabb(obb: &Obb, min: Vec3, max: Vec3) -> bool {
+    obb_aabb_sat(obb, min, max, true)
+}
+
+/// [`obb_overlaps_aabb`] on the six face axes only (the 3 AABB axes and
+/// the 3 OBB axes, not their 9 cross products): cheaper and looser — it
+/// may report an overlap the full test separates on an edge axis, never a
+/// separation the full test would not find. For pruning, where a false
+/// "overlap" only costs work (the narrow phase's tile test).
+#[must_use]
+pub fn obb_may_overlap_aabb(obb: &Obb, min: Vec3, max: Vec3) -> bool {
+    obb_aabb_sat(obb, min, max, false)
+}
+
+/// The separating-axis test of [`obb_overlaps_aabb`]; the 9 edge axes
+/// only when `edges`.
+fn obb_aabb_sat(obb: &Obb, min: Vec3, max: Vec3, edges: bool) -> bool {
     let finite = obb.center.is_finite()
         && obb.half.is_finite()
         && obb.axes.iter().all(|a| a.is_finite())
@@ -88,6 +104,9 @@ pub fn obb_overlaps_aabb(obb: &Obb, min: Vec3, max: Vec3) -> bool {
         if separated(dist, ra, b[j]) {
             return false;
         }
+    }
+    if !edges {
+        return true;
     }
     // Cross products e_i × B_j.
     for i in 0..3 {

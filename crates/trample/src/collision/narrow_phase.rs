@@ -37,7 +37,7 @@
 
 use glam::{Vec3, Vec3A};
 
-use super::broad_phase::obb_overlaps_aabb;
+use super::broad_phase::obb_may_overlap_aabb;
 use super::contact::penetration;
 use super::exact::{STACK_SIZE, point_inside};
 use super::segment_obb::{
@@ -428,9 +428,9 @@ pub fn contact_blade(
 /// aligned there) can have a contact in [`contact_blade`] at `precision`
 /// with `shell > 0`: true when the box meets none of the boxes the contact
 /// walk would end at (each final node's own box grown by `shell`, reached
-/// through the same grown reach boxes; [`obb_overlaps_aabb`], a test that
-/// errs towards "overlap", so a miss here is a miss of every segment in
-/// the box, whatever the rounding) and, for a closed mesh, lies outside it
+/// through the same grown reach boxes; [`obb_may_overlap_aabb`], a face
+/// axes test that errs towards "overlap", so a miss here is a miss of
+/// every segment in the box, whatever the rounding) and, for a closed mesh, lies outside it
 /// (the box then crosses no triangle, since every final box holds its
 /// triangles, so one inside test at its centre answers for all of it: no
 /// segment in it lies wholly inside either). A group of blades whose
@@ -462,7 +462,7 @@ pub fn box_clear_of(tree: &ObbTree, lo: Vec3, hi: Vec3, precision: u32, shell: f
             return false;
         }
         let reach = tree.reach.get(i as usize).filter(|_| descend);
-        if !obb_overlaps_aabb(&grown(reach.unwrap_or(&node.obb)), lo, hi) {
+        if !obb_may_overlap_aabb(&grown(reach.unwrap_or(&node.obb)), lo, hi) {
             continue;
         }
         if !descend {
