@@ -7,8 +7,9 @@ mod collision_meshes;
 use collision_meshes::*;
 use glam::{Quat, Vec3};
 use trample::collision::{
-    obb_overlaps_aabb, patches_hit, point_inside, segment_crosses_triangle_interior,
-    segment_hits_box_local, segment_hits_exact, segment_hits_obb, segment_hits_triangle, world_obb,
+    obb_may_overlap_aabb, obb_overlaps_aabb, patches_hit, point_inside,
+    segment_crosses_triangle_interior, segment_hits_box_local, segment_hits_exact,
+    segment_hits_obb, segment_hits_triangle, world_obb,
 };
 use trample::field::Patch;
 use trample::obb::{DEFAULT_MAX_DEPTH, Obb, ObbTree};
@@ -649,4 +650,46 @@ fn broad_phase_is_conservative() {
             }
         }
     }
+}
+
+#[test]
+fn the_face_axes_test_is_looser_than_the_full_test() {
+    // Wherever the full test finds an overlap, the face-axes test does
+    // too; it also finds separations (it is not always true), and it says
+    // "overlap" for a box the full test separates on an edge axis only.
+    let mut rng = Rng::new(47);
+    let (mut both, mut separated, mut looser) = (0, 0, 0);
+    for _ in 0..4000 {
+        let rot = Quat::from_scaled_axis(rng.direction() * rng.range(0.0, 3.0));
+        let obb = Obb {
+            center: rng.in_cube(1.5),
+            axes: [rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z],
+            half: Vec3::new(
+                rng.range(0.01, 0.8),
+                rng.range(0.01, 0.8),
+                rng.range(0.01, 0.8),
+            ),
+        };
+        let (lo, hi) = (rng.in_cube(1.0), rng.in_cube(1.0));
+        let (min, max) = (lo.min(hi), lo.max(hi));
+        let (full, faces) = (
+            obb_overlaps_aabb(&obb, min, max),
+            obb_may_overlap_aabb(&obb, min, max),
+        );
+        assert!(!full || faces, "{obb:?} {min} {max}");
+        both += u32::from(full);
+        separated += u32::from(!faces);
+        looser += u32::from(faces && !full);
+    }
+    assert!(both > 500 && separated > 500, "{both} {separated}");
+    assert!(looser > 0, "no box separated by an edge axis alone");
+    assert!(!obb_may_overlap_aabb(
+        &Obb {
+            center: Vec3::NAN,
+            axes: [Vec3::X, Vec3::Y, Vec3::Z],
+            half: Vec3::ONE,
+        },
+        Vec3::ZERO,
+        Vec3::ONE
+    ));
 }

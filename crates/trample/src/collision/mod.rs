@@ -14,7 +14,8 @@ pub mod segment_obb_wide;
 pub mod segment_triangle;
 
 pub use broad_phase::{
-    PatchRect, obb_may_overlap_aabb, obb_overlaps_aabb, patch_rect, patches_hit, patches_under, world_obb,
+    PatchRect, obb_may_overlap_aabb, obb_overlaps_aabb, patch_rect, patches_hit, patches_under,
+    world_obb,
 };
 pub use exact::{point_inside, segment_hits_exact};
 pub use narrow_phase::{

@@ -188,7 +188,12 @@ impl FieldLayout {
     /// (empty, `x0 > x1` or `z0 > z1`, when none): cell `(lx, lz)` is
     /// stored at `p · cells_in_patch + lz · cells_per_patch + lx`.
     #[must_use]
-    pub fn patch_cell_range(&self, p: usize, min: [f32; 2], max: [f32; 2]) -> ([usize; 2], [usize; 2]) {
+    pub fn patch_cell_range(
+        &self,
+        p: usize,
+        min: [f32; 2],
+        max: [f32; 2],
+    ) -> ([usize; 2], [usize; 2]) {
         let cpp = self.cells_per_patch as i64;
         let (px, pz) = (
             (p % self.patches[0] as usize) as i64,
