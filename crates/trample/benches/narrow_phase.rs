@@ -14,6 +14,13 @@
 //! box tests and the traversal around them. parry's own BVH is the peer of
 //! the exact reference (`benches/exact.rs`), not of this: its AABB nodes
 //! have no depth-`d` answer. Ratios print at the end (peer / ours).
+//!
+//! The `contact_walk` group times the narrow phase as the simulation runs
+//! it: `contact_blade` on whole blades (one walk per blade, the wide
+//! four-segment test, boxes grown by the contact shell, each contact's
+//! weight and direction) against parry3d's box test walking the same grown
+//! boxes one segment at a time (`ParryObbTree::contact_hit`), after
+//! checking that both find the same segment contacts.
 
 mod common;
 
@@ -21,10 +28,18 @@ use common::peer::ParryObbTree;
 use criterion::{BenchmarkId, Criterion, Throughput};
 use std::hint::black_box;
 use std::time::SystemTime;
-use trample::collision::{Segments4, collide_segment, segment_hits_obb};
+use trample::collision::{
+    BladeContacts, LocalMotion, Segments4, collide_segment, contact_blade, segment_hits_obb,
+};
 use trample::obb::Obb;
 
 const PRECISION: u32 = 7;
+
+/// The contact shell of the default scene (`sim.contact_shell_m`), metres.
+const SHELL: f32 = 0.005;
+
+/// Segments per blade in the scenes measured (`field.segments`).
+const SEGMENTS: usize = 4;
 
 fn bench(c: &mut Criterion) -> Vec<(String, String)> {
     let mut pairs = Vec::new();
@@ -32,7 +47,7 @@ fn bench(c: &mut Criterion) -> Vec<(String, String)> {
     for (shape, scene) in [("sphere", "default.toml"), ("knot", "knot.toml")] {
         let sim = common::sim(scene);
         let tree = &sim.bodies[0].tree;
-        let peer = ParryObbTree::new(tree);
+        let peer = ParryObbTree::new(tree, SHELL);
         let field = common::field_segments(&sim, common::pose_times());
         let near = common::near_segments(&sim, &field);
         for (set, segments) in [("field", &field), ("near", &near)] {
@@ -83,7 +98,107 @@ fn bench(c: &mut Criterion) -> Vec<(String, String)> {
         }
     }
     group.finish();
+    pairs.extend(bench_contact_walk(c));
     pairs.extend(bench_box_test(c));
+    pairs
+}
+
+/// The blades of `segments` (runs of [`SEGMENTS`] consecutive segments, as
+/// `common::field_segments` lists them) as vertex lists.
+fn blades_of(segments: &[(glam::Vec3, glam::Vec3)]) -> Vec<[glam::Vec3; SEGMENTS + 1]> {
+    segments
+        .chunks_exact(SEGMENTS)
+        .map(|s| std::array::from_fn(|k| if k == 0 { s[0].0 } else { s[k - 1].1 }))
+        .collect()
+}
+
+/// Segment hits of the simulation's narrow phase: one walk per blade, four
+/// segments at a time with the wide test (`contact_blade`), boxes grown by
+/// the contact shell, each contact's weight, direction and point computed.
+fn ours_contact_hits(blades: &[[glam::Vec3; SEGMENTS + 1]], tree: &trample::obb::ObbTree) -> u32 {
+    let mut out = BladeContacts::default();
+    let mut n = 0;
+    for b in blades {
+        contact_blade(
+            black_box(b),
+            tree,
+            PRECISION,
+            SHELL,
+            &LocalMotion::STILL,
+            &mut out,
+        );
+        n += out.mask.count_ones();
+    }
+    n
+}
+
+/// The same question per segment, every box test by parry3d.
+fn parry_contact_hits(blades: &[[glam::Vec3; SEGMENTS + 1]], peer: &ParryObbTree) -> u32 {
+    let mut n = 0;
+    for b in blades {
+        for k in 0..SEGMENTS {
+            n += u32::from(peer.contact_hit(black_box(b[k]), black_box(b[k + 1]), PRECISION));
+        }
+    }
+    n
+}
+
+/// The narrow phase as the simulation runs it (issue 16: "now with the
+/// wide test"): `contact_blade` on whole blades against parry3d's box test
+/// walking the same grown boxes segment by segment.
+fn bench_contact_walk(c: &mut Criterion) -> Vec<(String, String)> {
+    let mut pairs = Vec::new();
+    let mut group = c.benchmark_group("contact_walk");
+    for (shape, scene) in [("sphere", "default.toml"), ("knot", "knot.toml")] {
+        let sim = common::sim(scene);
+        let tree = &sim.bodies[0].tree;
+        let peer = ParryObbTree::new(tree, SHELL);
+        let field = blades_of(&common::field_segments(&sim, common::pose_times()));
+        let root = tree.reach[0];
+        let grown = Obb {
+            half: root.half + glam::Vec3::splat(SHELL),
+            ..root
+        };
+        let near: Vec<_> = field
+            .iter()
+            .copied()
+            .filter(|b| b.windows(2).any(|s| segment_hits_obb(s[0], s[1], &grown)))
+            .collect();
+        for (set, blades) in [("field", &field), ("near", &near)] {
+            // The same answers, or the comparison means nothing.
+            let mut out = BladeContacts::default();
+            let (mut hits, mut differ) = (0, 0);
+            for b in blades {
+                contact_blade(b, tree, PRECISION, SHELL, &LocalMotion::STILL, &mut out);
+                for k in 0..SEGMENTS {
+                    let ours = out.mask >> k & 1 == 1;
+                    hits += usize::from(ours);
+                    differ += usize::from(ours != peer.contact_hit(b[k], b[k + 1], PRECISION));
+                }
+            }
+            assert!(
+                differ * 1000 <= hits.max(1),
+                "{shape}/{set}: parry and ours disagree on {differ} of {hits} contacts"
+            );
+            eprintln!(
+                "contact_walk {shape}/{set}: {} blades, {hits} segment contacts at precision {PRECISION}, {differ} answered differently by parry3d",
+                blades.len()
+            );
+            let input = format!("{shape}_{set}");
+            group.throughput(Throughput::Elements((blades.len() * SEGMENTS) as u64));
+            group.bench_with_input(BenchmarkId::new("ours", &input), blades, |b, blades| {
+                b.iter(|| ours_contact_hits(blades, tree));
+            });
+            group.bench_with_input(BenchmarkId::new("parry3d", &input), blades, |b, blades| {
+                b.iter(|| parry_contact_hits(blades, &peer));
+            });
+            pairs.push((
+                format!("contact_walk/ours/{input}"),
+                format!("contact_walk/parry3d/{input}"),
+            ));
+        }
+    }
+    group.finish();
     pairs
 }
 

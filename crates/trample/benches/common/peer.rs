@@ -33,23 +33,84 @@ pub struct ParryObbTree<'a> {
     tree: &'a ObbTree,
     /// Per node: segment frame (object) → box frame, and the box.
     boxes: Vec<(Pose, Cuboid)>,
+    /// The contact walk's boxes ([`ParryObbTree::contact_hit`]), grown by
+    /// `shell`: per node its own box and its reach box.
+    grown: Vec<[(Pose, Cuboid); 2]>,
+    shell: f32,
+}
+
+/// A box as parry's (object → box frame, cuboid), half extents grown by `grow`.
+fn parry_box(obb: &trample::obb::Obb, grow: f32) -> (Pose, Cuboid) {
+    let [u, w1, w2] = obb.axes;
+    let m = parry3d::math::Matrix::from_cols(v(u), v(w1), v(w2));
+    let rot = parry3d::math::Rotation::from_mat3(&m).normalize();
+    let box_to_object = Pose::from_parts(v(obb.center), rot);
+    (
+        box_to_object.inverse(),
+        Cuboid::new(v(obb.half + Vec3::splat(grow))),
+    )
 }
 
 impl<'a> ParryObbTree<'a> {
-    /// Converts every node's box.
-    pub fn new(tree: &'a ObbTree) -> Self {
-        let boxes = tree
+    /// Converts every node's box; the contact walk's boxes grown by `shell`.
+    pub fn new(tree: &'a ObbTree, shell: f32) -> Self {
+        let boxes = tree.nodes.iter().map(|n| parry_box(&n.obb, 0.0)).collect();
+        let grown = tree
             .nodes
             .iter()
-            .map(|n| {
-                let [u, w1, w2] = n.obb.axes;
-                let m = parry3d::math::Matrix::from_cols(v(u), v(w1), v(w2));
-                let rot = parry3d::math::Rotation::from_mat3(&m).normalize();
-                let box_to_object = Pose::from_parts(v(n.obb.center), rot);
-                (box_to_object.inverse(), Cuboid::new(v(n.obb.half)))
+            .enumerate()
+            .map(|(i, n)| {
+                let reach = tree.reach.get(i).unwrap_or(&n.obb);
+                [parry_box(&n.obb, shell), parry_box(reach, shell)]
             })
             .collect();
-        Self { tree, boxes }
+        Self {
+            tree,
+            boxes,
+            grown,
+            shell,
+        }
+    }
+
+    /// Whether `trample::collision::contact_blade` finds a contact for the
+    /// segment (its hit mask), with parry3d's box test on the same boxes:
+    /// the contact walk's boxes grown by the shell, reach boxes above the
+    /// final depth, the same inside fallback. Only hit or miss: ours also
+    /// computes each contact's weight, direction, point and velocity.
+    pub fn contact_hit(&self, p0: Vec3, p1: Vec3, precision: u32) -> bool {
+        let tree = self.tree;
+        if tree.is_empty() || !(p0.is_finite() && p1.is_finite()) || self.shell <= 0.0 {
+            return false;
+        }
+        let seg = Segment::new(v(p0), v(p1));
+        let test = |i: usize, reach: bool| {
+            let (pose, cuboid) = &self.grown[i][usize::from(reach)];
+            intersection_test_cuboid_segment(pose, cuboid, &seg)
+        };
+        if !test(0, true) {
+            return false;
+        }
+        let nodes = &tree.nodes;
+        let mut deepest = 0;
+        let mut stack = [(0u32, 1u32); 66];
+        let mut len = 1;
+        while len > 0 {
+            len -= 1;
+            let (i, depth) = stack[len];
+            let node = &nodes[i as usize];
+            let descend = depth < precision && !node.is_leaf();
+            if !test(i as usize, descend) {
+                continue;
+            }
+            deepest = deepest.max(depth);
+            if !descend {
+                return true;
+            }
+            stack[len] = (node.children[1], depth + 1);
+            stack[len + 1] = (node.children[0], depth + 1);
+            len += 2;
+        }
+        deepest > 0 && tree.closed && point_inside(tree, (p0 + p1) * 0.5)
     }
 
     fn hits(&self, node: usize, seg: &Segment) -> bool {
