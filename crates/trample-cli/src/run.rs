@@ -81,34 +81,44 @@ pub struct Args {
     pub backend: crate::backend::Backend,
 }
 
+/// A number `s` that `ok` accepts, or the one-line error clap prints:
+/// "`s` is not `what`: expected `expected`".
+fn number_where(
+    s: &str,
+    ok: impl Fn(f32) -> bool,
+    what: &str,
+    expected: &str,
+) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if ok(x) => Ok(x),
+        _ => Err(format!("{s:?} is not {what}: expected {expected}")),
+    }
+}
+
+/// Finite and ≥ 0.
+fn finite_non_negative(x: f32) -> bool {
+    x.is_finite() && x >= 0.0
+}
+
 /// A `--shadows` value: a strength from 0 to 1.
 fn unit_interval(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
-        _ => Err(format!(
-            "{s:?} is not a strength: expected a number from 0 to 1, e.g. 0.8"
-        )),
-    }
+    let unit = |x: f32| (0.0..=1.0).contains(&x);
+    number_where(s, unit, "a strength", "a number from 0 to 1, e.g. 0.8")
 }
 
 /// An `--ambient-occlusion` value: a finite strength ≥ 0.
 fn non_negative(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
-        _ => Err(format!(
-            "{s:?} is not a strength: expected a number >= 0, e.g. 1"
-        )),
-    }
+    number_where(
+        s,
+        finite_non_negative,
+        "a strength",
+        "a number >= 0, e.g. 1",
+    )
 }
 
 /// A `--lod-blend`/`--texture-blend` value: a finite distance ≥ 0 metres.
 fn non_negative_metres(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(m) if m.is_finite() && m >= 0.0 => Ok(m),
-        _ => Err(format!(
-            "{s:?} is not a distance: expected metres >= 0, e.g. 4"
-        )),
-    }
+    number_where(s, finite_non_negative, "a distance", "metres >= 0, e.g. 4")
 }
 
 /// Frames per second of the rendered frames, each timed over its simulation
