@@ -79,16 +79,10 @@ impl ObjectPass {
     ) -> Self {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("object"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
+            entries: &[crate::pipeline::uniform(
+                0,
+                wgpu::ShaderStages::VERTEX_FRAGMENT,
+            )],
         });
         let objects = upload_bodies(device, &layout, sim);
         let module = shader_module(device, "objects.wgsl", include_str!("objects.wgsl"));

@@ -111,9 +111,15 @@ pub fn vertex_storage(binding: u32) -> wgpu::BindGroupLayoutEntry {
 /// A bind-group-layout entry for a uniform buffer seen by the vertex stage.
 #[must_use]
 pub fn vertex_uniform(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    uniform(binding, wgpu::ShaderStages::VERTEX)
+}
+
+/// A bind-group-layout entry for a uniform buffer seen by the stages `visibility`.
+#[must_use]
+pub fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::VERTEX,
+        visibility,
         ty: wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Uniform,
             has_dynamic_offset: false,

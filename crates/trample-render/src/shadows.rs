@@ -105,16 +105,7 @@ impl ShadowPass {
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("shadow casters globals"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
+            entries: &[crate::pipeline::vertex_uniform(0)],
         });
         let globals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shadow casters globals"),
