@@ -193,6 +193,18 @@ impl Default for RenderParams {
 }
 
 impl RenderParams {
+    /// These settings with both blend bands off: the paper's hard switch
+    /// between levels of detail ([`RenderParams::lod_blend_m`] and
+    /// [`RenderParams::texture_blend_m`] at 0).
+    #[must_use]
+    pub fn without_blend_bands(self) -> Self {
+        Self {
+            lod_blend_m: 0.0,
+            texture_blend_m: 0.0,
+            ..self
+        }
+    }
+
     /// The blend bands in use for `lod`'s distances, metres: `[near, far]`
     /// ([`RenderParams::lod_blend_m`], [`RenderParams::texture_blend_m`]),
     /// each at most half the billboard band, 0 for a non-finite or

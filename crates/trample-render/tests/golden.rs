@@ -7,6 +7,8 @@
 //! golden test whose reference is missing or differs (then look at it,
 //! then commit it; CONTRIBUTING.md). No adapter = failure, not a skip.
 
+mod common;
+
 use std::path::PathBuf;
 use trample::Simulation;
 use trample::scene::Scene;
@@ -319,27 +321,7 @@ fn golden_ball_shadow() {
     // their roots (tests/shadows.rs measures both).
     let sun = RenderParams::default().sun_dir.normalize();
     let ball = glam::Vec3::new(0.0, 0.25, 0.0) + sun * 1.3;
-    let toml = format!(
-        r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 8
-cell_size_m = 0.1
-blade_height_m = 0.45
-blade_width_m = 0.03
-[lod]
-geometry_m = 50.0
-billboard_m = 60.0
-[camera]
-path = {{ kind = "static", position = [0.95, 1.6, 1.67] }}
-look_at = {{ kind = "point", at = [0.0, 0.1, 0.0] }}
-[[objects]]
-name = "ball"
-shape = {{ kind = "sphere", radius_m = 0.3, subdivisions = 3 }}
-path = {{ kind = "static", position = [{}, {}, {}] }}
-"#,
-        ball.x, ball.y, ball.z
-    );
+    let toml = common::ball_above_grass(ball, 0.3);
     let sim = stepped(&toml, 1);
     check("ball_shadow", &render(&sim, DebugView::None));
 }

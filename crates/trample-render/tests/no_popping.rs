@@ -188,11 +188,7 @@ fn measure(transitions: bool, track_everywhere: bool, approach: bool, bands: boo
         let params = if bands {
             params
         } else {
-            RenderParams {
-                lod_blend_m: 0.0,
-                texture_blend_m: 0.0,
-                ..params
-            }
+            params.without_blend_bands()
         };
         Renderer::new(&gpu.device, &gpu.queue, &sim, params).unwrap()
     };

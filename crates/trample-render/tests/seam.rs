@@ -98,11 +98,7 @@ fn render(sim: &Simulation, debug: DebugView, bands: bool) -> image::RgbaImage {
     let params = if bands {
         params
     } else {
-        RenderParams {
-            lod_blend_m: 0.0,
-            texture_blend_m: 0.0,
-            ..params
-        }
+        params.without_blend_bands()
     };
     Renderer::new(&gpu.device, &gpu.queue, sim, params)
         .unwrap()

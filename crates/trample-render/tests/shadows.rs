@@ -6,6 +6,8 @@
 //! the roots of blades seen side-on darken more than their tips. Runs on
 //! the adapter of `WGPU_BACKEND`; no adapter = failure.
 
+mod common;
+
 use glam::{Vec2, Vec3};
 use trample::Simulation;
 use trample::scene::Scene;
@@ -44,27 +46,7 @@ fn footprint() -> Vec3 {
 /// sees are lit, not back-lit), looking down at the footprint.
 fn scene_with_ball() -> Simulation {
     let ball = footprint() + sun() * 1.3;
-    let toml = format!(
-        r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 8
-cell_size_m = 0.1
-blade_height_m = 0.45
-blade_width_m = 0.03
-[lod]
-geometry_m = 50.0
-billboard_m = 60.0
-[camera]
-path = {{ kind = "static", position = [0.95, 1.6, 1.67] }}
-look_at = {{ kind = "point", at = [0.0, 0.1, 0.0] }}
-[[objects]]
-name = "ball"
-shape = {{ kind = "sphere", radius_m = {BALL_R}, subdivisions = 3 }}
-path = {{ kind = "static", position = [{}, {}, {}] }}
-"#,
-        ball.x, ball.y, ball.z
-    );
+    let toml = common::ball_above_grass(ball, BALL_R);
     let mut sim = Scene::parse(&toml, "shadows.toml", std::path::Path::new("."))
         .unwrap()
         .build()
@@ -230,21 +212,12 @@ const EYE_Y: f32 = 0.06;
 /// A 3.2 m field of standing blades (0.45 m) seen side-on from just above
 /// the ground, 0.6 m outside its near edge (z = 1.6), looking along -z.
 fn blades_side_on() -> Simulation {
-    let toml = format!(
-        r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 8
-cell_size_m = 0.1
-blade_height_m = 0.45
-blade_width_m = 0.03
-[lod]
-geometry_m = 50.0
-billboard_m = 60.0
-[camera]
-path = {{ kind = "static", position = [0.0, {EYE_Y}, 2.2] }}
-look_at = {{ kind = "point", at = [0.0, {EYE_Y}, 0.0] }}
-"#
+    let toml = common::light_field(
+        &format!(
+            r#"path = {{ kind = "static", position = [0.0, {EYE_Y}, 2.2] }}
+look_at = {{ kind = "point", at = [0.0, {EYE_Y}, 0.0] }}"#
+        ),
+        "",
     );
     let mut sim = Scene::parse(&toml, "ao.toml", std::path::Path::new("."))
         .unwrap()
