@@ -217,7 +217,16 @@ pub fn contact_segment(
     };
     let ends = (p0, p1);
     let deepest = walk(tree, p0, p1, final_depth, shell, |i| {
-        contact_node(tree, i, ends, shell, motion, &mut pen, &mut acc);
+        contact_node(
+            tree,
+            i,
+            ends,
+            (centre, half),
+            shell,
+            motion,
+            &mut pen,
+            &mut acc,
+        );
     });
     contact_finish(tree, ends, shell, motion, deepest, acc)
 }
@@ -234,19 +243,21 @@ fn end_depth(tree: &ObbTree, q: Vec3) -> Option<f32> {
 /// The contact walk's work at final-depth node `i` hit by segment `ends`
 /// (see [`contact_segment`]): its weight, direction, point and velocity
 /// added to `acc` when the segment reaches into the node's grown box.
-/// `pen` answers [`end_depth`] for the segment's ends (cached by the caller).
+/// `pen` answers [`end_depth`] for the segment's ends (cached by the caller);
+/// `(centre, half)` is the segment as [`centred`] gives it (the walk's).
 #[inline]
+#[allow(clippy::too_many_arguments)]
 fn contact_node(
     tree: &ObbTree,
     i: u32,
     (p0, p1): (Vec3, Vec3),
+    (centre, half): (Vec3A, Vec3A),
     shell: f32,
     motion: &LocalMotion,
     pen: &mut impl FnMut(Vec3) -> Option<f32>,
     acc: &mut Weighted,
 ) {
     let node = &tree.nodes[i as usize];
-    let (centre, half) = centred(p0, p1);
     let depth = segment_depth_in_obb(centre, half, &node.obb, shell);
     if depth > 0.0 {
         let at = closest_point_on_segment(p0, p1, node.obb.center);
@@ -404,13 +415,23 @@ pub fn contact_blade(
             continue;
         }
         let mut acc: [Weighted; LANES] = Default::default();
+        let cent = ends.map(|(p0, p1)| centred(p0, p1));
         let deepest = walk4(tree, &segments, mask, final_depth, shell, |l, i| {
             let (p0, _) = ends[l];
             let mut pen = |q: Vec3| -> Option<f32> {
                 let v = first + l + usize::from(q != p0);
                 *known[v].get_or_insert_with(|| end_depth(tree, q))
             };
-            contact_node(tree, i, ends[l], shell, motion, &mut pen, &mut acc[l]);
+            contact_node(
+                tree,
+                i,
+                ends[l],
+                cent[l],
+                shell,
+                motion,
+                &mut pen,
+                &mut acc[l],
+            );
         });
         for (l, acc) in acc.into_iter().enumerate() {
             if mask & (1 << l) == 0 {
@@ -440,7 +461,7 @@ pub fn contact_blade(
 /// stack bound would cut (never for a tree of depth ≤ `MAX_TREE_DEPTH`).
 #[must_use]
 pub fn box_clear_of(tree: &ObbTree, lo: Vec3, hi: Vec3, precision: u32, shell: f32) -> bool {
-    if !(shell > 0.0) || !lo.is_finite() || !hi.is_finite() || tree.is_empty() {
+    if shell.is_nan() || shell <= 0.0 || !lo.is_finite() || !hi.is_finite() || tree.is_empty() {
         return false;
     }
     let grown = |obb: &crate::obb::Obb| crate::obb::Obb {
