@@ -89,15 +89,17 @@ pub(crate) fn resolve_contacts(
     let mut out = Vec::new();
     for (&(i, k), patches) in colliders.iter().zip(patch_hits) {
         let collider = sim.bodies[i].collider(k);
-        let list: Vec<u32> = touched
-            .iter()
-            .copied()
-            .filter(|&b| {
-                patches
-                    .binary_search(&((b as usize / per_patch) as u32))
-                    .is_ok()
-            })
-            .collect();
+        // The touched blades in the collider's patches: blades are stored
+        // patch by patch and `touched` is sorted, so each listed patch
+        // (ascending) is one range of it — found by two binary searches,
+        // not by testing every touched blade against every collider.
+        let mut list: Vec<u32> = Vec::new();
+        for &p in patches {
+            let (first, end) = (p as usize * per_patch, (p as usize + 1) * per_patch);
+            let lo = touched.partition_point(|&b| (b as usize) < first);
+            let hi = touched.partition_point(|&b| (b as usize) < end);
+            list.extend_from_slice(&touched[lo..hi]);
+        }
         if list.is_empty() {
             continue;
         }
