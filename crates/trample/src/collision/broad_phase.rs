@@ -85,29 +85,29 @@ fn obb_aabb_sat(obb: &Obb, min: Vec3, max: Vec3, edges: bool) -> bool {
     let a = (max - min) * 0.5; // AABB half extents
     let b = obb.half;
     let t = obb.center - (min + max) * 0.5; // in the AABB (= world) frame
-    // r[i][j] = e_i · B_j, the OBB axes in the AABB frame.
-    let r: [[f32; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| obb.axes[j][i]));
-    let ar: [[f32; 3]; 3] = r.map(|row| row.map(|x| x.abs() + PARALLEL_PAD));
     let separated = |dist: f32, ra: f32, rb: f32| dist.abs() > (ra + rb) * (1.0 + REL_SLACK);
-
-    // AABB axes e_i.
-    for i in 0..3 {
-        let rb = b.x * ar[i][0] + b.y * ar[i][1] + b.z * ar[i][2];
-        if separated(t[i], a[i], rb) {
-            return false;
-        }
+    // Face axes first, three at a time: the OBB axes' absolute components
+    // (padded), `|B_j| + pad`, component i being `|e_i · B_j| + pad`.
+    let [u, v, w] = obb.axes;
+    let pad = Vec3::splat(PARALLEL_PAD);
+    let abs_axes = [u.abs() + pad, v.abs() + pad, w.abs() + pad];
+    // AABB axes e_i: the OBB's radius along each, summed over j in order.
+    let rb = abs_axes[0] * b.x + abs_axes[1] * b.y + abs_axes[2] * b.z;
+    if t.abs().cmpgt((a + rb) * (1.0 + REL_SLACK)).any() {
+        return false;
     }
     // OBB axes B_j.
-    for j in 0..3 {
-        let ra = a.x * ar[0][j] + a.y * ar[1][j] + a.z * ar[2][j];
-        let dist = t.x * r[0][j] + t.y * r[1][j] + t.z * r[2][j];
-        if separated(dist, ra, b[j]) {
+    for (j, axis) in obb.axes.iter().enumerate() {
+        if separated(t.dot(*axis), a.dot(abs_axes[j]), b[j]) {
             return false;
         }
     }
     if !edges {
         return true;
     }
+    // r[i][j] = e_i · B_j, the OBB axes in the AABB frame.
+    let r: [[f32; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| obb.axes[j][i]));
+    let ar: [[f32; 3]; 3] = r.map(|row| row.map(|x| x.abs() + PARALLEL_PAD));
     // Cross products e_i × B_j.
     for i in 0..3 {
         let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);

@@ -464,10 +464,7 @@ pub fn box_clear_of(tree: &ObbTree, lo: Vec3, hi: Vec3, precision: u32, shell: f
     if shell.is_nan() || shell <= 0.0 || !lo.is_finite() || !hi.is_finite() || tree.is_empty() {
         return false;
     }
-    let grown = |obb: &crate::obb::Obb| crate::obb::Obb {
-        half: obb.half + Vec3::splat(shell),
-        ..*obb
-    };
+    let grow = Vec3::splat(shell);
     let final_depth = precision.clamp(1, MAX_TREE_DEPTH);
     let mut stack = [(0u32, 1u32); STACK_SIZE];
     let mut len = 1;
@@ -482,8 +479,16 @@ pub fn box_clear_of(tree: &ObbTree, lo: Vec3, hi: Vec3, precision: u32, shell: f
         if descend && len + 2 > STACK_SIZE {
             return false;
         }
-        let reach = tree.reach.get(i as usize).filter(|_| descend);
-        if !obb_may_overlap_aabb(&grown(reach.unwrap_or(&node.obb)), lo, hi) {
+        let obb = tree
+            .reach
+            .get(i as usize)
+            .filter(|_| descend)
+            .unwrap_or(&node.obb);
+        let grown = crate::obb::Obb {
+            half: obb.half + grow,
+            ..*obb
+        };
+        if !obb_may_overlap_aabb(&grown, lo, hi) {
             continue;
         }
         if !descend {
