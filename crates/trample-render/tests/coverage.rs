@@ -6,6 +6,8 @@
 //! 40 %. The simulation is the same in both. Runs on the adapter of
 //! `WGPU_BACKEND`; no adapter = failure.
 
+mod common;
+
 use trample::scene::Scene;
 use trample_render::{DebugView, RenderParams, Renderer};
 
@@ -24,12 +26,8 @@ fn ground_fraction(near_density: u32) -> f64 {
     let mut sim = Scene::default_scene().unwrap().build().unwrap();
     sim.step(sim.params.dt_s).unwrap();
     let params = RenderParams {
-        width: W,
-        height: H,
-        samples: gpu.msaa(4),
-        debug: DebugView::Classes,
         near_density,
-        ..Default::default()
+        ..common::test_params(&gpu, W, H, DebugView::Classes)
     };
     let frame = Renderer::new(&gpu.device, &gpu.queue, &sim, params)
         .unwrap()

@@ -44,13 +44,7 @@ fn scene(toml: &str) -> Simulation {
 
 fn render(sim: &Simulation, debug: DebugView) -> image::RgbaImage {
     let gpu = gpu();
-    let params = RenderParams {
-        width: W,
-        height: H,
-        samples: gpu.msaa(4),
-        debug,
-        ..Default::default()
-    };
+    let params = common::test_params(gpu, W, H, debug);
     let mut r = Renderer::new(&gpu.device, &gpu.queue, sim, params).unwrap();
     r.render(&gpu.device, &gpu.queue, sim).unwrap()
 }

@@ -7,6 +7,8 @@
 //! four. A frame of another instant differs by far more (the comparison can
 //! fail). Runs on the adapter of `WGPU_BACKEND`; no adapter = failure.
 
+mod common;
+
 use trample::Simulation;
 use trample::scene::Scene;
 use trample_gpu::GpuSimulation;
@@ -50,13 +52,7 @@ path = {{ kind = "line", from = [-2.5, 0.35, -0.8], to = [2.5, 0.35, 1.2], durat
 }
 
 fn params(gpu: &trample_render::headless::Gpu, debug: DebugView) -> RenderParams {
-    RenderParams {
-        width: W,
-        height: H,
-        samples: gpu.msaa(4),
-        debug,
-        ..Default::default()
-    }
+    common::test_params(gpu, W, H, debug)
 }
 
 /// Pixels whose largest channel difference is over 24 (of 255), as a

@@ -13,10 +13,12 @@
 //! last frame are drawn (each cell projected from its base up).
 //! Runs on the adapter of `WGPU_BACKEND`; no adapter = failure.
 
+mod common;
+
 use glam::Vec3;
 use trample::Simulation;
 use trample::scene::Scene;
-use trample_render::{DebugView, RenderParams, Renderer};
+use trample_render::{DebugView, Renderer};
 
 const W: u32 = 200;
 const H: u32 = 152;
@@ -178,13 +180,7 @@ fn measure(transitions: bool, track_everywhere: bool, approach: bool, bands: boo
         sim.blades_away_from_rest()
     );
     let renderer = |debug| {
-        let params = RenderParams {
-            width: W,
-            height: H,
-            samples: gpu.msaa(4),
-            debug,
-            ..Default::default()
-        };
+        let params = common::test_params(&gpu, W, H, debug);
         let params = if bands {
             params
         } else {

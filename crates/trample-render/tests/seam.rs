@@ -9,10 +9,12 @@
 //! `WGPU_BACKEND`; no adapter = failure. `TRAMPLE_SEAM_DUMP=DIR` writes the
 //! frames measured.
 
+mod common;
+
 use std::path::Path;
 use trample::Simulation;
 use trample::scene::Scene;
-use trample_render::{DebugView, RenderParams, Renderer};
+use trample_render::{DebugView, Renderer};
 
 const W: u32 = 640;
 const H: u32 = 360;
@@ -88,13 +90,7 @@ struct Seams {
 fn render(sim: &Simulation, debug: DebugView, bands: bool) -> image::RgbaImage {
     let gpu = trample_render::headless::create_device()
         .unwrap_or_else(|e| panic!("the seam test needs an adapter: {e}"));
-    let params = RenderParams {
-        width: W,
-        height: H,
-        samples: gpu.msaa(4),
-        debug,
-        ..Default::default()
-    };
+    let params = common::test_params(&gpu, W, H, debug);
     let params = if bands {
         params
     } else {

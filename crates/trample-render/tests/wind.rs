@@ -4,6 +4,8 @@
 //! simulation state is not touched. Runs on the adapter of `WGPU_BACKEND`;
 //! no adapter = failure.
 
+mod common;
+
 use trample::Simulation;
 use trample::scene::Scene;
 use trample::wind::WindParams;
@@ -42,15 +44,11 @@ fn render(sim: &Simulation, debug: DebugView) -> image::RgbaImage {
     let gpu = trample_render::headless::create_device()
         .unwrap_or_else(|e| panic!("the wind test needs an adapter: {e}"));
     let params = RenderParams {
-        width: W,
-        height: H,
-        samples: gpu.msaa(4),
-        debug,
         // The simulated blades alone: the near copies (render density)
         // carry the same leaning shape but fill this close-up with green,
         // which would blur the centroid the test reads.
         near_density: 1,
-        ..Default::default()
+        ..common::test_params(&gpu, W, H, debug)
     };
     Renderer::new(&gpu.device, &gpu.queue, sim, params)
         .unwrap()

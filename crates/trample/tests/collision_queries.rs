@@ -606,23 +606,29 @@ fn broad_phase_uses_the_oriented_box_not_its_aabb() {
     assert!(!obb_overlaps_aabb(&plank, Vec3::ONE, Vec3::ZERO));
 }
 
+/// A random OBB (centre within 1.5 m, any rotation, half extents 1–80 cm)
+/// and a random AABB `min..max` within 1 m of the origin.
+fn random_obb_and_aabb(rng: &mut Rng) -> (Obb, Vec3, Vec3) {
+    let rot = Quat::from_scaled_axis(rng.direction() * rng.range(0.0, 3.0));
+    let obb = Obb {
+        center: rng.in_cube(1.5),
+        axes: [rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z],
+        half: Vec3::new(
+            rng.range(0.01, 0.8),
+            rng.range(0.01, 0.8),
+            rng.range(0.01, 0.8),
+        ),
+    };
+    let (lo, hi) = (rng.in_cube(1.0), rng.in_cube(1.0));
+    (obb, lo.min(hi), lo.max(hi))
+}
+
 #[test]
 fn broad_phase_is_conservative() {
     // Whenever a point of the OBB lies in the AABB, they overlap.
     let mut rng = Rng::new(31);
     for _ in 0..400 {
-        let rot = Quat::from_scaled_axis(rng.direction() * rng.range(0.0, 3.0));
-        let obb = Obb {
-            center: rng.in_cube(1.5),
-            axes: [rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z],
-            half: Vec3::new(
-                rng.range(0.01, 0.8),
-                rng.range(0.01, 0.8),
-                rng.range(0.01, 0.8),
-            ),
-        };
-        let (lo, hi) = (rng.in_cube(1.0), rng.in_cube(1.0));
-        let (min, max) = (lo.min(hi), lo.max(hi));
+        let (obb, min, max) = random_obb_and_aabb(&mut rng);
         let overlap = obb_overlaps_aabb(&obb, min, max);
         let mut sample_inside = false;
         for i in 0..=8 {
@@ -660,18 +666,7 @@ fn the_face_axes_test_is_looser_than_the_full_test() {
     let mut rng = Rng::new(47);
     let (mut both, mut separated, mut looser) = (0, 0, 0);
     for _ in 0..4000 {
-        let rot = Quat::from_scaled_axis(rng.direction() * rng.range(0.0, 3.0));
-        let obb = Obb {
-            center: rng.in_cube(1.5),
-            axes: [rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z],
-            half: Vec3::new(
-                rng.range(0.01, 0.8),
-                rng.range(0.01, 0.8),
-                rng.range(0.01, 0.8),
-            ),
-        };
-        let (lo, hi) = (rng.in_cube(1.0), rng.in_cube(1.0));
-        let (min, max) = (lo.min(hi), lo.max(hi));
+        let (obb, min, max) = random_obb_and_aabb(&mut rng);
         let (full, faces) = (
             obb_overlaps_aabb(&obb, min, max),
             obb_may_overlap_aabb(&obb, min, max),

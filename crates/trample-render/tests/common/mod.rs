@@ -1,7 +1,28 @@
-//! Scenes shared by the renderer's tests (each test file that uses them
-//! declares `mod common;`).
+//! Scenes and settings shared by the renderer's tests (each test file
+//! that uses them declares `mod common;`).
+
+// Each test binary compiles this module and uses only part of it.
+#![allow(dead_code)]
 
 use glam::Vec3;
+use trample_render::{DebugView, RenderParams};
+
+/// The tests' render settings: a `width` × `height` frame with 4× MSAA
+/// where the device has it, the view `debug`, the rest the defaults.
+pub fn test_params(
+    gpu: &trample_render::headless::Gpu,
+    width: u32,
+    height: u32,
+    debug: DebugView,
+) -> RenderParams {
+    RenderParams {
+        width,
+        height,
+        samples: gpu.msaa(4),
+        debug,
+        ..Default::default()
+    }
+}
 
 /// The light tests' field: 3.2 m square (4 × 4 patches of 8 × 8 cells of
 /// 10 cm), blades 0.45 m tall and 3 cm wide, every cell geometric, with

@@ -808,6 +808,21 @@ mod tests {
         }
     }
 
+    /// The meshes of the contact tests: closed (sphere, knot, box) and an
+    /// open sheet (a unit cube's top face, facing up), in that order.
+    fn test_meshes() -> [crate::object::TriMesh; 4] {
+        let mut sheet = cuboid(Vec3::ONE);
+        sheet
+            .indices
+            .retain(|t| t.iter().all(|&i| sheet.positions[i as usize].y > 0.5));
+        [
+            sphere(1.0, 3),
+            knot(2.4),
+            cuboid(Vec3::new(0.6, 0.3, 0.9)),
+            sheet,
+        ]
+    }
+
     /// The grown wide test answers as the scalar grown test on every lane,
     /// on random segments and on segments ending exactly on the grown
     /// box's faces and corners (ties).
@@ -862,16 +877,7 @@ mod tests {
     /// precision, some blades with a non-finite vertex.
     #[test]
     fn contact_blade_equals_contact_segment_on_each_segment() {
-        let mut sheet = cuboid(Vec3::ONE);
-        sheet
-            .indices
-            .retain(|t| t.iter().all(|&i| sheet.positions[i as usize].y > 0.5));
-        let meshes = [
-            sphere(1.0, 3),
-            knot(2.4),
-            cuboid(Vec3::new(0.6, 0.3, 0.9)),
-            sheet,
-        ];
+        let meshes = test_meshes();
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
         let (mut hit_segments, mut blades) = (0, 0);
         for mesh in &meshes {
@@ -951,16 +957,7 @@ mod tests {
     /// clear, many are not.
     #[test]
     fn a_clear_box_holds_no_contact() {
-        let mut sheet = cuboid(Vec3::ONE);
-        sheet
-            .indices
-            .retain(|t| t.iter().all(|&i| sheet.positions[i as usize].y > 0.5));
-        let meshes = [
-            sphere(1.0, 3),
-            knot(2.4),
-            cuboid(Vec3::new(0.6, 0.3, 0.9)),
-            sheet,
-        ];
+        let meshes = test_meshes();
         let mut rng = Rng(0x0123_4567_89ab_cdef);
         let (mut clear, mut not_clear, mut inside) = (0, 0, 0);
         for (m, mesh) in meshes.iter().enumerate() {
