@@ -21,11 +21,14 @@
 // The broad phase's lists and per-patch object masks (see narrow_phase.wgsl).
 @group(0) @binding(6) var<storage, read> lists: array<u32>;
 
-// `deform::contact::CONTACT_ITERATIONS`, `LEAN_BIAS`, `PIN_HEIGHT`, `FLAT_LEAN`.
+// `deform::contact::CONTACT_ITERATIONS`, `LEAN_BIAS`, `PIN_HEIGHT`,
+// `FLAT_LEAN`, `FLAT_OUT`, `FLAT_FLOOR`.
 const CONTACT_ITERATIONS: u32 = 4u;
 const LEAN_BIAS: f32 = 0.05;
 const PIN_HEIGHT: f32 = 0.02;
 const FLAT_LEAN: f32 = 0.1;
+const FLAT_OUT: f32 = 2.0;
+const FLAT_FLOOR: f32 = 0.25;
 
 // glam `Vec3A::try_normalize`, with a fallback.
 fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -34,6 +37,20 @@ fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
         return v * rcp;
     }
     return fallback;
+}
+
+// `deform::contact::flat_direction`'s parts: the horizontal part of v
+// divided by max(its length, floor).
+fn flat_part(v: vec3<f32>, floor: f32) -> vec3<f32> {
+    let h = v * vec3<f32>(1.0, 0.0, 1.0);
+    return h / max(sqrt(dot3(h, h)), floor);
+}
+
+// `deform::contact::flat_direction`, `fallback` for its `None`.
+fn flat_direction(seg_in: vec3<f32>, lean_in: vec3<f32>, out: vec3<f32>, seg_len: f32, fallback: vec3<f32>) -> vec3<f32> {
+    let floor = max(FLAT_FLOOR * seg_len, 1.17549435e-38);
+    let sum = flat_part(seg_in, floor) + flat_part(lean_in, floor) * FLAT_LEAN + flat_part(out, floor) * FLAT_OUT;
+    return normalize_or(sum, fallback);
 }
 
 // `contact::turn_towards`.
@@ -117,7 +134,7 @@ fn contact_blade(b: u32) {
             let lean = normalize_or((v[k] - v[0]) * horizontal, vec3<f32>(0.0));
             let push = to_world(out.xyz) - v[k];
             let turned = turn_towards(v[k] - start, push, lean, seg_len);
-            let flat = normalize_or((v[k] - start) * horizontal + lean * (FLAT_LEAN * seg_len), turned);
+            let flat = flat_direction(v[k] - start, v[k] - v[0], start - obj.position.xyz, seg_len, turned);
             let pin = pinned(start);
             let dir = normalize_or(turned * (1.0 - pin) + flat * pin, turned);
             v[k] = start + dir * seg_len;

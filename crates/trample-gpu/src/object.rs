@@ -9,8 +9,10 @@
 //! word 0 is the header (object count, mask words per patch of the broad
 //! phase, first mask word in the broad phase's lists, 0); object `o`'s
 //! [`GpuObjectParams`] are the 16 words from `1 + 16 o`; its nodes
-//! ([`GpuNode`], 10 words each), triangles (3 words each, one a corner) and
-//! voxels (4 to a word) start at the words its `base` names. Only the
+//! ([`GpuNode`], 10 words each), triangles (3 words each, one a corner),
+//! an open mesh's pseudo-normals (6 words a triangle: edges `ab`, `bc`, `ca`,
+//! corners `a`, `b`, `c`; `trample::obb::pseudo_normals`) and a closed
+//! mesh's voxels (4 to a word) start at the words its `base` names. Only the
 //! parameters change during a run (one write of `16 · 16` bytes an object
 //! per sub-step).
 
@@ -90,8 +92,8 @@ pub struct GpuObjectParams {
     /// 1 + the object's index (its track owner id; 0 past 254), track
     /// everywhere (1) or the paper's geometric cells only (0), unused ×2.
     pub extra: [u32; 4],
-    /// Where the object's nodes, triangles and voxels start in the object
-    /// table, in 16-byte words; unused.
+    /// Where the object's nodes, triangles, voxels and pseudo-normals start
+    /// in the object table, in 16-byte words.
     pub base: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuObjectParams>() == 256);
@@ -158,6 +160,14 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
     params.base[0] = 0;
     params.base[1] = out.len() as u32;
     out.extend(tree.triangles.iter().flat_map(|t| t.map(|c| words(v4(c)))));
+    // An open mesh's pseudo-normals (six per triangle; none for a closed
+    // mesh): `trample::obb::pseudo_normals`.
+    params.base[3] = out.len() as u32;
+    out.extend(
+        tree.feature_normals
+            .iter()
+            .flat_map(|n| n.map(|v| words(v4(v)))),
+    );
     params.base[2] = out.len() as u32;
     params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 0];
     params.local_velocity[3] = 2.0 * tree.nodes.first().map_or(0.0, |n| n.obb.half.min_element());
@@ -179,22 +189,72 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
     (params, out)
 }
 
+/// Words of one object's nodes, triangles and pseudo-normals (what
+/// [`GpuObjects::write_tree`] uploads).
+fn mesh_words(tree: &ObbTree) -> usize {
+    tree.nodes.len() * NODE_WORDS + tree.triangles.len() * 3 + tree.feature_normals.len() * 6
+}
+
+/// The object table after its header: every object's parameters (their
+/// `base` absolute) and the words they point at. An object whose words
+/// equal an earlier object's (the same mesh at the same scale: a herd's
+/// twenty cows) points at that object's words instead of a copy, unless
+/// `rewritten[i]` (its tree is written again every sub-step: an animated
+/// body, [`GpuObjects::write_tree`]; such an object neither shares nor is
+/// shared). Also returns, per object, whether its words are shared.
+fn table_layout(
+    trees: &[&ObbTree],
+    rewritten: &[bool],
+) -> (Vec<GpuObjectParams>, Vec<[u32; 4]>, Vec<bool>) {
+    use std::collections::HashMap;
+    use std::hash::{BuildHasher, BuildHasherDefault, DefaultHasher};
+    let hash = |w: &[[u32; 4]]| BuildHasherDefault::<DefaultHasher>::default().hash_one(w);
+    let mut params = Vec::with_capacity(trees.len());
+    let mut data: Vec<[u32; 4]> = Vec::new();
+    let mut shared = vec![false; trees.len()];
+    // Words' hash -> (object, first word in `data`) of the objects stored.
+    let mut stored: HashMap<u64, Vec<(usize, usize)>> = HashMap::new();
+    let start = (1 + PARAM_WORDS * trees.len()) as u32;
+    for (i, tree) in trees.iter().enumerate() {
+        let (mut p, words) = object_words(tree);
+        let own = rewritten.get(i).copied().unwrap_or(false);
+        let key = hash(&words);
+        let same = (!own)
+            .then(|| stored.get(&key))
+            .flatten()
+            .and_then(|v| {
+                v.iter()
+                    .find(|&&(_, at)| data.get(at..at + words.len()) == Some(&words[..]))
+            })
+            .copied();
+        let at = if let Some((first, at)) = same {
+            shared[first] = true;
+            shared[i] = true;
+            at
+        } else {
+            let at = data.len();
+            if !own {
+                stored.entry(key).or_default().push((i, at));
+            }
+            data.extend_from_slice(&words);
+            at
+        };
+        for b in &mut p.base {
+            *b += start + at as u32;
+        }
+        params.push(p);
+    }
+    (params, data, shared)
+}
+
 /// Bytes of the object table for `trees` (header, parameters, every
-/// object's nodes, triangles and voxels).
+/// object's nodes, triangles, pseudo-normals and voxels, identical ones
+/// once: see [`GpuObjects::new`]).
 #[must_use]
 pub fn table_bytes<'a>(trees: impl IntoIterator<Item = &'a ObbTree>) -> u64 {
-    let words: usize = trees
-        .into_iter()
-        .map(|t| {
-            let voxels = t
-                .inside
-                .as_ref()
-                .filter(|_| t.closed)
-                .map_or(0, |g| g.voxels.len().div_ceil(4));
-            PARAM_WORDS + t.nodes.len() * NODE_WORDS + t.triangles.len() * 3 + voxels
-        })
-        .sum();
-    (1 + words) as u64 * 16
+    let trees: Vec<&ObbTree> = trees.into_iter().collect();
+    let (params, data, _) = table_layout(&trees, &[]);
+    (1 + params.len() * PARAM_WORDS + data.len()) as u64 * 16
 }
 
 /// Every object of a simulation in one storage buffer (see the module
@@ -203,9 +263,20 @@ pub fn table_bytes<'a>(trees: impl IntoIterator<Item = &'a ObbTree>) -> u64 {
 /// sub-step.
 pub struct GpuObjects {
     params: Vec<GpuObjectParams>,
+    /// Per object: its words are shared with another object's.
+    shared: Vec<bool>,
     /// The object table (group 1 of the narrow phase and the contact
     /// response).
     pub(crate) table: wgpu::Buffer,
+}
+
+/// The error for an object table of `bytes` over the binding `limit`.
+fn too_large(bytes: u64, limit: u64) -> GpuError {
+    GpuError::TooLarge {
+        what: "the objects' OBB trees, triangles, pseudo-normals and inside-test voxels (one buffer)",
+        bytes,
+        limit,
+    }
 }
 
 impl GpuObjects {
@@ -221,18 +292,16 @@ impl GpuObjects {
         let limit = device.limits().max_storage_buffer_binding_size;
         let bytes = table_bytes(trees);
         if bytes > limit {
-            return Err(GpuError::TooLarge {
-                what: "the objects' OBB trees, triangles and inside-test voxels (one buffer)",
-                bytes,
-                limit,
-            });
+            return Err(too_large(bytes, limit));
         }
         Ok(())
     }
 
     /// Uploads `trees` (one per object, in order). `masks` is where the
     /// broad phase keeps its per-patch object masks: (words per patch,
-    /// first word in its lists), `(0, 0)` without a broad phase.
+    /// first word in its lists), `(0, 0)` without a broad phase. Objects
+    /// with identical trees (the same mesh at the same scale) share one
+    /// copy of their nodes, triangles and voxels in the table.
     ///
     /// # Errors
     /// [`GpuError::TooLarge`] when the table exceeds one storage binding
@@ -242,20 +311,30 @@ impl GpuObjects {
         trees: &[&ObbTree],
         masks: (u32, u32),
     ) -> Result<Self, GpuError> {
-        Self::fits(device, trees.iter().copied())?;
-        let mut params = Vec::with_capacity(trees.len());
-        let mut data: Vec<[u32; 4]> = Vec::new();
-        let mut next = (1 + PARAM_WORDS * trees.len()) as u32;
-        for tree in trees {
-            let (mut p, words) = object_words(tree);
-            for b in &mut p.base[..3] {
-                *b += next;
-            }
-            next += words.len() as u32;
-            params.push(p);
-            data.extend(words);
+        Self::with_rewritten(device, trees, &[], masks)
+    }
+
+    /// As [`GpuObjects::new`]; the objects `i` with `rewritten[i]` (an
+    /// animated body's, whose refitted tree [`GpuObjects::write_tree`]
+    /// writes every sub-step) keep words of their own.
+    ///
+    /// # Errors
+    /// As [`GpuObjects::new`].
+    pub fn with_rewritten(
+        device: &wgpu::Device,
+        trees: &[&ObbTree],
+        rewritten: &[bool],
+        masks: (u32, u32),
+    ) -> Result<Self, GpuError> {
+        let (params, data, shared) = table_layout(trees, rewritten);
+        let bytes = (1 + params.len() * PARAM_WORDS + data.len()) as u64 * 16;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        if bytes > limit {
+            return Err(too_large(bytes, limit));
         }
-        let mut table: Vec<[u32; 4]> = vec![[trees.len() as u32, masks.0, masks.1, 0]];
+        let mut table: Vec<[u32; 4]> =
+            Vec::with_capacity(1 + params.len() * PARAM_WORDS + data.len());
+        table.push([trees.len() as u32, masks.0, masks.1, 0]);
         table.extend(
             params
                 .iter()
@@ -264,12 +343,26 @@ impl GpuObjects {
         table.extend(data);
         Ok(Self {
             params,
+            shared,
             table: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("trample-gpu objects"),
                 contents: bytemuck::cast_slice(&table),
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             }),
         })
+    }
+
+    /// Whether object `i` shares its table words with another object
+    /// (identical trees, [`GpuObjects::new`]).
+    #[must_use]
+    pub fn is_shared(&self, i: usize) -> bool {
+        self.shared.get(i).copied().unwrap_or(false)
+    }
+
+    /// Bytes of the object table on the device.
+    #[must_use]
+    pub fn table_size(&self) -> u64 {
+        self.table.size()
     }
 
     /// Number of objects.
@@ -335,8 +428,10 @@ impl GpuObjects {
     /// has the object made from it: the inside test casts rays). The
     /// object's thickness (the contact ramp's, as the CPU takes it from the
     /// current root box) follows the root. A tree of another size is
-    /// ignored. Returns the bytes uploaded (in order with `encoder`'s
-    /// commands: [`crate::upload::Uploads`]).
+    /// ignored, and so is an object that shares its words with another
+    /// (make the table with [`GpuObjects::with_rewritten`]). Returns the
+    /// bytes uploaded (in order with `encoder`'s commands:
+    /// [`crate::upload::Uploads`]).
     pub fn write_tree(
         &mut self,
         i: usize,
@@ -346,6 +441,11 @@ impl GpuObjects {
         uploads: &mut crate::upload::Uploads,
         encoder: &mut wgpu::CommandEncoder,
     ) -> u64 {
+        if self.is_shared(i) {
+            // Another object reads these words: made with `with_rewritten`,
+            // a rewritten object never shares.
+            return 0;
+        }
         let (fresh, words) = object_words(tree);
         let p = &mut self.params[i];
         let (old_len, new_len) = (p.base[2] - p.base[0], fresh.base[2] - fresh.base[0]);
@@ -368,7 +468,7 @@ impl GpuObjects {
     /// Bytes [`GpuObjects::write_tree`] uploads for `tree`.
     #[must_use]
     pub fn tree_bytes(tree: &ObbTree) -> u64 {
-        ((tree.nodes.len() * NODE_WORDS + tree.triangles.len() * 3) * 16) as u64
+        (mesh_words(tree) * 16) as u64
     }
 
     /// Sets every object's final depth (`precision`, root = 1; clamped to
@@ -417,5 +517,38 @@ impl GpuObjects {
                 resource: self.table.as_entire_binding(),
             }],
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trample::object::shapes::{knot, sphere};
+
+    /// Objects with identical trees are stored once (their parameters point
+    /// at the same words); a rewritten one, or a different tree, gets its
+    /// own. Fails when every object gets a copy.
+    #[test]
+    fn identical_trees_share_their_words_unless_rewritten() {
+        let a = ObbTree::build(&sphere(1.0, 2), 32);
+        let b = ObbTree::build(&knot(2.0), 32);
+        let a2 = a.clone();
+        let words = |t: &ObbTree| object_words(t).1.len();
+        let (params, data, shared) = table_layout(&[&a, &b, &a2, &a], &[]);
+        assert_eq!(data.len(), words(&a) + words(&b));
+        assert_eq!(shared, [true, false, true, true]);
+        assert_eq!(params[0].base, params[2].base);
+        assert_eq!(params[0].base, params[3].base);
+        assert_ne!(params[0].base, params[1].base);
+        assert_eq!(
+            table_bytes([&a, &b, &a2, &a]),
+            (1 + 4 * PARAM_WORDS + data.len()) as u64 * 16
+        );
+        // A rewritten object neither shares nor is shared.
+        let (params, data, shared) = table_layout(&[&a, &a2, &a], &[false, true, false]);
+        assert_eq!(data.len(), 2 * words(&a));
+        assert_eq!(shared, [true, false, true]);
+        assert_ne!(params[1].base, params[0].base);
+        assert_eq!(params[2].base, params[0].base);
     }
 }

@@ -52,14 +52,15 @@ struct ObjectParams {
     // 1 + the object's index (its track owner id, 0 past 254), track
     // everywhere (1) or the paper's geometric cells only (0), unused ×2
     extra: vec4<u32>,
-    // first word of its nodes, triangles, voxels in the table; unused
+    // first word of its nodes, triangles, voxels, pseudo-normals in the table
     base: vec4<u32>,
 }
 
 // The object table (`object.rs`): word 0 = (objects, mask words per patch,
 // first mask word in the broad phase's lists, 0); object o's parameters at
-// words 1 + 16 o ..; its nodes (10 words each), triangles (3 words each) and
-// voxels (4 to a word) from the words its `base` names. Floats by their bits.
+// words 1 + 16 o ..; its nodes (10 words each), triangles (3 words each),
+// pseudo-normals (6 words a triangle, open meshes) and voxels (4 to a word)
+// from the words its `base` names. Floats by their bits.
 @group(1) @binding(0) var<storage, read> objects: array<vec4<u32>>;
 
 // The object being tested, loaded by `load_object`.
@@ -113,6 +114,12 @@ fn node_at(i: u32) -> Node {
 // Corner k of the object's triangle t.
 fn corner(t: u32, k: u32) -> vec3<f32> {
     return word_f(obj.base.y + 3u * t + k).xyz;
+}
+
+// Pseudo-normal k (edges ab, bc, ca, corners a, b, c) of the object's
+// triangle t (`trample::obb::pseudo_normals`; open meshes only).
+fn feature_normal(t: u32, k: u32) -> vec3<f32> {
+    return word_f(obj.base.w + 6u * t + k).xyz;
 }
 
 // The object's inside-grid voxel j.
@@ -310,11 +317,14 @@ fn point_inside(p: vec3<f32>) -> bool {
     return inside_by_ray(p);
 }
 
-// `closest_point::closest_point_on_triangle`: (point, on the face interior).
+// `closest_point::closest_point_on_triangle_region`: the point and its
+// feature (edges ab, bc, ca = 0, 1, 2, corners a, b, c = 3, 4, 5, face 6).
 struct TrianglePoint {
     point: vec3<f32>,
-    face: bool,
+    region: u32,
 }
+
+const FACE: u32 = 6u;
 
 fn closest_on_triangle(p: vec3<f32>, t: u32) -> TrianglePoint {
     let a = corner(t, 0u);
@@ -326,39 +336,39 @@ fn closest_on_triangle(p: vec3<f32>, t: u32) -> TrianglePoint {
     let d1 = dot3(ab, ap);
     let d2 = dot3(ac, ap);
     if d1 <= 0.0 && d2 <= 0.0 {
-        return TrianglePoint(a, false);
+        return TrianglePoint(a, 3u);
     }
     let bp = p - b;
     let d3 = dot3(ab, bp);
     let d4 = dot3(ac, bp);
     if d3 >= 0.0 && d4 <= d3 {
-        return TrianglePoint(b, false);
+        return TrianglePoint(b, 4u);
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
         let v = d1 / (d1 - d3);
-        return TrianglePoint(a + ab * v, false);
+        return TrianglePoint(a + ab * v, 0u);
     }
     let cp = p - c;
     let d5 = dot3(ab, cp);
     let d6 = dot3(ac, cp);
     if d6 >= 0.0 && d5 <= d6 {
-        return TrianglePoint(c, false);
+        return TrianglePoint(c, 5u);
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
         let w = d2 / (d2 - d6);
-        return TrianglePoint(a + ac * w, false);
+        return TrianglePoint(a + ac * w, 2u);
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
         let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return TrianglePoint(b + (c - b) * w, false);
+        return TrianglePoint(b + (c - b) * w, 1u);
     }
     let denom = 1.0 / (va + vb + vc);
     let v = vb * denom;
     let w = vc * denom;
-    return TrianglePoint(a + ab * v + ac * w, true);
+    return TrianglePoint(a + ab * v + ac * w, FACE);
 }
 
 // glam `Vec3::cross` (scalar): a.y b.z − b.y a.z, …
@@ -373,6 +383,18 @@ struct SurfacePoint {
     normal: vec3<f32>,
     face: bool,
     found: bool,
+    triangle: u32,
+    region: u32,
+}
+
+// `SurfacePoint::side_normal`: the face normal inside a face, else the
+// pseudo-normal of the edge or corner (open meshes; a closed one has none:
+// its pseudo-normals end where they start, at its voxels).
+fn side_normal(s: SurfacePoint) -> vec3<f32> {
+    if s.region == FACE || obj.base.w == obj.base.z {
+        return s.normal;
+    }
+    return feature_normal(s.triangle, s.region);
 }
 
 // Squared distance from p to node i's box.
@@ -386,7 +408,7 @@ fn distance_sq_to_box(p: vec3<f32>, i: u32) -> f32 {
 // `closest_point::closest_point_on_mesh`: branch and bound, nearer child
 // first; ties keep the first found.
 fn closest_point_on_mesh(p: vec3<f32>, max_distance: f32) -> SurfacePoint {
-    var best = SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false);
+    var best = SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u);
     var best_sq = max_distance * max_distance;
     var stack: array<u32, STACK_SIZE>;
     stack[0] = 0u;
@@ -418,7 +440,7 @@ fn closest_point_on_mesh(p: vec3<f32>, max_distance: f32) -> SurfacePoint {
                     if nl > 0.0 {
                         unit = nrm * (1.0 / nl);
                     }
-                    best = SurfacePoint(c.point, d, unit, c.face, true);
+                    best = SurfacePoint(c.point, d, unit, c.region == FACE, true, t, c.region);
                 }
             }
         } else {
@@ -475,7 +497,7 @@ fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
         return vec4<f32>(s.point, sqrt(s.distance_sq));
     }
     let s = closest_point_on_mesh(p, open_depth);
-    if !s.found || dot3(p - s.point, s.normal) >= 0.0 {
+    if !s.found || dot3(p - s.point, side_normal(s)) >= 0.0 {
         return outside;
     }
     return vec4<f32>(s.point, sqrt(s.distance_sq));

@@ -94,13 +94,15 @@ fn object_table(
     sim: &Simulation,
     broad: &BroadPhase,
 ) -> Result<GpuObjects, GpuError> {
-    let trees: Vec<_> = sim
+    let (trees, rewritten): (Vec<_>, Vec<_>) = sim
         .bodies
         .iter()
-        .flat_map(trample::Body::colliders)
-        .map(|c| c.tree)
-        .collect();
-    GpuObjects::new(device, &trees, broad.mask_layout())
+        .flat_map(|b| {
+            let animated = b.object.animated.is_some();
+            b.colliders().map(move |c| (c.tree, animated))
+        })
+        .unzip();
+    GpuObjects::with_rewritten(device, &trees, &rewritten, broad.mask_layout())
 }
 
 /// A simulation whose blades live and move on the GPU.

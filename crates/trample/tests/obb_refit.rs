@@ -510,3 +510,38 @@ fn refit_cpu_time_per_frame() {
         );
     }
 }
+
+/// An open mesh's pseudo-normals (`obb::pseudo_normals`, the contact
+/// response's side test at edges and corners) follow a refit: after the
+/// sides of an open box (no bottom) bend, they are those of the bent
+/// triangles, and they changed. Fails when the refit keeps the built ones.
+#[test]
+fn refit_recomputes_an_open_meshs_pseudo_normals() {
+    use trample::obb::pseudo_normals::MeshFeatures;
+    let mut mesh = shapes::cuboid(Vec3::new(0.8, 0.3, 0.5));
+    let below = |i: u32, m: &TriMesh| m.positions[i as usize].y < 0.0;
+    let kept: Vec<[u32; 3]> = mesh
+        .indices
+        .iter()
+        .copied()
+        .filter(|t| !t.iter().all(|&i| below(i, &mesh)))
+        .collect();
+    mesh.indices = kept;
+    let mut tree = ObbTree::build(&mesh, DEFAULT_MAX_DEPTH);
+    assert!(!tree.closed);
+    assert_eq!(tree.feature_normals.len(), tree.triangles.len());
+    let built = tree.feature_normals.clone();
+    // A smooth bend by position: copies of a corner stay together.
+    let moved: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| *p + Vec3::new(0.0, 0.4 * p.x * p.x, 0.3 * p.x * p.y))
+        .collect();
+    let map = RefitMap::new(&tree, &mesh).expect("own mesh");
+    let mut scratch = RefitScratch::default();
+    tree.refit(&map, &moved, AxisRule::Fit, Nesting::Tight, &mut scratch)
+        .expect("valid positions");
+    let fresh = MeshFeatures::new(&tree.triangles).normals(&tree.triangles);
+    assert_eq!(tree.feature_normals, fresh);
+    assert_ne!(tree.feature_normals, built);
+}

@@ -13,6 +13,7 @@
 use glam::Vec3;
 
 use super::exact::STACK_SIZE;
+use crate::obb::pseudo_normals::{CORNER_A, EDGE_AB, EDGE_BC, EDGE_CA, FACE};
 use crate::obb::{Obb, ObbTree};
 
 /// Which feature of a triangle a closest point lies on.
@@ -29,40 +30,56 @@ pub enum Feature {
 /// or a corner). No allocation, no branch on NaN beyond comparisons (NaN
 /// input gives a NaN or arbitrary corner, never a panic).
 #[must_use]
-pub fn closest_point_on_triangle(p: Vec3, [a, b, c]: &[Vec3; 3]) -> (Vec3, Feature) {
+pub fn closest_point_on_triangle(p: Vec3, tri: &[Vec3; 3]) -> (Vec3, Feature) {
+    let (q, region) = closest_point_on_triangle_region(p, tri);
+    (
+        q,
+        if region == FACE {
+            Feature::Face
+        } else {
+            Feature::EdgeOrVertex
+        },
+    )
+}
+
+/// [`closest_point_on_triangle`] with the exact feature: the region index
+/// of [`crate::obb::pseudo_normals`] (edges `ab`, `bc`, `ca` = 0, 1, 2,
+/// corners `a`, `b`, `c` = 3, 4, 5, the face = 6).
+#[must_use]
+pub fn closest_point_on_triangle_region(p: Vec3, [a, b, c]: &[Vec3; 3]) -> (Vec3, u8) {
     let (ab, ac, ap) = (*b - *a, *c - *a, p - *a);
     let (d1, d2) = (ab.dot(ap), ac.dot(ap));
     if d1 <= 0.0 && d2 <= 0.0 {
-        return (*a, Feature::EdgeOrVertex);
+        return (*a, CORNER_A);
     }
     let bp = p - *b;
     let (d3, d4) = (ab.dot(bp), ac.dot(bp));
     if d3 >= 0.0 && d4 <= d3 {
-        return (*b, Feature::EdgeOrVertex);
+        return (*b, CORNER_A + 1);
     }
     let vc = d1 * d4 - d3 * d2;
     if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
         let v = d1 / (d1 - d3);
-        return (*a + ab * v, Feature::EdgeOrVertex);
+        return (*a + ab * v, EDGE_AB);
     }
     let cp = p - *c;
     let (d5, d6) = (ab.dot(cp), ac.dot(cp));
     if d6 >= 0.0 && d5 <= d6 {
-        return (*c, Feature::EdgeOrVertex);
+        return (*c, CORNER_A + 2);
     }
     let vb = d5 * d2 - d1 * d6;
     if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
         let w = d2 / (d2 - d6);
-        return (*a + ac * w, Feature::EdgeOrVertex);
+        return (*a + ac * w, EDGE_CA);
     }
     let va = d3 * d6 - d5 * d4;
     if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
         let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (*b + (*c - *b) * w, Feature::EdgeOrVertex);
+        return (*b + (*c - *b) * w, EDGE_BC);
     }
     let denom = 1.0 / (va + vb + vc);
     let (v, w) = (vb * denom, vc * denom);
-    (*a + ab * v + ac * w, Feature::Face)
+    (*a + ab * v + ac * w, FACE)
 }
 
 /// The closest point of a mesh to a query point: see [`closest_point_on_mesh`].
@@ -77,6 +94,30 @@ pub struct SurfacePoint {
     pub normal: Vec3,
     /// Whether it lies inside that triangle's face or on an edge or corner.
     pub feature: Feature,
+    /// The triangle it lies on (index into [`ObbTree::triangles`]).
+    pub triangle: u32,
+    /// Which feature of that triangle, as [`closest_point_on_triangle_region`]
+    /// numbers them.
+    pub region: u8,
+}
+
+impl SurfacePoint {
+    /// The normal that says which side of an open mesh the query point is
+    /// on: the face normal when the closest point lies inside a face, the
+    /// angle-weighted pseudo-normal of the edge or corner it lies on
+    /// otherwise ([`crate::obb::pseudo_normals`]; the face normal when
+    /// `tree` has none, e.g. a closed mesh).
+    #[must_use]
+    pub fn side_normal(&self, tree: &ObbTree) -> Vec3 {
+        if self.region == FACE {
+            return self.normal;
+        }
+        tree.feature_normals
+            .get(self.triangle as usize)
+            .and_then(|n| n.get(self.region as usize))
+            .copied()
+            .unwrap_or(self.normal)
+    }
 }
 
 /// Squared distance from `p` to the box `obb` (0 inside it).
@@ -125,8 +166,8 @@ pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Opti
             let Some(tris) = tree.triangles.get(first..first.saturating_add(count)) else {
                 continue;
             };
-            for tri in tris {
-                let (q, feature) = closest_point_on_triangle(p, tri);
+            for (k, tri) in tris.iter().enumerate() {
+                let (q, region) = closest_point_on_triangle_region(p, tri);
                 let d = q.distance_squared(p);
                 if d <= best_sq && (best.is_none() || d < best_sq) {
                     best_sq = d;
@@ -134,7 +175,13 @@ pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Opti
                         point: q,
                         distance_sq: d,
                         normal: (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero(),
-                        feature,
+                        feature: if region == FACE {
+                            Feature::Face
+                        } else {
+                            Feature::EdgeOrVertex
+                        },
+                        triangle: (first + k) as u32,
+                        region,
                     });
                 }
             }

@@ -14,7 +14,9 @@
 //!   onto the face along its normal), and the exact ray-parity test
 //!   ([`point_inside_by_ray`]) where it lies on an edge or a corner.
 //! - **Open meshes** have no inside: a vertex counts as inside when it lies
-//!   behind the surface (against the normal of its closest triangle) and
+//!   behind the surface (against the normal of its closest triangle's face,
+//!   or the angle-weighted pseudo-normal of the edge or corner its closest
+//!   point lies on: [`crate::obb::pseudo_normals`]) and
 //!   within `open_depth` of it (a blade cannot be deeper than that behind a
 //!   thin sheet it crossed; farther, "behind" means nothing).
 //!
@@ -67,7 +69,7 @@ pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f3
         s
     } else {
         let s = closest_point_on_mesh(tree, p, open_depth)?;
-        if (p - s.point).dot(s.normal) >= 0.0 {
+        if (p - s.point).dot(s.side_normal(tree)) >= 0.0 {
             return None;
         }
         s
@@ -89,6 +91,7 @@ pub fn push_out(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<Vec3> {
 mod tests {
     use super::*;
     use crate::collision::exact::point_inside;
+    use crate::object::TriMesh;
     use crate::object::shapes::{cuboid, knot, sphere};
 
     #[test]
@@ -142,5 +145,59 @@ mod tests {
         assert!((q.y - (1.0 - CONTACT_TOLERANCE_M)).abs() < 1e-5, "{q}");
         assert!(push_out(&tree, Vec3::new(0.2, 1.05, 0.1), 0.2).is_none());
         assert!(push_out(&tree, Vec3::new(0.2, 0.5, 0.1), 0.2).is_none());
+    }
+
+    /// A tent: two sheets meeting at a sharp ridge along x (40° apart at
+    /// the top, so the faces' normals point more than 90° apart), in the
+    /// mesh order given.
+    fn tent(flip_order: bool) -> ObbTree {
+        let (s, c) = (20f32.to_radians().sin(), 20f32.to_radians().cos());
+        let positions = vec![
+            Vec3::new(-1.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0 - c, s),
+            Vec3::new(1.0, 1.0 - c, s),
+            Vec3::new(-1.0, 1.0 - c, -s),
+            Vec3::new(1.0, 1.0 - c, -s),
+        ];
+        // Counter-clockwise seen from outside: +z side, then -z side.
+        let mut indices = vec![[0, 2, 3], [0, 3, 1], [1, 5, 4], [1, 4, 0]];
+        if flip_order {
+            indices.reverse();
+        }
+        ObbTree::build(&TriMesh { positions, indices }, 8)
+    }
+
+    /// Points just outside and just inside a sharp fold of an open mesh,
+    /// whose closest surface point is on the ridge: outside and inside
+    /// whichever of the two faces the walk finds first (the angle-weighted
+    /// pseudo-normal, `obb::pseudo_normals`). With one face's normal, the
+    /// point outside is "behind" the other face, and the answer turned on
+    /// the mesh order (this test failed for one of the two orders).
+    #[test]
+    fn an_open_fold_has_one_outside_whatever_face_is_found_first() {
+        let (s, c) = (20f32.to_radians().sin(), 20f32.to_radians().cos());
+        let (n_pos, n_neg) = (Vec3::new(0.0, s, c), Vec3::new(0.0, s, -c));
+        assert!(n_pos.dot(n_neg) < 0.0);
+        let ridge = Vec3::new(0.3, 1.0, 0.0);
+        for flip in [false, true] {
+            let tree = tent(flip);
+            assert!(!tree.closed);
+            for (a, b) in [(n_pos, n_neg), (n_neg, n_pos)] {
+                // In the ridge's region (a sum of both normals, mostly a):
+                // outside, though behind b's plane.
+                let out = ridge + (a + b * 0.1) * 0.02;
+                assert!((out - ridge).dot(b) < 0.0);
+                assert!(
+                    penetration(&tree, out, 0.2).is_none(),
+                    "order flipped {flip}: {out} counted inside"
+                );
+                // Below the ridge, behind both faces: inside (nearest to
+                // a face, nearer than the ridge).
+                let inside = ridge - (a + b) * 0.02;
+                let (_, depth) = penetration(&tree, inside, 0.2).expect("inside the tent");
+                assert!(depth > 0.0 && depth < inside.distance(ridge), "{depth}");
+            }
+        }
     }
 }

@@ -15,6 +15,7 @@ use glam::{DVec3, Vec3};
 
 use super::fit::fit_obb_searched;
 use super::node::{NO_CHILD, Obb, ObbNode, ObbTree};
+use super::pseudo_normals::MeshFeatures;
 use super::split::{Topology, split};
 use crate::object::TriMesh;
 
@@ -158,7 +159,13 @@ impl ObbTree {
             inside: None,
             reach: Vec::new(),
             velocity: Vec::new(),
+            features: MeshFeatures::default(),
+            feature_normals: Vec::new(),
         };
+        if !closed {
+            tree.features = MeshFeatures::new(&tree.triangles);
+            tree.feature_normals = tree.features.normals(&tree.triangles);
+        }
         tree.reach = super::reach::reach_boxes(&tree.nodes);
         tree.inside = InsideGrid::build(&tree, |p| point_inside_by_ray(&tree, p));
         tree

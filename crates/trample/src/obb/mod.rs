@@ -3,13 +3,15 @@
 //! §4.2; DESIGN §3). One operation per file, parry-style: [`fit`] (one box
 //! around triangles), [`build`] (the tree, Eq. 3, EqN direction), [`refit`]
 //! (the same tree around a deformed mesh), [`reach`] (the pruning boxes of
-//! the contact walk), [`validation`] (invariants); the types are in [`node`].
+//! the contact walk), [`pseudo_normals`] (an open mesh's sides at edges
+//! and corners), [`validation`] (invariants); the types are in [`node`].
 
 pub mod build;
 pub mod calipers;
 pub mod fit;
 pub mod nest;
 pub mod node;
+pub mod pseudo_normals;
 pub mod reach;
 pub mod refit;
 pub mod split;

@@ -109,4 +109,13 @@ pub struct ObbTree {
     /// so a planted foot pushes as little as it moves and a swinging one as
     /// fast as it swings. Empty for a mesh that does not deform: zero.
     pub velocity: Vec<Vec3>,
+    /// Which corners and edges the triangles share, for an open mesh
+    /// (empty for a closed one): what [`ObbTree::feature_normals`] is
+    /// recomputed from when the tree is refitted.
+    pub features: super::pseudo_normals::MeshFeatures,
+    /// Per triangle of an open mesh (empty for a closed one), the
+    /// angle-weighted pseudo-normals of its edges and corners
+    /// ([`super::pseudo_normals`]): which side of the sheet a point whose
+    /// closest surface point lies on an edge or a corner is on.
+    pub feature_normals: Vec<[Vec3; 6]>,
 }

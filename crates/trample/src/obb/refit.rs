@@ -312,6 +312,10 @@ impl ObbTree {
             *tri = idx.map(|i| positions[i as usize]);
         }
         self.inside = None;
+        if !self.features.is_empty() {
+            // An open mesh's sides at its edges and corners move with it.
+            self.feature_normals = self.features.normals(&self.triangles);
+        }
         if self.triangles.is_empty() {
             return Ok(());
         }
