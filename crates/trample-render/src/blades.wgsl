@@ -25,11 +25,13 @@ struct VertexOut {
     @location(4) sun: f32,
 }
 
-fn vertex_of(k: u32, b: u32) -> vec3<f32> {
-    let l = b - chunk.x;
-    // Wind (draw time only, trample::blade_shape): calm leaves the stored vertex.
-    let root = pos[l].xyz;
-    return blade_wind_vertex(root, pos[k * chunk.y + l].xyz, k, globals.params.y, wind_tip_offset(root));
+// Vertex k of the chunk's blade l as drawn: the stored vertex moved by the
+// wind (draw time only, trample::blade_shape; calm leaves it), given the
+// blade's stored root and its wind tip offset, which every vertex of the
+// blade shares (computed once per invocation, not once per vertex read).
+// Vertex 0 is the root itself.
+fn drawn_vertex(k: u32, l: u32, root: vec3<f32>, tip: vec3<f32>) -> vec3<f32> {
+    return blade_wind_vertex(root, pos[k * chunk.y + l].xyz, k, globals.params.y, tip);
 }
 // Render density beyond the simulation's (issue 15 item 2): each simulated
 // blade is drawn `copies` times (globals.gusts.z, ≥ 1; instance ii is copy
@@ -74,9 +76,12 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let n = globals.params.y;
     let k = vi / 2u;
     let side = f32(vi % 2u) - 0.5;
-    let p = vertex_of(k, b);
+    let l = b - chunk.x;
+    let root = pos[l].xyz;
+    let tip = wind_tip_offset(root);
+    let p = drawn_vertex(k, l, root, tip);
     // Tangent of the bent shape at vertex k (central difference).
-    let dir = normalize(vertex_of(min(k + 1u, n), b) - vertex_of(max(k, 1u) - 1u, b));
+    let dir = normalize(drawn_vertex(min(k + 1u, n), l, root, tip) - drawn_vertex(max(k, 1u) - 1u, l, root, tip));
     // A copy's own seed: its facing, offset, height and tint.
     let seed = select(b, b * 7919u + copy * 104729u, copy != 0u);
     // The blade's flat side faces a fixed random direction, kept perpendicular to the tangent.
@@ -84,7 +89,6 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let t = f32(k) / f32(n);
     var world = p + across * side * blade_width(shape[b].x, t);
     var tint = shape[b].y;
-    let root = vertex_of(0u, b);
     // The near blend band (billboard cells' blades): a growing share
     // shrinks to the root with distance as the billboards fade in.
     let fade = blade_fade(hash01(seed ^ 0x2c1b3c6du), distance(root, globals.eye.xyz));
