@@ -7,7 +7,10 @@ use super::error::BuildError;
 use crate::camera::{Camera, CameraParams, CameraTarget, LookAt};
 use crate::field::generate::growing_blades;
 use crate::field::{Field, FieldParams, GrassMaps, LodParams, Terrain};
+use crate::obb::DEFAULT_MAX_DEPTH;
+use crate::obb::shared::build_shared;
 use crate::object::Path as EyePath;
+use crate::object::{Object, TriMesh};
 use crate::scene::SceneFile;
 use crate::step::{Body, HostView, SimParams, Simulation};
 use crate::wind::WindParams;
@@ -248,12 +251,27 @@ impl SimulationBuilder {
         if self.maps_from_images() {
             self.check_memory(&maps)?;
         }
-        let bodies: Vec<Body> = self
+        let objects: Vec<Object> = self
             .bodies
             .par_iter()
             .enumerate()
-            .map(|(i, b)| b.build_in(i, &self.base_dir))
+            .map(|(i, b)| Object::from_params(&b.params, i, &self.base_dir))
             .collect::<Result<_, _>>()?;
+        // Each distinct mesh's tree once (a herd repeats a few meshes).
+        let meshes: Vec<&TriMesh> = objects
+            .iter()
+            .flat_map(|o| std::iter::once(&o.mesh).chain(o.parts.parts.iter().map(|p| &p.mesh)))
+            .collect();
+        let (trees, _) = build_shared(&meshes, DEFAULT_MAX_DEPTH);
+        let mut trees = trees.into_iter();
+        let bodies: Vec<Body> = objects
+            .into_iter()
+            .map(|o| {
+                let tree = trees.next().expect("one tree per mesh");
+                let parts = trees.by_ref().take(o.parts.parts.len()).collect();
+                Body::with_trees(o, tree, parts)
+            })
+            .collect();
         let field = Field::generate_with_maps(&self.field, terrain, &maps)?;
         let camera = self.make_camera(&bodies)?;
         let mut sim = Simulation::new(field, bodies, camera, self.lod.clone(), self.sim.clone());

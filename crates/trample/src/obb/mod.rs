@@ -4,7 +4,7 @@
 //! around triangles), [`build`] (the tree, Eq. 3, EqN direction), [`refit`]
 //! (the same tree around a deformed mesh), [`reach`] (the pruning boxes of
 //! the contact walk), [`pseudo_normals`] (an open mesh's sides at edges
-//! and corners), [`validation`] (invariants); the types are in [`node`].
+//! and corners), [`shared`] (many meshes, each distinct one built once), [`validation`] (invariants); the types are in [`node`].
 
 pub mod build;
 pub mod calipers;
@@ -14,6 +14,7 @@ pub mod node;
 pub mod pseudo_normals;
 pub mod reach;
 pub mod refit;
+pub mod shared;
 pub mod split;
 pub mod validation;
 

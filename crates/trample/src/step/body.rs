@@ -77,13 +77,33 @@ impl Body {
     #[must_use]
     pub fn new(object: Object, max_depth: u32) -> Self {
         let tree = ObbTree::build(&object.mesh, max_depth);
-        let pose = object.pose_at(0.0);
-        let world_root = world_obb(&tree.nodes[0].obb, &pose);
-        let parts = object
+        let part_trees = object
             .parts
             .parts
             .iter()
-            .map(|p| PartCollider::new(&p.mesh, max_depth, pose))
+            .map(|p| ObbTree::build(&p.mesh, max_depth))
+            .collect();
+        Self::with_trees(object, tree, part_trees)
+    }
+
+    /// [`Body::new`] with the trees already built: `tree` of `object.mesh`
+    /// and `part_trees` of its parts' meshes, in order (what
+    /// [`crate::obb::shared::build_shared`] gives a scene of many bodies).
+    ///
+    /// # Panics
+    /// When `part_trees` and the object's parts differ in number.
+    #[must_use]
+    pub fn with_trees(object: Object, tree: ObbTree, part_trees: Vec<ObbTree>) -> Self {
+        assert_eq!(
+            part_trees.len(),
+            object.parts.parts.len(),
+            "one tree per part"
+        );
+        let pose = object.pose_at(0.0);
+        let world_root = world_obb(&tree.nodes[0].obb, &pose);
+        let parts = part_trees
+            .into_iter()
+            .map(|tree| PartCollider::with_tree(tree, pose))
             .collect();
         let rig = RigState::new(&object, &tree);
         let mut body = Self {

@@ -52,7 +52,12 @@ impl PartCollider {
     /// poses it.
     #[must_use]
     pub fn new(mesh: &TriMesh, max_depth: u32, pose: Pose) -> Self {
-        let tree = ObbTree::build(mesh, max_depth);
+        Self::with_tree(ObbTree::build(mesh, max_depth), pose)
+    }
+
+    /// A part whose tree is already built, posed at `pose`.
+    #[must_use]
+    pub fn with_tree(tree: ObbTree, pose: Pose) -> Self {
         let world_root = world_obb(&tree.nodes[0].obb, &pose);
         Self {
             tree,

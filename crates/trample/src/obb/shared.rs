@@ -1,0 +1,84 @@
+//! Building the trees of many meshes at once, each distinct mesh once
+//! (issue 16: "the tree build stays a one-off cost"). A scene of many
+//! objects repeats a few meshes — the herd's 20 beetle cars and 20 cows —
+//! and [`super::ObbTree::build`] is deterministic, so a copy of one build is
+//! the tree every other build of the same mesh would give, bit for bit.
+
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+
+use rayon::prelude::*;
+
+use super::node::ObbTree;
+use crate::object::TriMesh;
+
+/// The trees of `meshes` (to `max_depth`), in order: one
+/// [`ObbTree::build`] per distinct mesh (equal positions, bit for bit, and
+/// equal indices), in parallel; the others are copies. Also returns how many
+/// trees were built. Each tree is owned (a body whose mesh deforms refits
+/// its own).
+#[must_use]
+pub fn build_shared(meshes: &[&TriMesh], max_depth: u32) -> (Vec<ObbTree>, usize) {
+    // Slot of each mesh's first equal, found by hash then compared.
+    let mut by_hash: HashMap<u64, Vec<usize>> = HashMap::new();
+    let mut first_equal = Vec::with_capacity(meshes.len());
+    for (i, mesh) in meshes.iter().enumerate() {
+        let seen = by_hash.entry(mesh_hash(mesh)).or_default();
+        let same = seen.iter().copied().find(|&j| same_mesh(meshes[j], mesh));
+        first_equal.push(same.unwrap_or(i));
+        if same.is_none() {
+            seen.push(i);
+        }
+    }
+    let distinct: Vec<usize> = (0..meshes.len()).filter(|&i| first_equal[i] == i).collect();
+    let built: Vec<ObbTree> = distinct
+        .par_iter()
+        .map(|&i| ObbTree::build(meshes[i], max_depth))
+        .collect();
+    let at: HashMap<usize, usize> = distinct.iter().enumerate().map(|(k, &i)| (i, k)).collect();
+    let trees = first_equal.iter().map(|j| built[at[j]].clone()).collect();
+    (trees, distinct.len())
+}
+
+/// Equal positions bit for bit (so −0.0 ≠ +0.0 and NaN never equals, as
+/// the build could tell them apart) and equal indices.
+fn same_mesh(a: &TriMesh, b: &TriMesh) -> bool {
+    a.indices == b.indices
+        && a.positions.len() == b.positions.len()
+        && a.positions
+            .iter()
+            .zip(&b.positions)
+            .all(|(p, q)| p.to_array().map(f32::to_bits) == q.to_array().map(f32::to_bits))
+}
+
+fn mesh_hash(mesh: &TriMesh) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    mesh.indices.hash(&mut h);
+    for p in &mesh.positions {
+        p.to_array().map(f32::to_bits).hash(&mut h);
+    }
+    h.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::object::shapes::{cuboid, sphere};
+    use glam::Vec3;
+
+    #[test]
+    fn each_distinct_mesh_is_built_once_and_every_tree_is_its_own_build() {
+        let a = sphere(1.0, 2);
+        let b = cuboid(Vec3::new(0.5, 0.2, 0.3));
+        let mut a_moved = a.clone();
+        a_moved.positions[3].x += 1e-6;
+        let meshes = [&a, &b, &a, &a_moved, &b, &a];
+        let (trees, built) = build_shared(&meshes, 12);
+        assert_eq!(built, 3, "a, b and the moved copy of a");
+        assert_eq!(trees.len(), meshes.len());
+        for (tree, mesh) in trees.iter().zip(meshes) {
+            let alone = ObbTree::build(mesh, 12);
+            assert_eq!(format!("{tree:?}"), format!("{alone:?}"));
+        }
+    }
+}
