@@ -73,7 +73,7 @@ pub use error::GpuError;
 pub use field::{GpuField, GpuForce};
 pub use limits::{required_features, required_limits};
 pub use narrow_phase::NarrowPhase;
-pub use object::{GpuNode, GpuObjectParams, GpuObjects};
+pub use object::{GpuNode, GpuObjectParams, GpuObjects, TableLayout};
 pub use profile::{StageTiming, TIMESTAMP_FEATURES};
 pub use simulation::GpuSimulation;
 pub use step_params::{GpuCounters, GpuStepParams};

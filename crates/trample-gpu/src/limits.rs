@@ -31,11 +31,11 @@ pub fn storage_buffers_per_stage(with_draw_lists: bool) -> u32 {
 
 /// The largest single storage binding `sim` needs on the GPU path, bytes:
 /// the whole-field per-blade arrays (16 bytes a blade), the object table
-/// ([`crate::object::table_bytes`]) and the broad phase's lists and masks.
+/// ([`crate::object::TableLayout`]: every collider, parts included) and the broad phase's lists and masks.
 #[must_use]
 pub fn largest_binding(sim: &Simulation) -> u64 {
     let field = sim.field.blades.count as u64 * 16;
-    let objects = crate::object::table_bytes(sim.bodies.iter().map(|b| &b.tree));
+    let objects = crate::object::TableLayout::of_simulation(sim).bytes();
     let patches = sim.field.layout.patch_list.len() as u32;
     // At most one chunk a patch.
     let lists = crate::broad_phase::lists_words(patches, patches, sim.bodies.len() as u32) * 4;

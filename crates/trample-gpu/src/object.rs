@@ -20,6 +20,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use trample::obb::{EQN_EPSILON, ObbTree};
 use trample::object::Pose;
+use trample::step::Simulation;
 use wgpu::util::DeviceExt;
 
 use crate::error::GpuError;
@@ -201,50 +202,98 @@ fn mesh_words(tree: &ObbTree) -> usize {
 /// twenty cows) points at that object's words instead of a copy, unless
 /// `rewritten[i]` (its tree is written again every sub-step: an animated
 /// body, [`GpuObjects::write_tree`]; such an object neither shares nor is
-/// shared). Also returns, per object, whether its words are shared.
-fn table_layout(
-    trees: &[&ObbTree],
-    rewritten: &[bool],
-) -> (Vec<GpuObjectParams>, Vec<[u32; 4]>, Vec<bool>) {
-    use std::collections::HashMap;
-    use std::hash::{BuildHasher, BuildHasherDefault, DefaultHasher};
-    let hash = |w: &[[u32; 4]]| BuildHasherDefault::<DefaultHasher>::default().hash_one(w);
-    let mut params = Vec::with_capacity(trees.len());
-    let mut data: Vec<[u32; 4]> = Vec::new();
-    let mut shared = vec![false; trees.len()];
-    // Words' hash -> (object, first word in `data`) of the objects stored.
-    let mut stored: HashMap<u64, Vec<(usize, usize)>> = HashMap::new();
-    let start = (1 + PARAM_WORDS * trees.len()) as u32;
-    for (i, tree) in trees.iter().enumerate() {
-        let (mut p, words) = object_words(tree);
-        let own = rewritten.get(i).copied().unwrap_or(false);
-        let key = hash(&words);
-        let same = (!own)
-            .then(|| stored.get(&key))
-            .flatten()
-            .and_then(|v| {
-                v.iter()
-                    .find(|&&(_, at)| data.get(at..at + words.len()) == Some(&words[..]))
-            })
-            .copied();
-        let at = if let Some((first, at)) = same {
-            shared[first] = true;
-            shared[i] = true;
-            at
-        } else {
-            let at = data.len();
-            if !own {
-                stored.entry(key).or_default().push((i, at));
+/// shared). Built once per upload: its size is checked against the
+/// device ([`TableLayout::check`]) before anything is allocated, then the
+/// same layout is uploaded ([`GpuObjects::from_layout`]).
+pub struct TableLayout {
+    params: Vec<GpuObjectParams>,
+    data: Vec<[u32; 4]>,
+    /// Per object: its words are shared with another object's.
+    shared: Vec<bool>,
+}
+
+impl TableLayout {
+    /// The layout of `trees` (one per object, in order), `rewritten` as
+    /// above (missing entries: not rewritten).
+    #[must_use]
+    pub fn new(trees: &[&ObbTree], rewritten: &[bool]) -> Self {
+        use std::collections::HashMap;
+        use std::hash::{BuildHasher, BuildHasherDefault, DefaultHasher};
+        let hash = |w: &[[u32; 4]]| BuildHasherDefault::<DefaultHasher>::default().hash_one(w);
+        let mut params = Vec::with_capacity(trees.len());
+        let mut data: Vec<[u32; 4]> = Vec::new();
+        let mut shared = vec![false; trees.len()];
+        // Words' hash -> (object, first word in `data`) of the objects stored.
+        let mut stored: HashMap<u64, Vec<(usize, usize)>> = HashMap::new();
+        let start = (1 + PARAM_WORDS * trees.len()) as u32;
+        for (i, tree) in trees.iter().enumerate() {
+            let (mut p, words) = object_words(tree);
+            let own = rewritten.get(i).copied().unwrap_or(false);
+            let key = hash(&words);
+            let same = (!own)
+                .then(|| stored.get(&key))
+                .flatten()
+                .and_then(|v| {
+                    v.iter()
+                        .find(|&&(_, at)| data.get(at..at + words.len()) == Some(&words[..]))
+                })
+                .copied();
+            let at = if let Some((first, at)) = same {
+                shared[first] = true;
+                shared[i] = true;
+                at
+            } else {
+                let at = data.len();
+                if !own {
+                    stored.entry(key).or_default().push((i, at));
+                }
+                data.extend_from_slice(&words);
+                at
+            };
+            for b in &mut p.base {
+                *b += start + at as u32;
             }
-            data.extend_from_slice(&words);
-            at
-        };
-        for b in &mut p.base {
-            *b += start + at as u32;
+            params.push(p);
         }
-        params.push(p);
+        Self {
+            params,
+            data,
+            shared,
+        }
     }
-    (params, data, shared)
+
+    /// The layout of `sim`'s colliders (each body's own mesh, then its
+    /// parts; an animated body's rewritten): what the GPU path uploads.
+    #[must_use]
+    pub fn of_simulation(sim: &Simulation) -> Self {
+        let (trees, rewritten): (Vec<_>, Vec<_>) = sim
+            .bodies
+            .iter()
+            .flat_map(|b| {
+                let animated = b.object.animated.is_some();
+                b.colliders().map(move |c| (c.tree, animated))
+            })
+            .unzip();
+        Self::new(&trees, &rewritten)
+    }
+
+    /// Bytes of the table: header, parameters, the words.
+    #[must_use]
+    pub fn bytes(&self) -> u64 {
+        (1 + self.params.len() * PARAM_WORDS + self.data.len()) as u64 * 16
+    }
+
+    /// Whether the table fits one storage binding of `device`.
+    ///
+    /// # Errors
+    /// [`GpuError::TooLarge`].
+    pub fn check(&self, device: &wgpu::Device) -> Result<(), GpuError> {
+        let limit = device.limits().max_storage_buffer_binding_size;
+        if self.bytes() > limit {
+            return Err(too_large(self.bytes(), limit));
+        }
+        Ok(())
+    }
 }
 
 /// Bytes of the object table for `trees` (header, parameters, every
@@ -253,8 +302,7 @@ fn table_layout(
 #[must_use]
 pub fn table_bytes<'a>(trees: impl IntoIterator<Item = &'a ObbTree>) -> u64 {
     let trees: Vec<&ObbTree> = trees.into_iter().collect();
-    let (params, data, _) = table_layout(&trees, &[]);
-    (1 + params.len() * PARAM_WORDS + data.len()) as u64 * 16
+    TableLayout::new(&trees, &[]).bytes()
 }
 
 /// Every object of a simulation in one storage buffer (see the module
@@ -280,23 +328,6 @@ fn too_large(bytes: u64, limit: u64) -> GpuError {
 }
 
 impl GpuObjects {
-    /// Whether the object table of `trees` fits one storage binding of
-    /// `device`; checked before anything is allocated.
-    ///
-    /// # Errors
-    /// [`GpuError::TooLarge`].
-    pub fn fits<'a>(
-        device: &wgpu::Device,
-        trees: impl IntoIterator<Item = &'a ObbTree>,
-    ) -> Result<(), GpuError> {
-        let limit = device.limits().max_storage_buffer_binding_size;
-        let bytes = table_bytes(trees);
-        if bytes > limit {
-            return Err(too_large(bytes, limit));
-        }
-        Ok(())
-    }
-
     /// Uploads `trees` (one per object, in order). `masks` is where the
     /// broad phase keeps its per-patch object masks: (words per patch,
     /// first word in its lists), `(0, 0)` without a broad phase. Objects
@@ -305,7 +336,7 @@ impl GpuObjects {
     ///
     /// # Errors
     /// [`GpuError::TooLarge`] when the table exceeds one storage binding
-    /// ([`GpuObjects::fits`]).
+    /// ([`TableLayout::check`]).
     pub fn new(
         device: &wgpu::Device,
         trees: &[&ObbTree],
@@ -326,15 +357,28 @@ impl GpuObjects {
         rewritten: &[bool],
         masks: (u32, u32),
     ) -> Result<Self, GpuError> {
-        let (params, data, shared) = table_layout(trees, rewritten);
-        let bytes = (1 + params.len() * PARAM_WORDS + data.len()) as u64 * 16;
-        let limit = device.limits().max_storage_buffer_binding_size;
-        if bytes > limit {
-            return Err(too_large(bytes, limit));
-        }
+        Self::from_layout(device, TableLayout::new(trees, rewritten), masks)
+    }
+
+    /// Uploads `layout` (checked first, [`TableLayout::check`]) with the
+    /// broad phase's `masks` (see [`GpuObjects::new`]).
+    ///
+    /// # Errors
+    /// As [`GpuObjects::new`].
+    pub fn from_layout(
+        device: &wgpu::Device,
+        layout: TableLayout,
+        masks: (u32, u32),
+    ) -> Result<Self, GpuError> {
+        layout.check(device)?;
+        let TableLayout {
+            params,
+            data,
+            shared,
+        } = layout;
         let mut table: Vec<[u32; 4]> =
             Vec::with_capacity(1 + params.len() * PARAM_WORDS + data.len());
-        table.push([trees.len() as u32, masks.0, masks.1, 0]);
+        table.push([params.len() as u32, masks.0, masks.1, 0]);
         table.extend(
             params
                 .iter()
@@ -534,7 +578,11 @@ mod tests {
         let b = ObbTree::build(&knot(2.0), 32);
         let a2 = a.clone();
         let words = |t: &ObbTree| object_words(t).1.len();
-        let (params, data, shared) = table_layout(&[&a, &b, &a2, &a], &[]);
+        let TableLayout {
+            params,
+            data,
+            shared,
+        } = TableLayout::new(&[&a, &b, &a2, &a], &[]);
         assert_eq!(data.len(), words(&a) + words(&b));
         assert_eq!(shared, [true, false, true, true]);
         assert_eq!(params[0].base, params[2].base);
@@ -545,7 +593,11 @@ mod tests {
             (1 + 4 * PARAM_WORDS + data.len()) as u64 * 16
         );
         // A rewritten object neither shares nor is shared.
-        let (params, data, shared) = table_layout(&[&a, &a2, &a], &[false, true, false]);
+        let TableLayout {
+            params,
+            data,
+            shared,
+        } = TableLayout::new(&[&a, &a2, &a], &[false, true, false]);
         assert_eq!(data.len(), 2 * words(&a));
         assert_eq!(shared, [true, false, true]);
         assert_ne!(params[1].base, params[0].base);

@@ -30,7 +30,7 @@ use crate::error::GpuError;
 use crate::field::GpuField;
 use crate::kernel::grid;
 use crate::narrow_phase::NarrowPhase;
-use crate::object::GpuObjects;
+use crate::object::{GpuObjects, TableLayout};
 use crate::profile::{Stage, StageTimer, StageTiming, new_encoder};
 use crate::propagation::Propagation;
 use crate::readback::read_buffer;
@@ -85,24 +85,6 @@ fn world_roots_buffer(device: &wgpu::Device, colliders: usize) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
-}
-
-/// The object table of `sim`'s colliders (a body's own mesh, then its
-/// parts), with `broad`'s mask layout.
-fn object_table(
-    device: &wgpu::Device,
-    sim: &Simulation,
-    broad: &BroadPhase,
-) -> Result<GpuObjects, GpuError> {
-    let (trees, rewritten): (Vec<_>, Vec<_>) = sim
-        .bodies
-        .iter()
-        .flat_map(|b| {
-            let animated = b.object.animated.is_some();
-            b.colliders().map(move |c| (c.tree, animated))
-        })
-        .unzip();
-    GpuObjects::with_rewritten(device, &trees, &rewritten, broad.mask_layout())
 }
 
 /// A simulation whose blades live and move on the GPU.
@@ -184,6 +166,16 @@ impl GpuSimulation {
     /// # Errors
     /// [`GpuError::Unsupported`] or [`GpuError::TooLarge`], saying why.
     pub fn supports(device: &wgpu::Device, sim: &Simulation) -> Result<(), GpuError> {
+        Self::supports_with(device, sim, &TableLayout::of_simulation(sim))
+    }
+
+    /// [`GpuSimulation::supports`] with the object table's layout already
+    /// made (it is then uploaded, not made again).
+    fn supports_with(
+        device: &wgpu::Device,
+        sim: &Simulation,
+        objects: &TableLayout,
+    ) -> Result<(), GpuError> {
         let needed = crate::limits::storage_buffers_per_stage(false);
         let has = device.limits().max_storage_buffers_per_shader_stage;
         if has < needed {
@@ -212,14 +204,7 @@ impl GpuSimulation {
             sim.field.max_blade_length,
             limit,
         )?;
-        GpuObjects::fits(
-            device,
-            sim.bodies
-                .iter()
-                .flat_map(trample::Body::colliders)
-                .map(|c| c.tree),
-        )?;
-        Ok(())
+        objects.check(device)
     }
 
     /// Uploads `sim`'s field and objects to `device`.
@@ -247,7 +232,8 @@ impl GpuSimulation {
         sim: Simulation,
         max_chunk_bytes: Option<u64>,
     ) -> Result<Self, GpuError> {
-        Self::supports(device, &sim)?;
+        let object_layout = TableLayout::of_simulation(&sim);
+        Self::supports_with(device, &sim, &object_layout)?;
         let colliders: usize = sim.bodies.iter().map(trample::Body::collider_count).sum();
         // The step uniform's ground height (the shaders read the terrain table).
         let ground = match sim.field.terrain {
@@ -283,7 +269,7 @@ impl GpuSimulation {
         let world_roots = world_roots_buffer(device, colliders);
         let broad = BroadPhase::new(device, &field, &sim.field.layout, colliders as u32)?;
         // One object per collider (a body's own mesh, then its parts).
-        let objects = object_table(device, &sim, &broad)?;
+        let objects = GpuObjects::from_layout(device, object_layout, broad.mask_layout())?;
         Ok(Self {
             colliders: collider_keys(&sim),
             body_ids: sim.bodies.iter().map(|b| b.id).collect(),
@@ -632,16 +618,10 @@ impl GpuSimulation {
         if keys == self.colliders {
             return Ok(());
         }
-        GpuObjects::fits(
-            device,
-            self.sim
-                .bodies
-                .iter()
-                .flat_map(trample::Body::colliders)
-                .map(|c| c.tree),
-        )?;
+        let layout = TableLayout::of_simulation(&self.sim);
+        layout.check(device)?;
         self.broad.reserve(device, keys.len() as u32)?;
-        self.objects = object_table(device, &self.sim, &self.broad)?;
+        self.objects = GpuObjects::from_layout(device, layout, self.broad.mask_layout())?;
         if keys.len() > self.roots_capacity {
             self.roots_capacity = keys.len().max(2 * self.roots_capacity);
             self.world_roots = world_roots_buffer(device, self.roots_capacity);

@@ -25,6 +25,18 @@ pub enum Feature {
     EdgeOrVertex,
 }
 
+impl Feature {
+    /// The feature of a region index of [`closest_point_on_triangle_region`].
+    #[must_use]
+    pub fn of_region(region: u8) -> Self {
+        if region == FACE {
+            Self::Face
+        } else {
+            Self::EdgeOrVertex
+        }
+    }
+}
+
 /// The point of triangle `a, b, c` closest to `p`, and the feature it lies
 /// on (Ericson §5.1.5). A degenerate triangle gives a point of it (an edge
 /// or a corner). No allocation, no branch on NaN beyond comparisons (NaN
@@ -32,14 +44,7 @@ pub enum Feature {
 #[must_use]
 pub fn closest_point_on_triangle(p: Vec3, tri: &[Vec3; 3]) -> (Vec3, Feature) {
     let (q, region) = closest_point_on_triangle_region(p, tri);
-    (
-        q,
-        if region == FACE {
-            Feature::Face
-        } else {
-            Feature::EdgeOrVertex
-        },
-    )
+    (q, Feature::of_region(region))
 }
 
 /// [`closest_point_on_triangle`] with the exact feature: the region index
@@ -92,8 +97,6 @@ pub struct SurfacePoint {
     /// The unit normal of the triangle it lies on (counter-clockwise
     /// triangles face outwards); zero for a degenerate triangle.
     pub normal: Vec3,
-    /// Whether it lies inside that triangle's face or on an edge or corner.
-    pub feature: Feature,
     /// The triangle it lies on (index into [`ObbTree::triangles`]).
     pub triangle: u32,
     /// Which feature of that triangle, as [`closest_point_on_triangle_region`]
@@ -102,6 +105,13 @@ pub struct SurfacePoint {
 }
 
 impl SurfacePoint {
+    /// Whether it lies inside its triangle's face or on an edge or corner
+    /// (from [`SurfacePoint::region`]).
+    #[must_use]
+    pub fn feature(&self) -> Feature {
+        Feature::of_region(self.region)
+    }
+
     /// The normal that says which side of an open mesh the query point is
     /// on: the face normal when the closest point lies inside a face, the
     /// angle-weighted pseudo-normal of the edge or corner it lies on
@@ -175,11 +185,6 @@ pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Opti
                         point: q,
                         distance_sq: d,
                         normal: (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero(),
-                        feature: if region == FACE {
-                            Feature::Face
-                        } else {
-                            Feature::EdgeOrVertex
-                        },
                         triangle: (first + k) as u32,
                         region,
                     });

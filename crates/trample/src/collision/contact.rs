@@ -58,7 +58,7 @@ pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f3
             return None;
         }
         let s = closest_point_on_mesh(tree, p, f32::INFINITY)?;
-        let inside = match (known, s.feature) {
+        let inside = match (known, s.feature()) {
             (Some(true), _) => true,
             (_, Feature::Face) => (p - s.point).dot(s.normal) < 0.0,
             (_, Feature::EdgeOrVertex) => point_inside_by_ray(tree, p),

@@ -111,15 +111,39 @@ impl MeshFeatures {
     /// give normals for the shorter of the two.
     #[must_use]
     pub fn normals(&self, triangles: &[[Vec3; 3]]) -> Vec<[Vec3; 6]> {
-        let faces: Vec<Vec3> = triangles
-            .iter()
-            .map(|t| (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero())
-            .collect();
-        let mut at_edge = vec![Vec3::ZERO; self.edge_count];
-        let mut at_corner = vec![Vec3::ZERO; self.vertex_count];
+        let mut out = Vec::new();
+        self.normals_into(triangles, &mut out, &mut NormalScratch::default());
+        out
+    }
+
+    /// [`MeshFeatures::normals`] written into `out` (cleared first), with
+    /// `scratch`'s memory: no allocation once both have grown to the mesh
+    /// (a refit of an open animated mesh every sub-step,
+    /// [`super::ObbTree::refit`]).
+    pub fn normals_into(
+        &self,
+        triangles: &[[Vec3; 3]],
+        out: &mut Vec<[Vec3; 6]>,
+        scratch: &mut NormalScratch,
+    ) {
+        let NormalScratch {
+            faces,
+            at_edge,
+            at_corner,
+        } = scratch;
+        faces.clear();
+        faces.extend(
+            triangles
+                .iter()
+                .map(|t| (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero()),
+        );
+        at_edge.clear();
+        at_edge.resize(self.edge_count, Vec3::ZERO);
+        at_corner.clear();
+        at_corner.resize(self.vertex_count, Vec3::ZERO);
         for ((t, n), (c, e)) in triangles
             .iter()
-            .zip(&faces)
+            .zip(faces.iter())
             .zip(self.corners.iter().zip(&self.edges))
         {
             for k in 0..3 {
@@ -127,19 +151,30 @@ impl MeshFeatures {
                 at_corner[c[k] as usize] += *n * corner_angle(t, k);
             }
         }
-        faces
-            .iter()
-            .zip(self.corners.iter().zip(&self.edges))
-            .map(|(n, (c, e))| {
-                let unit = |v: Vec3| v.try_normalize().unwrap_or(*n);
-                let (e, c) = (
-                    e.map(|i| unit(at_edge[i as usize])),
-                    c.map(|i| unit(at_corner[i as usize])),
-                );
-                [e[0], e[1], e[2], c[0], c[1], c[2]]
-            })
-            .collect()
+        out.clear();
+        out.extend(
+            faces
+                .iter()
+                .zip(self.corners.iter().zip(&self.edges))
+                .map(|(n, (c, e))| {
+                    let unit = |v: Vec3| v.try_normalize().unwrap_or(*n);
+                    let (e, c) = (
+                        e.map(|i| unit(at_edge[i as usize])),
+                        c.map(|i| unit(at_corner[i as usize])),
+                    );
+                    [e[0], e[1], e[2], c[0], c[1], c[2]]
+                }),
+        );
     }
+}
+
+/// Scratch memory of [`MeshFeatures::normals_into`]: per triangle its face
+/// normal, per edge and per corner the sums of their pseudo-normals.
+#[derive(Clone, Debug, Default)]
+pub struct NormalScratch {
+    faces: Vec<Vec3>,
+    at_edge: Vec<Vec3>,
+    at_corner: Vec<Vec3>,
 }
 
 /// The angle of triangle `t` at corner `k`, radians (0 for a degenerate
@@ -178,6 +213,22 @@ mod tests {
         assert!((n[0][EDGE_AB as usize] - face).length() < 1e-6);
         // A ridge corner: one angle-weighted normal for both triangles.
         assert_eq!(n[0][CORNER_A as usize], n[1][CORNER_A as usize + 2]);
+    }
+
+    /// Reused memory (a refit every sub-step) gives the normals of a fresh
+    /// computation: nothing of the previous mesh's sums is left in it.
+    #[test]
+    fn normals_into_reused_memory_equal_fresh_normals() {
+        let t = roof();
+        let f = MeshFeatures::new(&t);
+        let mut out = vec![[Vec3::splat(9.0); 6]; 5];
+        let mut scratch = NormalScratch::default();
+        let mut bent = t.clone();
+        bent[1][1].y -= 0.3;
+        f.normals_into(&bent, &mut out, &mut scratch);
+        assert_eq!(out, f.normals(&bent));
+        f.normals_into(&t, &mut out, &mut scratch);
+        assert_eq!(out, f.normals(&t));
     }
 
     #[test]

@@ -49,6 +49,7 @@ use super::build::searched_at;
 use super::build::{equivalent_normal_from_sums, equivalent_normal_sums};
 use super::fit::{fit_obb_searched, padding};
 use super::node::{Obb, ObbTree};
+use super::pseudo_normals::NormalScratch;
 use crate::object::TriMesh;
 
 /// How node orientations follow a deformation; see the module documentation.
@@ -247,6 +248,8 @@ pub struct RefitScratch {
     sums: Vec<(DVec3, f64)>,
     /// One level's new boxes and sums, in the level's node order.
     level: Vec<(Obb, (DVec3, f64))>,
+    /// An open mesh's pseudo-normal sums.
+    normals: NormalScratch,
 }
 
 impl ObbTree {
@@ -314,7 +317,11 @@ impl ObbTree {
         self.inside = None;
         if !self.features.is_empty() {
             // An open mesh's sides at its edges and corners move with it.
-            self.feature_normals = self.features.normals(&self.triangles);
+            self.features.normals_into(
+                &self.triangles,
+                &mut self.feature_normals,
+                &mut scratch.normals,
+            );
         }
         if self.triangles.is_empty() {
             return Ok(());
