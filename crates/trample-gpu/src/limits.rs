@@ -68,3 +68,43 @@ pub fn required_limits(sim: &Simulation) -> wgpu::Limits {
 pub fn required_features() -> wgpu::Features {
     wgpu::Features::empty()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A one-patch field (64 blades) and a body whose parts' meshes (two
+    /// finely tessellated balls) outweigh everything else: the object table
+    /// is the largest binding, and it holds the parts (it failed when only
+    /// each body's own tree was counted).
+    #[test]
+    fn the_largest_binding_counts_every_collider_of_every_body() {
+        let text = r#"
+            [field]
+            patches = [1, 1]
+            cells_per_patch = 8
+            [[objects]]
+            name = "carrier"
+            shape = { kind = "box", half_extents_m = [0.5, 0.5, 0.5] }
+            path = { kind = "static", position = [0.0, 2.0, 0.0] }
+            [[objects.parts]]
+            name = "left"
+            shape = { kind = "sphere", radius_m = 0.4, subdivisions = 5 }
+            offset_m = [1.0, 0.0, 0.0]
+            [[objects.parts]]
+            name = "right"
+            shape = { kind = "sphere", radius_m = 0.3, subdivisions = 5 }
+            offset_m = [-1.0, 0.0, 0.0]
+        "#;
+        let scene = trample::scene::Scene::parse(text, "test", std::path::Path::new("."))
+            .expect("valid scene");
+        let sim = scene.build().expect("builds");
+        let own_trees_only = crate::object::table_bytes(sim.bodies.iter().map(|b| &b.tree));
+        let every_collider = crate::object::TableLayout::of_simulation(&sim).bytes();
+        assert!(
+            every_collider > 10 * own_trees_only,
+            "{every_collider} {own_trees_only}"
+        );
+        assert_eq!(largest_binding(&sim), every_collider);
+    }
+}
