@@ -27,7 +27,8 @@
 use glam::{Vec3, Vec3A};
 
 use super::bend::preserve_from;
-use crate::collision::contact::{penetration, push_out};
+use crate::collision::contact::{NO_HINT, penetration, push_out_hinted};
+use crate::field::MAX_SEGMENTS;
 use crate::field::Terrain;
 use crate::obb::ObbTree;
 use crate::object::Pose;
@@ -124,11 +125,16 @@ pub fn resolve_contact(
     }
     let mut from = first.max(1);
     let mut moved = false;
+    // Per vertex, the triangle of its last closest point: a later round
+    // tries it first (`push_out_hinted`, same answers).
+    let mut hints = [NO_HINT; MAX_SEGMENTS + 1];
     for _ in 0..CONTACT_ITERATIONS {
         let mut lowest = None;
         for k in from..verts.len() {
             let local = pose.to_local(Vec3::from(verts[k]));
-            let Some(target) = push_out(tree, local, open_depth) else {
+            let mut no_hint = NO_HINT;
+            let hint = hints.get_mut(k).unwrap_or(&mut no_hint);
+            let Some(target) = push_out_hinted(tree, local, open_depth, hint) else {
                 continue;
             };
             let start = verts[k - 1];
