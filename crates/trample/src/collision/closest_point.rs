@@ -10,7 +10,7 @@
 //! its box is farther than the best triangle found so far (every box holds
 //! its triangles, DESIGN §3), the nearer child first.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use super::exact::STACK_SIZE;
 use crate::obb::pseudo_normals::{CORNER_A, EDGE_AB, EDGE_BC, EDGE_CA, FACE};
@@ -133,8 +133,10 @@ impl SurfacePoint {
 /// Squared distance from `p` to the box `obb` (0 inside it).
 #[inline]
 fn distance_sq_to_box(p: Vec3, obb: &Obb) -> f32 {
-    let q = obb.to_box(p);
-    (q.abs() - obb.half).max(Vec3::ZERO).length_squared()
+    let q = obb.to_box_a(p.into());
+    (q.abs() - Vec3A::from(obb.half))
+        .max(Vec3A::ZERO)
+        .length_squared()
 }
 
 /// The point of the mesh of `tree` closest to `p` (object-local frame),
