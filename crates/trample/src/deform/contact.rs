@@ -6,7 +6,7 @@
 //!
 //! A blade is a chain of rigid segments, so a vertex is not moved on its
 //! own: the segment that ends at it **turns** about its lower end towards
-//! the way out ([`push_out`]: towards the closest surface point) — its end
+//! the way out ([`push_out`](crate::collision::contact::push_out): towards the closest surface point) — its end
 //! goes where the push takes it and the segment keeps its length
 //! ([`turn_towards`]); the segments above follow (Fig. 7's length
 //! preservation, with the ground guard). A blade leaning into a wall is
@@ -106,7 +106,7 @@ pub fn turn_towards(dir: Vec3A, push: Vec3A, lean: Vec3A, len: f32) -> Vec3A {
 ///   reached the object.
 /// - `pose`, `tree`: the object at this sub-step.
 /// - `open_depth`: how far behind an open mesh a vertex counts as inside
-///   (see [`push_out`]); the caller passes the blade's segment length.
+///   (see [`push_out`](crate::collision::contact::push_out)); the caller passes the blade's segment length.
 ///
 /// Leaves the blade unchanged when it cannot be length-preserved (see
 /// [`super::bend::preserve_lengths`]).
