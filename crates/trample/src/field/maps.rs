@@ -21,7 +21,7 @@
 //! `c` is `c · blades_per_cell + slot`, neighbours (Definition 6) are
 //! found by arithmetic, patches are equal contiguous ranges, and the GPU
 //! path splits the field into chunks of whole patches on that basis. The
-//! cost is the state of the absent blades (about 190 bytes a blade at 4
+//! cost is the state of the absent blades (about 200 bytes a blade at 4
 //! segments); the step's work memory, which the memory estimate counts
 //! for every blade that could be under an object, follows the density
 //! ([`super::FieldParams::memory_estimate_bytes_for`]).

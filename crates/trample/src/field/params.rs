@@ -275,9 +275,11 @@ impl FieldParams {
     ///   candidates, touched, DBG, forced, moved by contact, displaced);
     ///
     /// per cell, 62: the neighbour table (16), LOD, billboard base, height,
-    /// rest and current slope, flatness, bent flag. The sum is raised by a
-    /// quarter for what the allocator keeps mapped after the step's work
-    /// lists are freed, plus [`FIXED_OVERHEAD_BYTES`].
+    /// rest and current slope, flatness, bent flag; plus
+    /// [`FIXED_OVERHEAD_BYTES`]. (Until 2026-11-25 the sum was raised by a
+    /// quarter for what the allocator keeps mapped; the step's memory has
+    /// fallen since, and the quarter put the estimate 25 % over the
+    /// measured worst case.)
     ///
     /// Measured (peak RSS of `trample simulate` less that of a 4-blade run,
     /// every blade hit and bent, n = 4; RELIABILITY.md, and the CLI test
@@ -285,8 +287,12 @@ impl FieldParams {
     /// build after contact (issue 12), 2026-11-23: 65,536 blades 38.8 MiB
     /// (estimate 39.7), 262,144 blades 137.8 MiB (141.0). Before contact:
     /// 30.9 MiB (31.1), 130.5 MiB (124.4), 1,048,576 blades 509.9 MiB
-    /// (497.5). A run where a ball touches a small part of the field peaks
-    /// at about half the estimate (262,144 blades: 65.5 MiB).
+    /// (497.5). Re-measured 2026-11-25 (debug build, as the CI test runs):
+    /// 65,536 blades 29.7–36.1 MiB, 262,144 blades 104.9 MiB — estimates
+    /// now 33.0 and 114.0 MiB (+9 to +11 %; with the quarter they were
+    /// 39.8 and 141.0, −24 to −26 %, and the CI test failed). A run where a
+    /// ball touches a small part of the field peaks at about half the
+    /// estimate (65,536 blades: 17.5 MiB).
     ///
     /// Every blade is counted as growing; see
     /// [`FieldParams::memory_estimate_bytes_for`] for a field whose grass
@@ -313,7 +319,7 @@ impl FieldParams {
         let exact = self.blade_count() * state
             + growing.min(self.blade_count()) * work
             + self.cell_count() * per_cell;
-        exact + exact / 4 + FIXED_OVERHEAD_BYTES
+        exact + FIXED_OVERHEAD_BYTES
     }
 }
 
