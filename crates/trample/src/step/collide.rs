@@ -8,6 +8,8 @@ use super::timings::StepTimings;
 use crate::collision::narrow_phase::{BladeContacts, LocalMotion, box_clear_of, contact_blade};
 use crate::field::Lod;
 use crate::force::eqf::eqf;
+use crate::obb::ObbTree;
+use crate::object::Pose;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -24,100 +26,158 @@ pub(crate) struct BladeHit {
     pub mask: u32,
 }
 
-/// Narrow phase for collider `k` of one body ([`Body::collider`]: its own
-/// mesh or one of its parts, with its own pose and velocities): every
-/// blade in the patches its root box
-/// overlaps (only those of geometric cells in the paper's mode,
-/// `sim.track_everywhere = false`), segments moved into the body's frame
-/// once and tested down to the precision with the contact shell
-/// ([`contact_blade`], weights set by the object's travel in the sub-step
-/// of `h` seconds); returns the blades touched, ascending, with
+/// The narrow phase of one collider ([`Body::collider`]: a body's own mesh
+/// or one of its parts, with its own pose and velocities), made ready: the
+/// blades its root box may reach, tile by tile, and what testing one of
+/// them needs. [`narrow_phase`] runs the tiles of every collider in one
+/// parallel loop.
+struct ColliderNarrow<'a> {
+    tree: &'a ObbTree,
+    pose: Pose,
+    press: f32,
+    motion: LocalMotion,
+    /// The candidate blades ([`candidate_tiles`]).
+    candidates: Vec<u32>,
+    /// Each tile's range in `candidates`.
+    tiles: Vec<(u32, u32)>,
+}
+
+impl<'a> ColliderNarrow<'a> {
+    /// Collider `k` of `body` over the listed `patches`, for a sub-step of
+    /// `h` seconds.
+    fn new(sim: &Simulation, body: &'a Body, k: usize, patches: &[u32], h: f32) -> Self {
+        let shell = sim.params.contact_shell_m;
+        let collider = body.collider(k);
+        let (min, max) = reach_rect(collider.world_root, sim.field.max_blade_length + shell);
+        let (candidates, tiles) = candidate_tiles(sim, patches, min, max);
+        let pose = *collider.pose;
+        let tree = collider.tree;
+        let inverse = pose.rotation.inverse();
+        Self {
+            tree,
+            pose,
+            press: body.object.track.press,
+            motion: LocalMotion {
+                velocity: inverse * pose.velocity,
+                angular_velocity: inverse * pose.angular_velocity,
+                h,
+                thickness: 2.0 * tree.nodes[0].obb.half.min_element(),
+            },
+            candidates,
+            tiles,
+        }
+    }
+
+    /// The hits of tile `t`: every blade of the tile moved into the
+    /// object's frame once, the tile's box tested first ([`box_clear_of`]),
+    /// then each blade down to the precision with the contact shell
+    /// ([`contact_blade`]). `contacts` and `local` are scratch space.
+    fn tile_hits(
+        &self,
+        sim: &Simulation,
+        t: usize,
+        contacts: &mut BladeContacts,
+        local: &mut Vec<Vec3>,
+    ) -> Vec<BladeHit> {
+        let (start, end) = self.tiles[t];
+        let tile = &self.candidates[start as usize..end as usize];
+        let blades = &sim.field.blades;
+        let n = blades.segments;
+        let (precision, shell) = (sim.params.precision, sim.params.contact_shell_m);
+        let pose = &self.pose;
+        local.clear();
+        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        let mut finite = true;
+        for &b in tile {
+            for k in 0..=n {
+                let v = pose.to_local(Vec3::from(blades.vertex(b as usize, k)));
+                finite &= v.is_finite();
+                (lo, hi) = (lo.min(v), hi.max(v));
+                local.push(v);
+            }
+        }
+        let pad = Vec3::splat(TILE_PAD_M);
+        if finite && box_clear_of(self.tree, lo - pad, hi + pad, precision, shell) {
+            return Vec::new();
+        }
+        let mut hits = Vec::new();
+        for (&b, v) in tile.iter().zip(local.chunks_exact(n + 1)) {
+            contact_blade(v, self.tree, precision, shell, &self.motion, contacts);
+            if contacts.mask == 0 {
+                continue;
+            }
+            let mut force = Vec3::ZERO;
+            for k in 0..n {
+                if contacts.mask & (1 << k) != 0 {
+                    let c = contacts.contacts[k];
+                    // The surface's speed there: the collider's rigid
+                    // motion and, for a deforming mesh, the limb's own.
+                    let speed = (pose.point_velocity(pose.to_world(c.point))
+                        + pose.rotation * c.velocity)
+                        .length();
+                    force += eqf(speed, pose.rotation * c.dir) * (c.weight * self.press);
+                }
+            }
+            hits.push(BladeHit {
+                blade: b,
+                force,
+                weight: contacts.weight_sum(),
+                mask: contacts.mask,
+            });
+        }
+        hits
+    }
+}
+
+/// Narrow phase of every collider (`colliders`, as (body, collider) pairs:
+/// [`Body::collider`]; `patches[j]` the patches the broad phase listed for
+/// collider `j`) in a sub-step of `h` seconds: every blade in the patches a
+/// collider's root box overlaps (only those of geometric cells in the
+/// paper's mode, `sim.track_everywhere = false`), segments moved into the
+/// collider's frame once and tested down to the precision with the contact
+/// shell ([`contact_blade`], weights set by the object's travel in the
+/// sub-step); returns, per collider, the blades touched, ascending, with
 /// `Σ_k w_k · press · |v + ω × r + R · v_k| · EqN_k` (Eq. 2 per segment,
 /// weighted; `v_k` the deforming mesh's own velocity at the contact,
 /// [`crate::collision::narrow_phase::SegmentContact::velocity`]).
+///
+/// The tiles of all colliders run in one parallel loop (not one loop per
+/// collider: a herd's colliders each hold a few dozen tiles, too few to
+/// keep the threads busy); each collider's hits are the same whatever the
+/// thread count.
 pub(crate) fn narrow_phase(
     sim: &Simulation,
-    body: &Body,
-    k: usize,
-    patches: &[u32],
+    colliders: &[(usize, usize)],
+    patches: &[Vec<u32>],
     h: f32,
     tm: &mut StepTimings,
-) -> Vec<BladeHit> {
-    let shell = sim.params.contact_shell_m;
-    let collider = body.collider(k);
-    let (min, max) = reach_rect(collider.world_root, sim.field.max_blade_length + shell);
-    let (candidates, tiles) = candidate_tiles(sim, patches, min, max);
-    tm.narrow_candidates += candidates.len() as u32;
-    let blades = &sim.field.blades;
-    let n = blades.segments;
-    let pose = *collider.pose;
-    let tree = collider.tree;
-    let press = body.object.track.press;
-    let precision = sim.params.precision;
-    let inverse = pose.rotation.inverse();
-    let motion = LocalMotion {
-        velocity: inverse * pose.velocity,
-        angular_velocity: inverse * pose.angular_velocity,
-        h,
-        thickness: 2.0 * tree.nodes[0].obb.half.min_element(),
-    };
-    // The contact of one blade, its vertices already in the object's frame.
-    let blade_hit = |b: u32, local: &[Vec3], contacts: &mut BladeContacts| {
-        contact_blade(local, tree, precision, shell, &motion, contacts);
-        if contacts.mask == 0 {
-            return None;
-        }
-        let mut force = Vec3::ZERO;
-        for k in 0..n {
-            if contacts.mask & (1 << k) != 0 {
-                let c = contacts.contacts[k];
-                // The surface's speed there: the collider's rigid
-                // motion and, for a deforming mesh, the limb's own.
-                let speed = (pose.point_velocity(pose.to_world(c.point))
-                    + pose.rotation * c.velocity)
-                    .length();
-                force += eqf(speed, pose.rotation * c.dir) * (c.weight * press);
-            }
-        }
-        Some(BladeHit {
-            blade: b,
-            force,
-            weight: contacts.weight_sum(),
-            mask: contacts.mask,
-        })
-    };
-    let mut hits: Vec<BladeHit> = tiles
+) -> Vec<Vec<BladeHit>> {
+    let jobs: Vec<ColliderNarrow> = colliders
+        .iter()
+        .zip(patches)
+        .map(|(&(i, k), p)| ColliderNarrow::new(sim, &sim.bodies[i], k, p, h))
+        .collect();
+    tm.narrow_candidates += jobs.iter().map(|j| j.candidates.len() as u32).sum::<u32>();
+    let work: Vec<(usize, usize)> = jobs
+        .iter()
+        .enumerate()
+        .flat_map(|(j, job)| (0..job.tiles.len()).map(move |t| (j, t)))
+        .collect();
+    let found: Vec<Vec<BladeHit>> = work
         .par_iter()
         .map_init(
             || (BladeContacts::default(), Vec::new()),
-            |(contacts, local), &(start, end)| {
-                let tile = &candidates[start as usize..end as usize];
-                // Every blade of the tile moved into the object's frame once.
-                local.clear();
-                let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-                let mut finite = true;
-                for &b in tile {
-                    for k in 0..=n {
-                        let v = pose.to_local(Vec3::from(blades.vertex(b as usize, k)));
-                        finite &= v.is_finite();
-                        (lo, hi) = (lo.min(v), hi.max(v));
-                        local.push(v);
-                    }
-                }
-                let pad = Vec3::splat(TILE_PAD_M);
-                if finite && box_clear_of(tree, lo - pad, hi + pad, precision, shell) {
-                    return Vec::new();
-                }
-                tile.iter()
-                    .zip(local.chunks_exact(n + 1))
-                    .filter_map(|(&b, v)| blade_hit(b, v, contacts))
-                    .collect::<Vec<_>>()
-            },
+            |(contacts, local), &(j, t)| jobs[j].tile_hits(sim, t, contacts, local),
         )
-        .flatten_iter()
         .collect();
-    hits.sort_unstable_by_key(|hit| hit.blade);
-    hits
+    let mut per_collider = vec![Vec::new(); jobs.len()];
+    for (&(j, _), hits) in work.iter().zip(found) {
+        per_collider[j].extend(hits);
+    }
+    for hits in &mut per_collider {
+        hits.sort_unstable_by_key(|hit| hit.blade);
+    }
+    per_collider
 }
 
 /// Cells along a side of the tiles the narrow phase tests as one box

@@ -160,14 +160,14 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
 
     // Narrow phase and EqF per blade (Eq. 2), collider by collider; the
     // blades count as pressed by the collider's body.
-    for (&(i, k), hits) in colliders.iter().zip(&patch_hits) {
-        let clock = Instant::now();
-        let found = narrow_phase(sim, &sim.bodies[i], k, hits, h, tm);
-        tm.narrow_ms += ms(clock);
-        let clock = Instant::now();
-        accumulate_contacts(sim, i, &found);
-        tm.forces_ms += ms(clock);
+    let clock = Instant::now();
+    let found = narrow_phase(sim, &colliders, &patch_hits, h, tm);
+    tm.narrow_ms += ms(clock);
+    let clock = Instant::now();
+    for (&(i, _), hits) in colliders.iter().zip(&found) {
+        accumulate_contacts(sim, i, hits);
     }
+    tm.forces_ms += ms(clock);
     let clock = Instant::now();
     sim.scratch.touched.sort_unstable();
     // Every blade touched is an ancestor of propagation, held by its contact
