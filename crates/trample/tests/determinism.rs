@@ -134,8 +134,6 @@ fn default_scene_after_300_steps_has_its_golden_hash_on_one_and_two_threads() {
 /// second ball) circling through one another over a 6.4 m field, so that
 /// blades meet several objects in one sub-step.
 fn crowd_toml() -> String {
-    let mesh =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes/spot.obj");
     let objects = [
         ("ball", r#"{ kind = "sphere", radius_m = 0.5 }"#, 0.5, 0.0),
         (
