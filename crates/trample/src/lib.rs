@@ -38,6 +38,8 @@ pub mod paths;
 pub mod recovery;
 pub mod scene;
 pub mod step;
+#[cfg(test)]
+mod test_rng;
 pub mod wind;
 
 pub use builder::{BodyBuilder, BuildError, SimulationBuilder};

@@ -219,6 +219,7 @@ pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Opti
 mod tests {
     use super::*;
     use crate::object::shapes::{knot, sphere};
+    use crate::test_rng::XorShift;
 
     fn brute_force(tree: &ObbTree, p: Vec3) -> f32 {
         tree.triangles
@@ -242,13 +243,8 @@ mod tests {
 
     #[test]
     fn tree_query_equals_brute_force() {
-        let mut s = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut rng = XorShift(0x9e37_79b9_7f4a_7c15u64);
+        let mut next = || rng.range(-1.0, 1.0);
         for mesh in [sphere(1.0, 3), knot(2.4)] {
             let tree = ObbTree::build(&mesh, 32);
             for _ in 0..400 {

@@ -126,16 +126,12 @@ mod tests {
     use crate::collision::exact::point_inside;
     use crate::object::TriMesh;
     use crate::object::shapes::{cuboid, knot, sphere};
+    use crate::test_rng::XorShift;
 
     #[test]
     fn pushed_points_end_on_the_surface_and_outside_points_stay() {
-        let mut s = 0x5851_f42d_4c95_7f2du64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut rng = XorShift(0x5851_f42d_4c95_7f2du64);
+        let mut next = || rng.range(-1.0, 1.0);
         for mesh in [sphere(1.0, 3), knot(2.4), cuboid(Vec3::new(0.6, 0.3, 0.9))] {
             let tree = ObbTree::build(&mesh, 32);
             let (mut pushed, mut kept) = (0, 0);
@@ -173,13 +169,8 @@ mod tests {
     /// hint left is the closest point's triangle.
     #[test]
     fn a_hint_gives_the_answers_of_push_out() {
-        let mut s = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rng = XorShift(0x2545_f491_4f6c_dd1du64);
+        let mut next = || rng.unit();
         let mut sheet = cuboid(Vec3::ONE);
         sheet
             .indices

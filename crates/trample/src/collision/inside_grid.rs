@@ -129,6 +129,7 @@ mod tests {
     use super::*;
     use crate::collision::exact::{point_inside, point_inside_by_ray};
     use crate::object::shapes::{cuboid, knot, sphere};
+    use crate::test_rng::XorShift;
 
     #[test]
     fn grid_answers_equal_the_ray_test_and_cover_most_of_the_box() {
@@ -141,13 +142,8 @@ mod tests {
             let grid = tree.inside.as_ref().expect("closed mesh has a grid");
             let root = tree.nodes[0].obb;
             let (mut answered, mut inside, total) = (0, 0, 20_000);
-            let mut seed = 0x2545_F491_4F6C_DD1Du64;
-            let mut next = || {
-                seed ^= seed << 13;
-                seed ^= seed >> 7;
-                seed ^= seed << 17;
-                (seed >> 40) as f32 / (1u64 << 24) as f32 * 2.2 - 1.1
-            };
+            let mut rng = XorShift(0x2545_F491_4F6C_DD1Du64);
+            let mut next = || rng.range(-1.1, 1.1);
             for _ in 0..total {
                 let q = Vec3::new(next(), next(), next()) * root.half;
                 let p = root.center + root.axes[0] * q.x + root.axes[1] * q.y + root.axes[2] * q.z;

@@ -792,19 +792,17 @@ mod tests {
     use super::*;
     use crate::obb::Obb;
     use crate::object::shapes::{cuboid, knot, sphere};
+    use crate::test_rng::XorShift;
     use glam::Quat;
 
-    /// xorshift in [-1, 1).
-    struct Rng(u64);
+    /// Random numbers in [-1, 1).
+    struct Rng(XorShift);
     impl Rng {
         fn next(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+            self.0.range(-1.0, 1.0)
         }
         fn vec(&mut self, r: f32) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next()) * r
+            self.0.vec(-1.0, 1.0) * r
         }
     }
 
@@ -828,7 +826,7 @@ mod tests {
     /// box's faces and corners (ties).
     #[test]
     fn wide_grown_test_equals_scalar_grown_test() {
-        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let mut rng = Rng(XorShift(0x2545_f491_4f6c_dd1d));
         let mut hits = 0;
         for g in 0..20_000 {
             let rot = Quat::from_scaled_axis(rng.vec(3.0));
@@ -878,7 +876,7 @@ mod tests {
     #[test]
     fn contact_blade_equals_contact_segment_on_each_segment() {
         let meshes = test_meshes();
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut rng = Rng(XorShift(0x9e37_79b9_7f4a_7c15));
         let (mut hit_segments, mut blades) = (0, 0);
         for mesh in &meshes {
             let tree = ObbTree::build(mesh, 10);
@@ -958,7 +956,7 @@ mod tests {
     #[test]
     fn a_clear_box_holds_no_contact() {
         let meshes = test_meshes();
-        let mut rng = Rng(0x0123_4567_89ab_cdef);
+        let mut rng = Rng(XorShift(0x0123_4567_89ab_cdef));
         let (mut clear, mut not_clear, mut inside) = (0, 0, 0);
         for (m, mesh) in meshes.iter().enumerate() {
             let tree = ObbTree::build(mesh, 10);

@@ -150,6 +150,7 @@ fn hits_centred_local(c: Vec3A, h: Vec3A, e: Vec3A) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::XorShift;
 
     /// Reference: Liang–Barsky clipping of the parameter interval [0, 1]
     /// against the three slabs, in f64. Returns the clipped interval's
@@ -175,13 +176,8 @@ mod tests {
     #[test]
     fn agrees_with_liang_barsky_clipping_away_from_ties() {
         // Deterministic pseudo-random segments (xorshift).
-        let mut s = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32 * 4.0 - 2.0
-        };
+        let mut rng = XorShift(0x9e37_79b9_7f4a_7c15u64);
+        let mut next = || rng.range(-2.0, 2.0);
         let e = Vec3::new(1.0, 0.5, 0.25);
         let mut checked = 0;
         for _ in 0..20_000 {
@@ -202,13 +198,8 @@ mod tests {
     /// sampling step times the slope), and its sign is the hit test's.
     #[test]
     fn max_depth_matches_dense_sampling_and_the_hit_test() {
-        let mut s = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32 * 4.0 - 2.0
-        };
+        let mut rng = XorShift(0x2545_f491_4f6c_dd1du64);
+        let mut next = || rng.range(-2.0, 2.0);
         let e = Vec3A::new(1.0, 0.5, 0.25);
         for _ in 0..5_000 {
             let c = Vec3A::new(next(), next(), next());

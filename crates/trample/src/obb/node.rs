@@ -137,18 +137,14 @@ pub struct ObbTree {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::XorShift;
 
     /// The SIMD transform gives the scalar one's bits (the closest-point
     /// walk relies on it: same pruning, same answers).
     #[test]
     fn to_box_a_equals_to_box_bit_for_bit() {
-        let mut s = 0x853c_49e6_748f_ea9bu64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            ((s >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 7.0
-        };
+        let mut rng = XorShift(0x853c_49e6_748f_ea9bu64);
+        let mut next = || rng.range(-3.5, 3.5);
         for _ in 0..10_000 {
             let u = Vec3::new(next(), next(), next()).normalize();
             let v = u.any_orthonormal_vector();

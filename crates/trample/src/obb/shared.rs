@@ -31,12 +31,29 @@ pub fn build_shared(meshes: &[&TriMesh], max_depth: u32) -> (Vec<ObbTree>, usize
         }
     }
     let distinct: Vec<usize> = (0..meshes.len()).filter(|&i| first_equal[i] == i).collect();
-    let built: Vec<ObbTree> = distinct
+    let mut built: Vec<Option<ObbTree>> = distinct
         .par_iter()
-        .map(|&i| ObbTree::build(meshes[i], max_depth))
+        .map(|&i| Some(ObbTree::build(meshes[i], max_depth)))
         .collect();
     let at: HashMap<usize, usize> = distinct.iter().enumerate().map(|(k, &i)| (i, k)).collect();
-    let trees = first_equal.iter().map(|j| built[at[j]].clone()).collect();
+    // Each build is moved into the last slot that uses it, copied before.
+    let mut last_use = vec![0; distinct.len()];
+    for (i, j) in first_equal.iter().enumerate() {
+        last_use[at[j]] = i;
+    }
+    let trees = first_equal
+        .iter()
+        .enumerate()
+        .map(|(i, j)| {
+            let k = at[j];
+            let tree = if last_use[k] == i {
+                built[k].take()
+            } else {
+                built[k].clone()
+            };
+            tree.expect("a build is moved out at its last use only")
+        })
+        .collect();
     (trees, distinct.len())
 }
 

@@ -89,11 +89,11 @@ impl Body {
     /// [`Body::new`] with the trees already built: `tree` of `object.mesh`
     /// and `part_trees` of its parts' meshes, in order (what
     /// [`crate::obb::shared::build_shared`] gives a scene of many bodies).
-    ///
-    /// # Panics
-    /// When `part_trees` and the object's parts differ in number.
+    /// Not public: one tree per part is the caller's promise (the scene
+    /// builder keeps it by building the trees from the same lists); it
+    /// panics when they differ in number.
     #[must_use]
-    pub fn with_trees(object: Object, tree: ObbTree, part_trees: Vec<ObbTree>) -> Self {
+    pub(crate) fn with_trees(object: Object, tree: ObbTree, part_trees: Vec<ObbTree>) -> Self {
         assert_eq!(
             part_trees.len(),
             object.parts.parts.len(),

@@ -26,7 +26,7 @@ use crate::obb::{Obb, ObbTree};
 use crate::object::animated::AnimatedScratch;
 use crate::object::parts::Joint;
 use crate::object::parts::{PartPose, PartsInput, WheelOdometer};
-use crate::object::{Articulation, Object, Pose, TriMesh};
+use crate::object::{Articulation, Object, Pose};
 use glam::Vec3;
 
 /// Longest time slice, seconds, over which the wheel odometer integrates
@@ -48,13 +48,6 @@ pub struct PartCollider {
 }
 
 impl PartCollider {
-    /// The tree of `mesh` (to `max_depth`), posed at `pose` until the body
-    /// poses it.
-    #[must_use]
-    pub fn new(mesh: &TriMesh, max_depth: u32, pose: Pose) -> Self {
-        Self::with_tree(ObbTree::build(mesh, max_depth), pose)
-    }
-
     /// A part whose tree is already built, posed at `pose`.
     #[must_use]
     pub fn with_tree(tree: ObbTree, pose: Pose) -> Self {
