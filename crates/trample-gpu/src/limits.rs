@@ -99,7 +99,7 @@ mod tests {
         let scene = trample::scene::Scene::parse(text, "test", std::path::Path::new("."))
             .expect("valid scene");
         let sim = scene.build().expect("builds");
-        let own_trees_only = crate::object::table_bytes(sim.bodies.iter().map(|b| &b.tree));
+        let own_trees_only = crate::object::table_bytes(sim.bodies.iter().map(|b| &*b.tree));
         let every_collider = crate::object::TableLayout::of_simulation(&sim).bytes();
         assert!(
             every_collider > 10 * own_trees_only,

@@ -451,7 +451,7 @@ impl GpuSimulation {
                     if k >= self.objects.len() {
                         break;
                     }
-                    if body.object.animated.is_some() && std::ptr::eq(c.tree, &body.tree) {
+                    if body.object.animated.is_some() && std::ptr::eq(c.tree, &*body.tree) {
                         refitted.push((k, index));
                     }
                     self.objects.set_pose(k, c.pose);

@@ -509,3 +509,60 @@ fn a_planted_foot_is_at_rest_and_a_swinging_one_outruns_the_body() {
     assert!(slowest < 0.5, "a planted foot moves at {slowest} m/s");
     assert!(fastest > 2.0, "a swinging foot moves at only {fastest} m/s");
 }
+
+/// Two walkers on the same glTF: the scene builds one tree for both (issue
+/// 16: one build per distinct mesh, shared), and each refits its own copy
+/// to its own pose as it animates (from its first pose on), so neither
+/// bends the other's collision: their trees are apart, each holds its own
+/// posed mesh, and they differ (the second walker's clock runs at half
+/// speed).
+#[test]
+fn two_walkers_on_one_mesh_each_refit_their_own_tree() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/walker.toml"),
+    )
+    .unwrap();
+    let second = text[text.find("[[objects]]").unwrap()..]
+        .replace("name = \"walker\"", "name = \"walker2\"")
+        .replace("speed = 1.0, ground_speed_mps = 1.4", "speed = 0.5")
+        .replace(
+            "period_s = 18.0 }",
+            "period_s = 18.0, phase_rad = 3.14159 }",
+        );
+    assert!(second.contains("speed = 0.5") && second.contains("walker2"));
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut sim = Scene::parse(&format!("{text}\n{second}"), "two_walkers.toml", &scenes)
+        .unwrap()
+        .build()
+        .unwrap();
+    assert_eq!(sim.bodies.len(), 2);
+    run(&mut sim, 10);
+    let [a, b] = [&sim.bodies[0], &sim.bodies[1]];
+    assert!(
+        !std::sync::Arc::ptr_eq(&a.tree, &b.tree),
+        "each walker refits its own tree"
+    );
+    for body in [a, b] {
+        body.tree.assert_well_formed();
+        // The tree's triangles are the body's own posed mesh.
+        let mesh = &body.object.mesh;
+        let key = |t: [glam::Vec3; 3]| t.map(|p| p.to_array().map(f32::to_bits));
+        let mut own: Vec<_> = mesh
+            .indices
+            .iter()
+            .map(|t| key(t.map(|i| mesh.positions[i as usize])))
+            .collect();
+        let mut tree: Vec<_> = body.tree.triangles.iter().map(|t| key(*t)).collect();
+        own.sort_unstable();
+        tree.sort_unstable();
+        assert!(
+            own == tree,
+            "{}: the tree holds its own pose",
+            body.object.name
+        );
+    }
+    assert!(
+        a.tree.triangles != b.tree.triangles,
+        "the walkers are at different phases of their walk"
+    );
+}

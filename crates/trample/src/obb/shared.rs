@@ -6,6 +6,7 @@
 
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
+use std::sync::Arc;
 
 use rayon::prelude::*;
 
@@ -14,11 +15,13 @@ use crate::object::TriMesh;
 
 /// The trees of `meshes` (to `max_depth`), in order: one
 /// [`ObbTree::build`] per distinct mesh (equal positions, bit for bit, and
-/// equal indices), in parallel; the others are copies. Also returns how many
-/// trees were built. Each tree is owned (a body whose mesh deforms refits
-/// its own).
+/// equal indices), in parallel, shared by every mesh equal to it (one copy
+/// in memory: the narrow phase and the contact response of twenty cows walk
+/// one tree, which stays in the cache). Also returns how many trees were
+/// built. A body whose mesh deforms gets its own copy when it first refits
+/// it ([`Arc::make_mut`]).
 #[must_use]
-pub fn build_shared(meshes: &[&TriMesh], max_depth: u32) -> (Vec<ObbTree>, usize) {
+pub fn build_shared(meshes: &[&TriMesh], max_depth: u32) -> (Vec<Arc<ObbTree>>, usize) {
     // Slot of each mesh's first equal, found by hash then compared.
     let mut by_hash: HashMap<u64, Vec<usize>> = HashMap::new();
     let mut first_equal = Vec::with_capacity(meshes.len());
@@ -31,28 +34,14 @@ pub fn build_shared(meshes: &[&TriMesh], max_depth: u32) -> (Vec<ObbTree>, usize
         }
     }
     let distinct: Vec<usize> = (0..meshes.len()).filter(|&i| first_equal[i] == i).collect();
-    let mut built: Vec<Option<ObbTree>> = distinct
+    let built: Vec<Arc<ObbTree>> = distinct
         .par_iter()
-        .map(|&i| Some(ObbTree::build(meshes[i], max_depth)))
+        .map(|&i| Arc::new(ObbTree::build(meshes[i], max_depth)))
         .collect();
     let at: HashMap<usize, usize> = distinct.iter().enumerate().map(|(k, &i)| (i, k)).collect();
-    // Each build is moved into the last slot that uses it, copied before.
-    let mut last_use = vec![0; distinct.len()];
-    for (i, j) in first_equal.iter().enumerate() {
-        last_use[at[j]] = i;
-    }
     let trees = first_equal
         .iter()
-        .enumerate()
-        .map(|(i, j)| {
-            let k = at[j];
-            let tree = if last_use[k] == i {
-                built[k].take()
-            } else {
-                built[k].clone()
-            };
-            tree.expect("a build is moved out at its last use only")
-        })
+        .map(|j| Arc::clone(&built[at[j]]))
         .collect();
     (trees, distinct.len())
 }
@@ -93,6 +82,8 @@ mod tests {
         let (trees, built) = build_shared(&meshes, 12);
         assert_eq!(built, 3, "a, b and the moved copy of a");
         assert_eq!(trees.len(), meshes.len());
+        assert!(Arc::ptr_eq(&trees[0], &trees[2]) && Arc::ptr_eq(&trees[0], &trees[5]));
+        assert!(Arc::ptr_eq(&trees[1], &trees[4]) && !Arc::ptr_eq(&trees[0], &trees[3]));
         for (tree, mesh) in trees.iter().zip(meshes) {
             let alone = ObbTree::build(mesh, 12);
             assert_eq!(format!("{tree:?}"), format!("{alone:?}"));

@@ -49,8 +49,11 @@ pub struct Body {
     pub id: BodyId,
     /// Mesh, motion and name.
     pub object: Object,
-    /// The HBV of the mesh (built once, off-line stage of the paper).
-    pub tree: ObbTree,
+    /// The HBV of the mesh (built once, off-line stage of the paper); shared
+    /// by every body of the scene with the same mesh (one copy in memory,
+    /// [`crate::obb::shared::build_shared`]). A body whose mesh deforms
+    /// refits its own copy ([`std::sync::Arc::make_mut`]).
+    pub tree: std::sync::Arc<ObbTree>,
     /// Pose at the latest sub-step.
     pub pose: Pose,
     /// The tree's root box in world space at that pose.
@@ -76,12 +79,12 @@ impl Body {
     /// Its [`Body::id`] is set when it joins a simulation.
     #[must_use]
     pub fn new(object: Object, max_depth: u32) -> Self {
-        let tree = ObbTree::build(&object.mesh, max_depth);
+        let tree = ObbTree::build(&object.mesh, max_depth).into();
         let part_trees = object
             .parts
             .parts
             .iter()
-            .map(|p| ObbTree::build(&p.mesh, max_depth))
+            .map(|p| ObbTree::build(&p.mesh, max_depth).into())
             .collect();
         Self::with_trees(object, tree, part_trees)
     }
@@ -93,7 +96,11 @@ impl Body {
     /// builder keeps it by building the trees from the same lists); it
     /// panics when they differ in number.
     #[must_use]
-    pub(crate) fn with_trees(object: Object, tree: ObbTree, part_trees: Vec<ObbTree>) -> Self {
+    pub(crate) fn with_trees(
+        object: Object,
+        tree: std::sync::Arc<ObbTree>,
+        part_trees: Vec<std::sync::Arc<ObbTree>>,
+    ) -> Self {
         assert_eq!(
             part_trees.len(),
             object.parts.parts.len(),

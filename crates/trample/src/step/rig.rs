@@ -39,8 +39,9 @@ pub const ODOMETER_SLICE_S: f32 = 1.0 / 120.0;
 /// from the part's mesh, in the part's frame) and its world pose.
 #[derive(Clone, Debug)]
 pub struct PartCollider {
-    /// The part's OBB tree.
-    pub tree: ObbTree,
+    /// The part's OBB tree (shared with every part and body of the same
+    /// mesh, like [`super::Body::tree`]).
+    pub tree: std::sync::Arc<ObbTree>,
     /// World pose and velocities at the latest sub-step.
     pub pose: Pose,
     /// The tree's root box in world space at that pose.
@@ -50,7 +51,7 @@ pub struct PartCollider {
 impl PartCollider {
     /// A part whose tree is already built, posed at `pose`.
     #[must_use]
-    pub fn with_tree(tree: ObbTree, pose: Pose) -> Self {
+    pub fn with_tree(tree: std::sync::Arc<ObbTree>, pose: Pose) -> Self {
         let world_root = world_obb(&tree.nodes[0].obb, &pose);
         Self {
             tree,
@@ -153,7 +154,7 @@ fn skin_and_refit(body: &mut Body, t: f32) {
     animated.pose_at_clock(clock, skin_scratch, positions);
     centres.clear();
     centres.extend(body.tree.nodes.iter().map(|n| n.obb.center));
-    let refitted = body.tree.refit(
+    let refitted = std::sync::Arc::make_mut(&mut body.tree).refit(
         map,
         positions,
         AxisRule::Fixed,
@@ -165,7 +166,7 @@ fn skin_and_refit(body: &mut Body, t: f32) {
         // Each node's own velocity: how far its box's centre moved since
         // the last pose, over the time between (zero at the first pose or
         // after time went back).
-        let tree = &mut body.tree;
+        let tree = std::sync::Arc::make_mut(&mut body.tree);
         let span = skinned_t.map_or(0.0, |t0| t - t0);
         tree.velocity.clear();
         tree.velocity
