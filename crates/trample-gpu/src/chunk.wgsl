@@ -42,3 +42,23 @@ fn chunk_cell(gid: vec3<u32>) -> u32 {
 fn vertex_at(k: u32, b: u32) -> u32 {
     return k * chunk.range.y + (b - chunk.range.x);
 }
+
+// Where a thread of a dispatch over the listed patches of the chunk
+// (indirect, `dispatch_args`: one thread per blade of each patch the broad
+// phase listed) works: its slot in the chunk's list of patches, the entry
+// of that slot in the broad phase's lists, and its blade within the patch
+// (`per_patch` blades a patch). The stage checks the slot against the
+// list's count, then reads the patch from `lists[entry]`.
+struct ListedThread {
+    slot: u32,
+    entry: u32,
+    lane: u32,
+    per_patch: u32,
+}
+
+fn listed_thread(gid: vec3<u32>, groups: vec3<u32>) -> ListedThread {
+    let per_patch = max(chunk.groups.w, 1u);
+    let t = gid.x + gid.y * groups.x * 64u;
+    let slot = t / per_patch;
+    return ListedThread(slot, chunk.range.x / per_patch + slot, t % per_patch, per_patch);
+}

@@ -84,14 +84,12 @@ fn pinned(p: vec3<f32>) -> f32 {
 
 @compute @workgroup_size(64)
 fn contact_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let per_patch = max(chunk.groups.w, 1u);
-    let t = gid.x + gid.y * groups.x * 64u;
-    let slot = t / per_patch;
-    if slot >= lists[chunk.groups.z] {
+    let at = listed_thread(gid, groups);
+    if at.slot >= lists[chunk.groups.z] {
         return;
     }
-    let p = lists[chunk.range.x / per_patch + slot];
-    let b = p * per_patch + t % per_patch;
+    let p = lists[at.entry];
+    let b = p * at.per_patch + at.lane;
     if touch[b].x == 0u {
         return;
     }

@@ -391,14 +391,12 @@ fn collide(@builtin(global_invocation_id) gid: vec3<u32>) {
 // the simulation's weighted contacts.
 @compute @workgroup_size(64)
 fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let per_patch = max(chunk.groups.w, 1u);
-    let t = gid.x + gid.y * groups.x * 64u;
-    let slot = t / per_patch;
-    if slot >= lists[chunk.groups.z] {
+    let at = listed_thread(gid, groups);
+    if at.slot >= lists[chunk.groups.z] {
         return;
     }
-    let p = lists[chunk.range.x / per_patch + slot];
-    let b = p * per_patch + t % per_patch;
+    let p = lists[at.entry];
+    let b = p * at.per_patch + at.lane;
     var f = vec4<f32>(0.0);
     var touched = vec4<u32>(0u);
     let words = objects[0].y;
