@@ -79,7 +79,22 @@ impl Propagation {
         params: &wgpu::Buffer,
         state: &wgpu::Buffer,
     ) {
-        let group = self.kernel.bind(
+        let group = self.bind(device, field, params, state, &self.next_gather);
+        self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
+    }
+
+    /// The stage's bind group: the field's propagation arrays, with `args`
+    /// at the indirect-arguments slot (the next gather's, or an unused
+    /// buffer while the gather reads them).
+    fn bind(
+        &self,
+        device: &wgpu::Device,
+        field: &GpuField,
+        params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
+        args: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        self.kernel.bind(
             device,
             &[
                 params,
@@ -88,12 +103,11 @@ impl Propagation {
                 &field.generation,
                 &field.class,
                 &field.neighbours,
-                &self.next_gather,
+                args,
                 &field.touch,
                 &field.next,
             ],
-        );
-        self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
+        )
     }
 
     /// Records generation 0 (every blade touched, DBG from `DBG_WEIGHT`)
@@ -110,35 +124,9 @@ impl Propagation {
         groups: (u32, u32),
         passes: u32,
     ) {
-        let group = self.kernel.bind(
-            device,
-            &[
-                params,
-                state,
-                &field.force,
-                &field.generation,
-                &field.class,
-                &field.neighbours,
-                &self.next_gather,
-                &field.touch,
-                &field.next,
-            ],
-        );
+        let group = self.bind(device, field, params, state, &self.next_gather);
         self.kernel.dispatch(encoder, SEED, &group, groups);
-        let gather_group = self.kernel.bind(
-            device,
-            &[
-                params,
-                state,
-                &field.force,
-                &field.generation,
-                &field.class,
-                &field.neighbours,
-                &self.unused_args,
-                &field.touch,
-                &field.next,
-            ],
-        );
+        let gather_group = self.bind(device, field, params, state, &self.unused_args);
         for _ in 0..passes {
             self.kernel
                 .dispatch_indirect(encoder, GATHER, &gather_group, &self.next_gather);
