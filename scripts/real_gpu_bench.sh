@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# The measurements that need a real GPU (issue 16 item 6; DESIGN §10's GPU
+# targets), as one short run for a machine lent by the `device` tool:
+#
+#   1. the default scene (the paper's field, one ball), simulation alone,
+#      GPU and CPU paths, precisions 3 and 7;
+#   2. the same, simulation + a 1920x1080 frame on the GPU;
+#   3. scenes/herd.toml (128 objects over 16.8 M blades), simulation alone,
+#      both paths;
+#   4. the herd, simulation + a 1920x1080 frame;
+#   5. the herd's step against the object count (1 … 128), GPU path.
+#
+# Here (a checkout with a release build: `cargo build --release -p
+# trample-cli`), once:
+#
+#   bash scripts/real_gpu_bench.sh --prepare
+#
+# puts a stripped `trample` in .carry/ and the Vulkan/GL loaders in .gl/
+# (both ignored by git). Then, with the device tool, from the repo root:
+#
+#   run(command = "bash scripts/real_gpu_bench.sh",
+#       carry = [".carry", ".gl"], timeout_s = 600)
+#
+# It writes into $OUT (at most 8 files, the tool's limit): adapter.txt,
+# log.txt, default.json, default_1080p.json, herd.json, herd_1080p.json,
+# objects.json, objects.png. Each step has its own time limit, so one that
+# hangs costs only its share (530 s in all); the whole run should take
+# about 5 minutes on a 16-core machine with an H100 (not yet run on one:
+# checked with QUICK=1 on llvmpipe, 85 s on 2 cores). Record the figures in BENCHMARKS.md with
+# the adapter's name.
+#
+# To check the script without a GPU (software driver, small scene, a few
+# frames): WGPU_BACKEND=gl QUICK=1 HERD=scenes/herd_small.toml
+# OUT=/tmp/real_gpu TRAMPLE=target/release/trample bash scripts/real_gpu_bench.sh
+set -u
+
+if [ "${1:-}" = "--prepare" ]; then
+    set -e
+    bin=target/release/trample
+    [ -x "$bin" ] || { echo "no $bin: run cargo build --release -p trample-cli first" >&2; exit 1; }
+    mkdir -p .carry .gl
+    strip -o .carry/trample "$bin"
+    o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
+    mkdir -p /tmp/amd64/partial
+    # shellcheck disable=SC2086
+    apt-get $o update -qq
+    # shellcheck disable=SC2086
+    (cd .gl && apt-get $o download libvulkan1 libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2)
+    du -sh .carry .gl
+    exit 0
+fi
+
+OUT=${OUT:?set OUT to the folder for the results}
+TRAMPLE=${TRAMPLE:-.carry/trample}
+HERD=${HERD:-scenes/herd.toml}
+QUICK=${QUICK:-0}
+log="$OUT/log.txt"
+mkdir -p "$OUT"
+: >"$log"
+
+# Frames per step: the real run, or a handful to check the script.
+frames() { if [ "$QUICK" = 1 ]; then echo "$2"; else echo "$1"; fi; }
+
+# The loaders the device machine lacks (see the device tool's README).
+if ls .gl/*.deb >/dev/null 2>&1; then
+    for f in .gl/*.deb; do dpkg -x "$f" /; done
+    ldconfig
+fi
+icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+egl=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+[ -f "$icd" ] && export VK_DRIVER_FILES="$icd"
+[ -f "$egl" ] && export __EGL_VENDOR_LIBRARY_FILENAMES="$egl"
+export WGPU_BACKEND=${WGPU_BACKEND:-vulkan}
+export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
+
+{
+    date -u
+    uname -a
+    nproc
+    nvidia-smi -L 2>/dev/null || echo "no nvidia-smi"
+    echo "WGPU_BACKEND=$WGPU_BACKEND"
+    "$TRAMPLE" --version
+} >"$OUT/adapter.txt" 2>&1
+
+# step NAME LIMIT_S ARGS...: one `trample bench` run into /tmp/rgb/NAME,
+# its output appended to the log, its JSON copied to $OUT/NAME.json.
+step() {
+    local name=$1 limit=$2
+    shift 2
+    local dir=/tmp/rgb/$name
+    rm -rf "$dir"
+    echo "== $name: trample bench $* ($(date -u +%T))" >>"$log"
+    local start=$SECONDS
+    timeout "$limit" "$TRAMPLE" bench "$@" --out "$dir" >>"$log" 2>&1
+    local rc=$?
+    echo "== $name: exit $rc after $((SECONDS - start)) s" >>"$log"
+    for f in "$dir"/bench.json "$dir"/objects.json; do
+        [ -f "$f" ] && cp "$f" "$OUT/$name.json"
+    done
+    return 0
+}
+
+step default 45 --backend both --precisions 3,7 --frames "$(frames 2000 3)"
+step default_1080p 45 --backend gpu --render --size 1920x1080 --precisions 7 \
+    --frames "$(frames 1000 2)"
+step herd 150 "$HERD" --backend both --precisions 7 --frames "$(frames 300 2)"
+step herd_1080p 90 "$HERD" --backend gpu --render --size 1920x1080 --precisions 7 \
+    --frames "$(frames 200 2)"
+step objects 200 "$HERD" --objects --backend gpu --frames "$(frames 100 2)"
+[ -f /tmp/rgb/objects/objects.png ] && cp /tmp/rgb/objects/objects.png "$OUT/"
+grep -E "^== |^ +(cpu|gpu) +[0-9]|^ +[0-9]+ +[0-9]+x[0-9]+|^Simulation \+ rendering|^trample bench --objects" "$log" || true
+ls -la "$OUT"
