@@ -316,12 +316,29 @@ fn objects(sim: &trample::Simulation) -> Vec<ObjectInfo> {
         .collect()
 }
 
+/// Objects named in the label of a crowd ([`object_label`]).
+const LABELLED_OBJECTS: usize = 3;
+
+/// The objects as the tables and the accuracy chart's legend name them:
+/// each with its triangle count, or, past [`LABELLED_OBJECTS`] + 1, their
+/// number, their triangles and the first few names (a 128-object scene in
+/// a legend's line, not a paragraph).
 fn object_label(objects: &[ObjectInfo]) -> String {
-    objects
+    let name = |o: &ObjectInfo| format!("{} ({} triangles)", o.name, thousands(o.triangles as u64));
+    if objects.len() <= LABELLED_OBJECTS + 1 {
+        return objects.iter().map(name).collect::<Vec<_>>().join(", ");
+    }
+    let total: u64 = objects.iter().map(|o| o.triangles as u64).sum();
+    let first: Vec<&str> = objects[..LABELLED_OBJECTS]
         .iter()
-        .map(|o| format!("{} ({} triangles)", o.name, thousands(o.triangles as u64)))
-        .collect::<Vec<_>>()
-        .join(", ")
+        .map(|o| o.name.as_str())
+        .collect();
+    format!(
+        "{} objects ({} triangles: {}, …)",
+        objects.len(),
+        thousands(total),
+        first.join(", ")
+    )
 }
 
 /// `bench.png`: lowest, average and highest frame rate against precision,
@@ -527,5 +544,34 @@ fn print_tables(r: &Report) {
                 p.false_negatives
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(name: &str, triangles: usize) -> ObjectInfo {
+        ObjectInfo {
+            name: name.into(),
+            triangles,
+            tree_depth: 7,
+        }
+    }
+
+    /// A few objects are all named; a crowd is named in part and counted
+    /// (the herd's 128 objects made a 6,000-character line and legend).
+    #[test]
+    fn a_crowd_of_objects_is_counted_not_listed() {
+        let few: Vec<ObjectInfo> = (0..4).map(|i| info(&format!("o{i}"), 1000)).collect();
+        assert_eq!(
+            object_label(&few),
+            "o0 (1,000 triangles), o1 (1,000 triangles), o2 (1,000 triangles), o3 (1,000 triangles)"
+        );
+        let many: Vec<ObjectInfo> = (0..128).map(|i| info(&format!("o{i}"), 12 + i)).collect();
+        assert_eq!(
+            object_label(&many),
+            "128 objects (9,664 triangles: o0, o1, o2, …)"
+        );
     }
 }
