@@ -32,6 +32,8 @@
 # To check the script without a GPU (software driver, small scene, a few
 # frames): WGPU_BACKEND=gl QUICK=1 HERD=scenes/herd_small.toml
 # OUT=/tmp/real_gpu TRAMPLE=target/release/trample bash scripts/real_gpu_bench.sh
+# (SCENE=FILE replaces the default scene too: the CLI's test
+# `the_real_gpu_script_runs_every_step` runs it that way on small scenes).
 set -u
 
 if [ "${1:-}" = "--prepare" ]; then
@@ -53,9 +55,15 @@ fi
 OUT=${OUT:?set OUT to the folder for the results}
 TRAMPLE=${TRAMPLE:-.carry/trample}
 HERD=${HERD:-scenes/herd.toml}
+# The paper's field: the embedded default scene unless SCENE names a file.
+SCENE=${SCENE:-}
 QUICK=${QUICK:-0}
 log="$OUT/log.txt"
 mkdir -p "$OUT"
+# Each step's own output folder (its charts stay here: the tool brings
+# back eight files at most).
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
 : >"$log"
 
 # Frames per step: the real run, or a handful to check the script.
@@ -82,13 +90,12 @@ export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
     "$TRAMPLE" --version
 } >"$OUT/adapter.txt" 2>&1
 
-# step NAME LIMIT_S ARGS...: one `trample bench` run into /tmp/rgb/NAME,
+# step NAME LIMIT_S ARGS...: one `trample bench` run into $work/NAME,
 # its output appended to the log, its JSON copied to $OUT/NAME.json.
 step() {
     local name=$1 limit=$2
     shift 2
-    local dir=/tmp/rgb/$name
-    rm -rf "$dir"
+    local dir=$work/$name
     echo "== $name: trample bench $* ($(date -u +%T))" >>"$log"
     local start=$SECONDS
     timeout "$limit" "$TRAMPLE" bench "$@" --out "$dir" >>"$log" 2>&1
@@ -100,13 +107,15 @@ step() {
     return 0
 }
 
-step default 45 --backend both --precisions 3,7 --frames "$(frames 2000 3)"
-step default_1080p 45 --backend gpu --render --size 1920x1080 --precisions 7 \
+# shellcheck disable=SC2086 # an empty SCENE is no argument
+step default 45 $SCENE --backend both --precisions 3,7 --frames "$(frames 2000 3)"
+# shellcheck disable=SC2086
+step default_1080p 45 $SCENE --backend gpu --render --size 1920x1080 --precisions 7 \
     --frames "$(frames 1000 2)"
 step herd 150 "$HERD" --backend both --precisions 7 --frames "$(frames 300 2)"
 step herd_1080p 90 "$HERD" --backend gpu --render --size 1920x1080 --precisions 7 \
     --frames "$(frames 200 2)"
 step objects 200 "$HERD" --objects --backend gpu --frames "$(frames 100 2)"
-[ -f /tmp/rgb/objects/objects.png ] && cp /tmp/rgb/objects/objects.png "$OUT/"
+[ -f "$work/objects/objects.png" ] && cp "$work/objects/objects.png" "$OUT/"
 grep -E "^== |^ +(cpu|gpu) +[0-9]|^ +[0-9]+ +[0-9]+x[0-9]+|^Simulation \+ rendering|^trample bench --objects" "$log" || true
 ls -la "$OUT"
