@@ -325,9 +325,9 @@ mod tests {
     use glam::Quat;
 
     /// A tile cleared by its world box has no hit: for a box and a knot
-    /// teleported to random poses (turned every way, some far from the
-    /// origin, where the rounding of the transform is largest) over a
-    /// field bent by an earlier pass, every tile [`world_box_clear`]
+    /// teleported to random poses (turned every way, over the whole field
+    /// and partly below the ground) over a field bent by an earlier pass,
+    /// every tile [`world_box_clear`]
     /// clears finds nothing when its blades are moved and walked. Most
     /// tiles beside the objects are cleared, and some tiles have hits (the
     /// test is not vacuous).
