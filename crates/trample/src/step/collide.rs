@@ -5,7 +5,10 @@ use super::body::Body;
 use super::simulation::Simulation;
 use super::stages::{DBG_WEIGHT, reach_rect};
 use super::timings::StepTimings;
-use crate::collision::narrow_phase::{BladeContacts, LocalMotion, box_clear_of, contact_blade};
+use crate::collision::exact::point_inside;
+use crate::collision::narrow_phase::{
+    BladeContacts, LocalMotion, box_clear_of, contact_blade, contact_blade_near, final_nodes_near,
+};
 use crate::field::Lod;
 use crate::force::eqf::eqf;
 use crate::obb::ObbTree;
@@ -71,22 +74,24 @@ impl<'a> ColliderNarrow<'a> {
     /// The hits of tile `t`: nothing when the tile's world box, turned
     /// into the object's frame whole, is clear ([`world_box_clear`]);
     /// otherwise every blade of the tile moved into the object's frame
-    /// once, the box of those vertices tested ([`box_clear_of`]), then each
-    /// blade down to the precision with the contact shell
-    /// ([`contact_blade`]). `contacts` and `local` are scratch space.
+    /// once, the final nodes the box of those vertices may meet found
+    /// ([`final_nodes_near`]; none, and the box outside a closed mesh: no
+    /// hit), then each blade tested against those nodes with the contact
+    /// shell ([`contact_blade_near`]). `contacts` and `scratch` are scratch
+    /// space.
     fn tile_hits(
         &self,
         sim: &Simulation,
         t: usize,
         contacts: &mut BladeContacts,
-        local: &mut Vec<Vec3>,
+        scratch: &mut TileScratch,
     ) -> Vec<BladeHit> {
         let (start, end) = self.tiles[t];
         let tile = &self.candidates[start as usize..end as usize];
         if world_box_clear(sim, tile, &self.pose, self.tree) {
             return Vec::new();
         }
-        self.turned_tile_hits(sim, tile, contacts, local)
+        self.turned_tile_hits(sim, tile, contacts, scratch)
     }
 
     /// [`ColliderNarrow::tile_hits`] after its first test: the blades of
@@ -97,8 +102,9 @@ impl<'a> ColliderNarrow<'a> {
         sim: &Simulation,
         tile: &[u32],
         contacts: &mut BladeContacts,
-        local: &mut Vec<Vec3>,
+        scratch: &mut TileScratch,
     ) -> Vec<BladeHit> {
+        let TileScratch { local, near } = scratch;
         let blades = &sim.field.blades;
         let n = blades.segments;
         let (precision, shell) = (sim.params.precision, sim.params.contact_shell_m);
@@ -115,12 +121,24 @@ impl<'a> ColliderNarrow<'a> {
             }
         }
         let pad = Vec3::splat(TILE_PAD_M);
-        if finite && box_clear_of(self.tree, lo - pad, hi + pad, precision, shell) {
+        let (lo, hi) = (lo - pad, hi + pad);
+        // The final nodes any of the tile's segments may meet, found once:
+        // each blade is then tested against them alone (the same contacts
+        // as its walk from the root, `contact_blade_near`).
+        let listed = finite && final_nodes_near(self.tree, lo, hi, precision, shell, near);
+        if listed
+            && near.is_empty()
+            && !(self.tree.closed && point_inside(self.tree, (lo + hi) * 0.5))
+        {
             return Vec::new();
         }
         let mut hits = Vec::new();
         for (&b, v) in tile.iter().zip(local.chunks_exact(n + 1)) {
-            contact_blade(v, self.tree, precision, shell, &self.motion, contacts);
+            if listed {
+                contact_blade_near(v, self.tree, near, precision, shell, &self.motion, contacts);
+            } else {
+                contact_blade(v, self.tree, precision, shell, &self.motion, contacts);
+            }
             if contacts.mask == 0 {
                 continue;
             }
@@ -145,6 +163,15 @@ impl<'a> ColliderNarrow<'a> {
         }
         hits
     }
+}
+
+/// Work memory of one thread's tiles ([`ColliderNarrow::tile_hits`]).
+#[derive(Default)]
+struct TileScratch {
+    /// The tile's vertices in the object's frame.
+    local: Vec<Vec3>,
+    /// The final nodes the tile's box may meet ([`final_nodes_near`]).
+    near: Vec<u32>,
 }
 
 /// Narrow phase of every collider (`colliders`, as (body, collider) pairs:
@@ -184,8 +211,8 @@ pub(crate) fn narrow_phase(
     let found: Vec<Vec<BladeHit>> = work
         .par_iter()
         .map_init(
-            || (BladeContacts::default(), Vec::new()),
-            |(contacts, local), &(j, t)| jobs[j].tile_hits(sim, t, contacts, local),
+            || (BladeContacts::default(), TileScratch::default()),
+            |(contacts, scratch), &(j, t)| jobs[j].tile_hits(sim, t, contacts, scratch),
         )
         .collect();
     let mut per_collider = vec![Vec::new(); jobs.len()];
@@ -375,10 +402,11 @@ path = {{ kind = "static", position = [0.0, 3.0, 4.0] }}
                     &mut patches,
                 );
                 let job = ColliderNarrow::new(&sim, &sim.bodies[0], 0, &patches, h);
-                let (mut contacts, mut local) = (BladeContacts::default(), Vec::new());
+                let (mut contacts, mut scratch) =
+                    (BladeContacts::default(), TileScratch::default());
                 for &(start, end) in &job.tiles {
                     let tile = &job.candidates[start as usize..end as usize];
-                    let hits = job.turned_tile_hits(&sim, tile, &mut contacts, &mut local);
+                    let hits = job.turned_tile_hits(&sim, tile, &mut contacts, &mut scratch);
                     if world_box_clear(&sim, tile, &job.pose, job.tree) {
                         assert!(
                             hits.is_empty(),
