@@ -15,6 +15,11 @@
 // Float op for float op as the CPU (glam's order), so the results agree
 // bit for bit where the shader compiler does not contract a*b+c.
 //
+// In `collide_listed`, a blade first lists the final nodes its own box may
+// meet (`list_near`, the CPU's `final_nodes_near`) and its segments test
+// those alone instead of walking from the root (the CPU lists them per tile
+// of 4 × 4 cells: a superset, in the same order, gives the same contacts).
+//
 // One dispatch (per chunk of patches) for all objects (issue 16 item 3):
 // each thread loops over the objects that may touch its blade — every
 // object in `collide`, those the broad phase marked for the blade's patch
@@ -296,6 +301,19 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     var len = 1u;
     let count = tree.x;
     let final_depth = tree.z;
+    if near_count != NEAR_NONE {
+        // The blade's final nodes (`list_near`), in the walk's order: the
+        // nodes the walk would end at, without the walk
+        // (`narrow_phase::contact_blade_near`). The root was hit.
+        deepest = 1u;
+        len = 0u;
+        for (var j = 0u; j < near_count; j++) {
+            let i = near[j];
+            if hits_local(framed(centre, half, i, false, shell)) {
+                final_node(i, centre, half, p0, p1, shell, &acc);
+            }
+        }
+    }
     while len > 0u {
         len -= 1u;
         let i = stack[len].x;
@@ -317,17 +335,7 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
             len += 2u;
             continue;
         }
-        let d = max_depth_local_of(framed(centre, half, i, false, shell));
-        if d > 0.0 {
-            let at = closest_point(p0, p1, n.center.xyz);
-            let full = shell + ramp_at(at, n.velocity.xyz);
-            var reach = d;
-            if n.dir.w == 1.0 && d < full {
-                reach = max(d, below_patch(n.center.xyz, n.dir.xyz, p0, p1, shell, d));
-            }
-            let w = min(reach / full, 1.0);
-            weighted_add(&acc, w, eqn_direction(i, p0, p1), at, n.velocity.xyz);
-        }
+        final_node(i, centre, half, p0, p1, shell, &acc);
     }
     // No final-depth box met: wholly outside, or wholly inside the mesh.
     if acc.max_w == 0.0 && tree.y != 0u && deepest > 0u && point_inside((p0 + p1) * 0.5) {
@@ -361,6 +369,106 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
         }
     }
     return Contact(dir, acc.point / acc.sum, acc.max_w, acc.velocity / acc.sum);
+}
+
+// `narrow_phase::contact_node`: final node i, whose box (grown by the
+// shell) the segment met, added to `acc` when the segment reaches into it.
+fn final_node(i: u32, centre: vec3<f32>, half: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, shell: f32, acc: ptr<function, Weighted>) {
+    let n = node_at(i);
+    let d = max_depth_local_of(framed(centre, half, i, false, shell));
+    if d > 0.0 {
+        let at = closest_point(p0, p1, n.center.xyz);
+        let full = shell + ramp_at(at, n.velocity.xyz);
+        var reach = d;
+        if n.dir.w == 1.0 && d < full {
+            reach = max(d, below_patch(n.center.xyz, n.dir.xyz, p0, p1, shell, d));
+        }
+        let w = min(reach / full, 1.0);
+        weighted_add(acc, w, eqn_direction(i, p0, p1), at, n.velocity.xyz);
+    }
+}
+
+// The final nodes the blade being tested may meet (ours, issue 16; the
+// CPU's `narrow_phase::final_nodes_near` for the blade's own box): listed
+// once per blade and object by `list_near`, then each segment tests their
+// grown boxes alone instead of walking from the root. They are every final
+// node whose grown box a segment in the box can meet, in the walk's
+// depth-first, left-first order, so the contacts are the walk's.
+// NEAR_NONE: not listed (too many, or the yes/no walk): the segments walk.
+const NEAR_MAX: u32 = 32u;
+const NEAR_NONE: u32 = 0xffffffffu;
+// `broad_phase::PARALLEL_PAD`; five times `broad_phase::REL_SLACK` (the
+// list only prunes: a wider slack costs a few tests, never a contact).
+const NEAR_PAD: f32 = 1e-6;
+const NEAR_SLACK: f32 = 5e-5;
+var<private> near: array<u32, NEAR_MAX>;
+var<private> near_count: u32;
+
+// `broad_phase::obb_may_overlap_aabb` (the face axes; errs towards
+// overlap, with the broad phase's slack) for node n's own box, or its reach
+// box when `reach`, grown by `shell`, against the box lo..hi.
+fn node_may_meet(n: Node, reach: bool, shell: f32, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    var c = n.center.xyz;
+    var e = n.half.xyz;
+    if reach {
+        c = n.reach_center.xyz;
+        e = n.reach_half.xyz;
+    }
+    e = e + vec3<f32>(shell);
+    let a = (hi - lo) * 0.5;
+    let t = c - (lo + hi) * 0.5;
+    let pad = vec3<f32>(NEAR_PAD);
+    let au = abs(n.axis_u.xyz) + pad;
+    let av = abs(n.axis_v.xyz) + pad;
+    let aw = abs(n.axis_w.xyz) + pad;
+    let rb = au * e.x + av * e.y + aw * e.z;
+    if any(abs(t) > (a + rb) * (1.0 + NEAR_SLACK)) {
+        return false;
+    }
+    return abs(dot3(t, n.axis_u.xyz)) <= (dot3(a, au) + e.x) * (1.0 + NEAR_SLACK)
+        && abs(dot3(t, n.axis_v.xyz)) <= (dot3(a, av) + e.y) * (1.0 + NEAR_SLACK)
+        && abs(dot3(t, n.axis_w.xyz)) <= (dot3(a, aw) + e.z) * (1.0 + NEAR_SLACK);
+}
+
+// Fills `near` with the final nodes of the loaded object that a segment in
+// lo..hi (object frame) may meet (`narrow_phase::final_nodes_near_each`).
+fn list_near(lo: vec3<f32>, hi: vec3<f32>, shell: f32) {
+    near_count = 0u;
+    var stack: array<vec2<u32>, STACK_SIZE>;
+    stack[0] = vec2<u32>(0u, 1u);
+    var len = 1u;
+    let count = tree.x;
+    let final_depth = tree.z;
+    while len > 0u {
+        len -= 1u;
+        let i = stack[len].x;
+        let depth = stack[len].y;
+        if i >= count {
+            continue;
+        }
+        let n = node_at(i);
+        let l = n.children.x;
+        let r = n.children.y;
+        let descend = depth < final_depth && l != NO_CHILD && l > i && r > i;
+        if descend && len + 2u > STACK_SIZE {
+            near_count = NEAR_NONE;
+            return;
+        }
+        if !node_may_meet(n, descend, shell, lo, hi) {
+            continue;
+        }
+        if descend {
+            stack[len] = vec2<u32>(r, depth + 1u);
+            stack[len + 1u] = vec2<u32>(l, depth + 1u);
+            len += 2u;
+        } else if near_count == NEAR_MAX {
+            near_count = NEAR_NONE;
+            return;
+        } else {
+            near[near_count] = i;
+            near_count += 1u;
+        }
+    }
 }
 
 fn max_depth_local_of(f: Framed) -> f32 {
@@ -420,13 +528,27 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
     let cell = b / max(obj.field.z, 1u);
     let everywhere = weighted && extra.y != 0u;
     if everywhere || (cell_state[cell] & 3u) == LOD_GEOMETRY {
-        var prev = to_local(pos[vertex_at(0u, b)].xyz);
         var sum = vec3<f32>(0.0);
         var weights = 0.0;
         let shell = obj.contact.x;
         let press = obj.contact.y;
+        // The blade in the object's frame, and its box.
+        var local: array<vec3<f32>, 16>;
+        var lo = vec3<f32>(3.0e38);
+        var hi = vec3<f32>(-3.0e38);
+        for (var k = 0u; k <= segments; k++) {
+            local[k] = to_local(pos[vertex_at(k, b)].xyz);
+            lo = min(lo, local[k]);
+            hi = max(hi, local[k]);
+        }
+        near_count = NEAR_NONE;
+        if weighted && shell > 0.0 && tree.x > 0u && all(lo <= hi) {
+            // `step::collide::TILE_PAD_M`.
+            list_near(lo - vec3<f32>(1.0e-4), hi + vec3<f32>(1.0e-4), shell);
+        }
+        var prev = local[0];
         for (var k = 0u; k < segments; k++) {
-            let next = to_local(pos[vertex_at(k + 1u, b)].xyz);
+            let next = local[k + 1u];
             var c = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0));
             if weighted {
                 c = contact_segment(prev, next, shell);
