@@ -18,7 +18,7 @@
 // In `collide_listed`, a blade first lists the final nodes its own box may
 // meet (`list_near`, the CPU's `final_nodes_near`) and its segments test
 // those alone instead of walking from the root (the CPU lists them per tile
-// of 4 × 4 cells: a superset, in the same order, gives the same contacts).
+// of 6 × 6 cells: a superset, in the same order, gives the same contacts).
 //
 // One dispatch (per chunk of patches) for all objects (issue 16 item 3):
 // each thread loops over the objects that may touch its blade — every
