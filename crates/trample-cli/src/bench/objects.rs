@@ -178,7 +178,7 @@ fn chart(r: &Report, setup: &Setup) -> Result<()> {
     let mut series = Vec::new();
     for &backend in setup.backends() {
         for &precision in &setup.precisions {
-            for what in ["step", "broad", "narrow"] {
+            for what in ["step", "broad", "narrow", "contact"] {
                 let points: Vec<(f64, f64)> = r
                     .points
                     .iter()
@@ -226,7 +226,7 @@ fn print_table(r: &Report) {
         r.scene, r.blades, r.frames, r.threads
     );
     println!(
-        "{:>4} {:>8} {:>10} {:>10} {:>10} {:>10} {:>9} {:>10} {:>8} {:>9} {:>9}",
+        "{:>4} {:>8} {:>10} {:>10} {:>10} {:>10} {:>9} {:>10} {:>10} {:>8} {:>9} {:>9}",
         "path",
         "objects",
         "triangles",
@@ -235,6 +235,7 @@ fn print_table(r: &Report) {
         "max ms",
         "broad ms",
         "narrow ms",
+        "contact ms",
         "LOD ms",
         "DBG/step",
         "substeps"
@@ -242,7 +243,7 @@ fn print_table(r: &Report) {
     for p in &r.points {
         let stage = |s: &str| p.stages_ms.get(s).copied().unwrap_or(0.0);
         println!(
-            "{:>4} {:>8} {:>10} {:>10.0} {:>10.3} {:>10.3} {:>9.3} {:>10.3} {:>8.3} {:>9.0} {:>9.2}  (precision {})",
+            "{:>4} {:>8} {:>10} {:>10.0} {:>10.3} {:>10.3} {:>9.3} {:>10.3} {:>10.3} {:>8.3} {:>9.0} {:>9.2}  (precision {})",
             p.backend,
             p.objects,
             p.triangles,
@@ -251,6 +252,7 @@ fn print_table(r: &Report) {
             p.step_ms.max,
             stage("broad"),
             stage("narrow"),
+            stage("contact"),
             stage("lod"),
             p.dbg_blades_mean,
             p.substeps_mean,
