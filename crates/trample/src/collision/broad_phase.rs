@@ -71,6 +71,66 @@ pub fn obb_may_overlap_aabb(obb: &Obb, min: Vec3, max: Vec3) -> bool {
     obb_aabb_sat(obb, min, max, false)
 }
 
+/// The face axes of the separating-axis test: no separation along the 3
+/// AABB axes and the 3 OBB axes (`axes`) between a box of half extents `b`
+/// along `axes` and an AABB of half extents `a`, the OBB's centre at `t`
+/// from the AABB's. With padding and slack (see [`obb_overlaps_aabb`]); a
+/// NaN anywhere separates nothing.
+#[inline]
+fn face_axes_overlap(axes: &[Vec3; 3], b: Vec3, a: Vec3, t: Vec3) -> bool {
+    let separated = |dist: f32, ra: f32, rb: f32| dist.abs() > (ra + rb) * (1.0 + REL_SLACK);
+    // Three at a time: the OBB axes' absolute components (padded), `|B_j| +
+    // pad`, component i being `|e_i · B_j| + pad`.
+    let [u, v, w] = *axes;
+    let pad = Vec3::splat(PARALLEL_PAD);
+    let abs_axes = [u.abs() + pad, v.abs() + pad, w.abs() + pad];
+    // AABB axes e_i: the OBB's radius along each, summed over j in order.
+    let rb = abs_axes[0] * b.x + abs_axes[1] * b.y + abs_axes[2] * b.z;
+    if t.abs().cmpgt((a + rb) * (1.0 + REL_SLACK)).any() {
+        return false;
+    }
+    // OBB axes B_j.
+    for (j, axis) in axes.iter().enumerate() {
+        if separated(t.dot(*axis), a.dot(abs_axes[j]), b[j]) {
+            return false;
+        }
+    }
+    true
+}
+
+/// An axis-aligned box made ready for [`obb_may_overlap_aabb`] against many
+/// boxes (a walk down a tree): checked once, its centre and half extents
+/// computed once.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct AabbFaces {
+    mid: Vec3,
+    half: Vec3,
+}
+
+impl AabbFaces {
+    /// `None` for a non-finite or inverted box (no overlap with anything).
+    pub(crate) fn new(min: Vec3, max: Vec3) -> Option<Self> {
+        (min.is_finite() && max.is_finite() && !min.cmpgt(max).any()).then(|| Self {
+            mid: (min + max) * 0.5,
+            half: (max - min) * 0.5,
+        })
+    }
+
+    /// [`obb_may_overlap_aabb`] of `obb` grown by `grow` on each half
+    /// extent, for a finite `obb` (the same answer bit for bit); a
+    /// non-finite `obb` may be called overlapping, which only costs a
+    /// walk work.
+    #[inline]
+    pub(crate) fn may_overlap(&self, obb: &Obb, grow: f32) -> bool {
+        face_axes_overlap(
+            &obb.axes,
+            obb.half + Vec3::splat(grow),
+            self.half,
+            obb.center - self.mid,
+        )
+    }
+}
+
 /// The separating-axis test of [`obb_overlaps_aabb`]; the 9 edge axes
 /// only when `edges`.
 fn obb_aabb_sat(obb: &Obb, min: Vec3, max: Vec3, edges: bool) -> bool {
@@ -86,21 +146,8 @@ fn obb_aabb_sat(obb: &Obb, min: Vec3, max: Vec3, edges: bool) -> bool {
     let b = obb.half;
     let t = obb.center - (min + max) * 0.5; // in the AABB (= world) frame
     let separated = |dist: f32, ra: f32, rb: f32| dist.abs() > (ra + rb) * (1.0 + REL_SLACK);
-    // Face axes first, three at a time: the OBB axes' absolute components
-    // (padded), `|B_j| + pad`, component i being `|e_i · B_j| + pad`.
-    let [u, v, w] = obb.axes;
-    let pad = Vec3::splat(PARALLEL_PAD);
-    let abs_axes = [u.abs() + pad, v.abs() + pad, w.abs() + pad];
-    // AABB axes e_i: the OBB's radius along each, summed over j in order.
-    let rb = abs_axes[0] * b.x + abs_axes[1] * b.y + abs_axes[2] * b.z;
-    if t.abs().cmpgt((a + rb) * (1.0 + REL_SLACK)).any() {
+    if !face_axes_overlap(&obb.axes, b, a, t) {
         return false;
-    }
-    // OBB axes B_j.
-    for (j, axis) in obb.axes.iter().enumerate() {
-        if separated(t.dot(*axis), a.dot(abs_axes[j]), b[j]) {
-            return false;
-        }
     }
     if !edges {
         return true;
@@ -223,4 +270,50 @@ pub fn patches_under(layout: &FieldLayout, world_root: &Obb, out: &mut Vec<u32>)
         let patch = &layout.patch_list[p as usize];
         obb_overlaps_aabb(world_root, patch.aabb_min, patch.aabb_max)
     }));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::XorShift;
+
+    /// The tree walk's prepared test gives `obb_may_overlap_aabb` of the
+    /// grown box, for random boxes near each other (about half overlap),
+    /// inverted and non-finite AABBs included.
+    #[test]
+    fn a_prepared_aabb_answers_as_obb_may_overlap_aabb() {
+        let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
+        let (mut overlaps, mut total) = (0, 0);
+        for k in 0..20_000 {
+            let u = rng.vec(-1.0, 1.0).normalize();
+            let v = u.any_orthonormal_vector();
+            let obb = Obb {
+                center: rng.vec(-0.6, 0.6),
+                axes: [u, v, u.cross(v)],
+                half: rng.vec(0.0, 0.6),
+            };
+            let mut lo = rng.vec(-1.0, 0.4);
+            let mut hi = lo + rng.vec(0.0, 0.6);
+            if k % 97 == 0 {
+                lo.y = f32::NAN;
+            }
+            if k % 89 == 0 {
+                (lo, hi) = (hi, lo);
+            }
+            let grow = [0.0, 0.005, 0.02][k % 3];
+            let grown = Obb {
+                half: obb.half + Vec3::splat(grow),
+                ..obb
+            };
+            let want = obb_may_overlap_aabb(&grown, lo, hi);
+            let got = AabbFaces::new(lo, hi).is_some_and(|a| a.may_overlap(&obb, grow));
+            assert_eq!(got, want, "{obb:?} {lo} {hi} {grow}");
+            overlaps += usize::from(want);
+            total += 1;
+        }
+        assert!(
+            overlaps * 5 > total && overlaps * 5 < total * 4,
+            "{overlaps} of {total}"
+        );
+    }
 }

@@ -37,7 +37,7 @@
 
 use glam::{Vec3, Vec3A};
 
-use super::broad_phase::obb_may_overlap_aabb;
+use super::broad_phase::AabbFaces;
 use super::contact::penetration;
 use super::exact::{STACK_SIZE, point_inside};
 use super::segment_obb::{
@@ -575,7 +575,9 @@ fn final_nodes_near_each(
     shell: f32,
     mut found: impl FnMut(u32) -> bool,
 ) -> bool {
-    let grow = Vec3::splat(shell);
+    let Some(aabb) = AabbFaces::new(lo, hi) else {
+        return true;
+    };
     let final_depth = precision.clamp(1, MAX_TREE_DEPTH);
     let mut stack = [(0u32, 1u32); STACK_SIZE];
     let mut len = 1;
@@ -595,11 +597,8 @@ fn final_nodes_near_each(
             .get(i as usize)
             .filter(|_| descend)
             .unwrap_or(&node.obb);
-        let grown = crate::obb::Obb {
-            half: obb.half + grow,
-            ..*obb
-        };
-        if !obb_may_overlap_aabb(&grown, lo, hi) {
+        // `obb_may_overlap_aabb` of the box grown by the shell.
+        if !aabb.may_overlap(obb, shell) {
             continue;
         }
         if !descend {
