@@ -515,7 +515,7 @@ fn contact_blade_by(
 /// aligned there) can have a contact in [`contact_blade`] at `precision`
 /// with `shell > 0`: true when the box meets none of the boxes the contact
 /// walk would end at (each final node's own box grown by `shell`, reached
-/// through the same grown reach boxes; [`obb_may_overlap_aabb`], a face
+/// through the same grown reach boxes; [`obb_may_overlap_aabb`](super::broad_phase::obb_may_overlap_aabb), a face
 /// axes test that errs towards "overlap", so a miss here is a miss of
 /// every segment in the box, whatever the rounding) and, for a closed mesh, lies outside it
 /// (the box then crosses no triangle, since every final box holds its
@@ -540,7 +540,7 @@ pub fn box_clear_of(tree: &ObbTree, lo: Vec3, hi: Vec3, precision: u32, shell: f
 /// The final nodes of [`contact_blade`]'s walk (each final node's own box
 /// grown by `shell`, reached through the grown reach boxes) that a segment
 /// lying in the box `lo ..= hi` (object frame, axis aligned there) may meet
-/// ([`obb_may_overlap_aabb`], which errs towards "overlap"), in the walk's
+/// ([`obb_may_overlap_aabb`](super::broad_phase::obb_may_overlap_aabb), which errs towards "overlap"), in the walk's
 /// depth-first, left-first order, into `out` (cleared first): what
 /// [`contact_blade_near`] tests the blades in that box against. False (and
 /// `out` not to be used) for a non-finite box, a non-positive or NaN shell,
