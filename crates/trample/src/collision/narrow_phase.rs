@@ -515,9 +515,11 @@ fn contact_blade_by(
 /// aligned there) can have a contact in [`contact_blade`] at `precision`
 /// with `shell > 0`: true when the box meets none of the boxes the contact
 /// walk would end at (each final node's own box grown by `shell`, reached
-/// through the same grown reach boxes; [`obb_may_overlap_aabb`](super::broad_phase::obb_may_overlap_aabb), a face
-/// axes test that errs towards "overlap", so a miss here is a miss of
-/// every segment in the box, whatever the rounding) and, for a closed mesh, lies outside it
+/// through the same grown reach boxes;
+/// [`obb_may_overlap_aabb`](super::broad_phase::obb_may_overlap_aabb), a
+/// face axes test that errs towards "overlap", so a miss here is a miss of
+/// every segment in the box, whatever the rounding) and, for a closed mesh,
+/// lies outside it
 /// (the box then crosses no triangle, since every final box holds its
 /// triangles, so one inside test at its centre answers for all of it: no
 /// segment in it lies wholly inside either). A group of blades whose
@@ -527,21 +529,27 @@ fn contact_blade_by(
 /// stack bound would cut (never for a tree of depth ≤ `MAX_TREE_DEPTH`).
 #[must_use]
 pub fn box_clear_of(tree: &ObbTree, lo: Vec3, hi: Vec3, precision: u32, shell: f32) -> bool {
-    if shell.is_nan() || shell <= 0.0 || !lo.is_finite() || !hi.is_finite() || tree.is_empty() {
-        return false;
-    }
-    // Stopped at the first final node met (or by the stack bound): not clear.
-    if !final_nodes_near_each(tree, lo, hi, precision, shell, |_| false) {
-        return false;
-    }
+    // Stopped at the first final node met (or by the stack bound, or bad
+    // input): not clear.
+    final_nodes_near_each(tree, lo, hi, precision, shell, |_| false) && box_outside(tree, lo, hi)
+}
+
+/// Whether the box `lo ..= hi` (object frame), which meets no final node's
+/// grown box, lies outside `tree`'s mesh: always for an open mesh; for a
+/// closed one, the box crosses no triangle (every final box holds its
+/// triangles), so the inside test at its centre answers for all of it.
+/// What [`box_clear_of`] adds to an empty [`final_nodes_near`].
+#[must_use]
+pub fn box_outside(tree: &ObbTree, lo: Vec3, hi: Vec3) -> bool {
     !(tree.closed && point_inside(tree, (lo + hi) * 0.5))
 }
 
 /// The final nodes of [`contact_blade`]'s walk (each final node's own box
 /// grown by `shell`, reached through the grown reach boxes) that a segment
 /// lying in the box `lo ..= hi` (object frame, axis aligned there) may meet
-/// ([`obb_may_overlap_aabb`](super::broad_phase::obb_may_overlap_aabb), which errs towards "overlap"), in the walk's
-/// depth-first, left-first order, into `out` (cleared first): what
+/// ([`obb_may_overlap_aabb`](super::broad_phase::obb_may_overlap_aabb),
+/// which errs towards "overlap"), in the walk's depth-first, left-first
+/// order, into `out` (cleared first): what
 /// [`contact_blade_near`] tests the blades in that box against. False (and
 /// `out` not to be used) for a non-finite box, a non-positive or NaN shell,
 /// an empty tree, or a walk the stack bound would cut (never for a tree of
@@ -555,9 +563,6 @@ pub fn final_nodes_near(
     out: &mut Vec<u32>,
 ) -> bool {
     out.clear();
-    if shell.is_nan() || shell <= 0.0 || !lo.is_finite() || !hi.is_finite() || tree.is_empty() {
-        return false;
-    }
     final_nodes_near_each(tree, lo, hi, precision, shell, |i| {
         out.push(i);
         true
@@ -566,7 +571,9 @@ pub fn final_nodes_near(
 
 /// The walk of [`final_nodes_near`] and [`box_clear_of`]: calls `found`
 /// with each final node met, in order, while it returns true. Returns
-/// false when it stopped early (`found` said so, or the stack bound).
+/// false when it stopped early (`found` said so, or the stack bound) or
+/// did not start (a non-finite box, a non-positive or NaN shell, an empty
+/// tree).
 fn final_nodes_near_each(
     tree: &ObbTree,
     lo: Vec3,
@@ -575,6 +582,10 @@ fn final_nodes_near_each(
     shell: f32,
     mut found: impl FnMut(u32) -> bool,
 ) -> bool {
+    if shell.is_nan() || shell <= 0.0 || !lo.is_finite() || !hi.is_finite() || tree.is_empty() {
+        return false;
+    }
+    // An inverted box holds no segment: no node.
     let Some(aabb) = AabbFaces::new(lo, hi) else {
         return true;
     };

@@ -5,9 +5,9 @@ use super::body::Body;
 use super::simulation::Simulation;
 use super::stages::{DBG_WEIGHT, reach_rect};
 use super::timings::StepTimings;
-use crate::collision::exact::point_inside;
 use crate::collision::narrow_phase::{
-    BladeContacts, LocalMotion, box_clear_of, contact_blade, contact_blade_near, final_nodes_near,
+    BladeContacts, LocalMotion, box_clear_of, box_outside, contact_blade, contact_blade_near,
+    final_nodes_near,
 };
 use crate::field::Lod;
 use crate::force::eqf::eqf;
@@ -126,10 +126,7 @@ impl<'a> ColliderNarrow<'a> {
         // each blade is then tested against them alone (the same contacts
         // as its walk from the root, `contact_blade_near`).
         let listed = finite && final_nodes_near(self.tree, lo, hi, precision, shell, near);
-        if listed
-            && near.is_empty()
-            && !(self.tree.closed && point_inside(self.tree, (lo + hi) * 0.5))
-        {
+        if listed && near.is_empty() && box_outside(self.tree, lo, hi) {
             return Vec::new();
         }
         let mut hits = Vec::new();
