@@ -15,6 +15,8 @@ pub struct SimOverrides {
     pub dt: Option<f32>,
     /// `--memory-limit-gib`.
     pub memory_limit_gib: Option<f32>,
+    /// `--far-every`.
+    pub far_every: Option<u32>,
 }
 
 impl SimOverrides {
@@ -35,6 +37,11 @@ impl SimOverrides {
             && !(g.is_finite() && g > 0.0)
         {
             bail!("--memory-limit-gib {g}: must be a finite number of GiB > 0");
+        }
+        if let Some(k) = self.far_every
+            && !(1..=64).contains(&k)
+        {
+            bail!("--far-every {k}: must be 1..=64 (1: every object every step)");
         }
         Ok(())
     }
@@ -58,6 +65,9 @@ pub fn load_scene(path: Option<&Path>, flags: SimOverrides) -> Result<Scene> {
     }
     if let Some(g) = flags.memory_limit_gib {
         sim.memory_limit_gib = g;
+    }
+    if let Some(k) = flags.far_every {
+        sim.far_every = k;
     }
     scene.validate()?;
     Ok(scene)

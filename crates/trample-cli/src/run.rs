@@ -73,6 +73,11 @@ pub struct Args {
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
     #[arg(long, allow_negative_numbers = true)]
     pub memory_limit_gib: Option<f32>,
+    /// Step objects far from the camera (beyond `[sim] far_beyond_m`) only
+    /// every K-th step, taking turns, each over the time since its last
+    /// (overrides `[sim] far_every`; 1 = every object every step).
+    #[arg(long, value_name = "K")]
+    pub far_every: Option<u32>,
     /// Simulation path: auto = the GPU on a hardware adapter, else the CPU;
     /// gpu = the GPU path (also on a software adapter); cpu = the reference.
     /// On the GPU path the state is read back for each rendered frame (the
@@ -239,6 +244,7 @@ pub fn run(a: &Args) -> Result<()> {
     let flags = SimOverrides {
         precision: a.precision,
         memory_limit_gib: a.memory_limit_gib,
+        far_every: a.far_every,
         ..SimOverrides::default()
     };
     let mut scene = load_scene(a.scene.as_deref(), flags)?;

@@ -29,6 +29,11 @@ pub struct Args {
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).
     #[arg(long, allow_negative_numbers = true)]
     pub memory_limit_gib: Option<f32>,
+    /// Step objects far from the camera (beyond `[sim] far_beyond_m`) only
+    /// every K-th step, taking turns, each over the time since its last
+    /// (overrides `[sim] far_every`; 1 = every object every step).
+    #[arg(long, value_name = "K")]
+    pub far_every: Option<u32>,
     /// Output folder for summary.json.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
@@ -58,6 +63,7 @@ pub fn run(a: &Args) -> Result<()> {
         precision: a.precision,
         dt: a.dt,
         memory_limit_gib: a.memory_limit_gib,
+        far_every: a.far_every,
     };
     let scene = load_scene(a.scene.as_deref(), flags)?;
     let out = out_dir(&a.out)?;

@@ -279,6 +279,18 @@ fn bad_input_exits_non_zero_with_one_line() {
             "0".into(),
         ],
         vec![
+            "simulate".into(),
+            scene.clone(),
+            "--far-every".into(),
+            "0".into(),
+        ],
+        vec![
+            "run".into(),
+            scene.clone(),
+            "--far-every".into(),
+            "65".into(),
+        ],
+        vec![
             "collide".into(),
             scene.clone(),
             "--time".into(),

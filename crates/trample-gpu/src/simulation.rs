@@ -344,13 +344,13 @@ impl GpuSimulation {
         }
     }
 
-    /// Advances the simulation by `dt` seconds: the same sub-steps and
-    /// poses as `Simulation::step` (the outer loop is the core's:
-    /// `begin_step` plans the sub-steps and counts a clamp,
-    /// `substep_time`, `end_step`), every stage on the GPU, one submission
-    /// per sub-step, nothing read back (in profiling mode: the stage times,
-    /// see [`GpuSimulation::set_profiling`]). Returns the number of
-    /// sub-steps.
+    /// Advances the simulation by `dt` seconds: the same passes, sub-steps
+    /// and poses as `Simulation::step` (the outer loop is the core's:
+    /// `begin_step` plans the passes and their sub-steps and counts a
+    /// clamp, `Pass::substep_time`, `end_step`), every stage on the GPU, one
+    /// submission per sub-step, nothing read back (in profiling mode: the
+    /// stage times, see [`GpuSimulation::set_profiling`]). Returns the
+    /// number of sub-steps, every pass's.
     ///
     /// # Errors
     /// `dt` must be positive and finite ([`GpuError::Layout`] otherwise);
@@ -402,13 +402,14 @@ impl GpuSimulation {
         let profiling = self.profiling && matches!(target, Target::Submit);
         let start = std::time::Instant::now();
         self.follow_bodies(device, queue, &mut target)?;
-        let plan = self
+        let passes = self
             .sim
             .begin_step(dt)
             .map_err(|e| GpuError::Layout(e.to_string()))?;
         self.sim.timings = trample::StepTimings::default();
-        let substeps = plan.substeps;
-        let h = dt / substeps as f32;
+        // Every pass's sub-steps (`trample::step::passes`: the main pass,
+        // then far bodies' passes when `sim.far_every > 1`).
+        let substeps: u32 = passes.iter().map(|p| p.plan.substeps).sum();
         let max = device.limits().max_compute_workgroups_per_dimension;
         let groups = grid(self.field.count, max);
         self.timer.begin_step(device, profiling, substeps);
@@ -437,23 +438,37 @@ impl GpuSimulation {
             + 64;
         self.uploads
             .begin(device, per_substep * u64::from(substeps));
-        for i in 1..=substeps {
-            let t = self.sim.substep_time(i, h);
+        for (pass, i) in passes
+            .iter()
+            .flat_map(|p| (1..=p.plan.substeps).map(move |i| (p, i)))
+        {
+            let t = pass.substep_time(i);
+            let h = pass.h();
             // Poses and the viewpoint: on the CPU (pure functions of time;
             // an animated body's skin posed and its tree refitted there).
-            // One object per collider, pressing for its body.
+            // One object per collider, pressing for its body; a collider
+            // not in the pass is nowhere (no patch listed for it).
             let mut roots = Vec::with_capacity(self.objects.len().max(1));
+            let mut obbs = Vec::with_capacity(self.objects.len());
             let mut refitted = Vec::new();
             let mut k = 0;
             for (index, body) in self.sim.bodies.iter_mut().enumerate() {
-                body.set_time(t);
+                let on = pass.has(index);
+                if pass.main || on {
+                    body.set_time(t);
+                }
                 for c in body.colliders() {
                     if k >= self.objects.len() {
                         break;
                     }
-                    if body.object.animated.is_some() && std::ptr::eq(c.tree, &*body.tree) {
+                    if on && body.object.animated.is_some() && std::ptr::eq(c.tree, &*body.tree) {
                         refitted.push((k, index));
                     }
+                    let root = if on {
+                        *c.world_root
+                    } else {
+                        nowhere(c.world_root)
+                    };
                     self.objects.set_pose(k, c.pose);
                     self.objects.set_contact(
                         k,
@@ -464,14 +479,17 @@ impl GpuSimulation {
                     );
                     self.objects.set_owner(k, index);
                     roots.push(GpuWorldObb::new(
-                        c.world_root,
+                        &root,
                         &self.sim.field.layout,
                         self.sim.field.max_blade_length,
                     ));
+                    obbs.push(root);
                     k += 1;
                 }
             }
-            self.sim.update_view(t);
+            if pass.main {
+                self.sim.update_view(t);
+            }
             let params = self.step_params(h, groups.0, recovery_on);
             let mut own = None;
             let encoder = match &mut target {
@@ -509,16 +527,11 @@ impl GpuSimulation {
             let mut laps = self.timer.laps(device, queue, encoder, self.profiling)?;
             self.propagation
                 .record_reset(device, encoder, &self.field, &self.params, &self.state);
-            self.cells.record_classify(encoder, &cell_groups);
+            if pass.main {
+                self.cells.record_classify(encoder, &cell_groups);
+            }
             laps.lap(device, queue, encoder, Stage::Lod);
             if !self.objects.is_empty() {
-                let obbs: Vec<_> = self
-                    .sim
-                    .bodies
-                    .iter()
-                    .flat_map(trample::Body::colliders)
-                    .map(|c| *c.world_root)
-                    .collect();
                 self.broad.record(
                     device,
                     queue,
@@ -568,12 +581,16 @@ impl GpuSimulation {
                 self.cells.record_billboards(encoder, &cell_groups);
             }
             laps.lap(device, queue, encoder, Stage::Deformation);
-            self.cells.record_transitions(encoder, &cell_groups);
+            if pass.main {
+                self.cells.record_transitions(encoder, &cell_groups);
+            }
             laps.lap(device, queue, encoder, Stage::Transitions);
-            self.recovery
-                .record(device, encoder, &self.field, &self.params, &self.state);
-            if !p.track_everywhere {
-                self.cells.record_recover_slopes(encoder, &cell_groups);
+            if pass.main {
+                self.recovery
+                    .record(device, encoder, &self.field, &self.params, &self.state);
+                if !p.track_everywhere {
+                    self.cells.record_recover_slopes(encoder, &cell_groups);
+                }
             }
             laps.lap(device, queue, encoder, Stage::Recovery);
             if p.track_everywhere {
@@ -590,8 +607,8 @@ impl GpuSimulation {
         }
         self.sim.timings.visible_patches = self.sim.end_step(dt);
         let tm = &mut self.sim.timings;
-        tm.substeps = substeps;
-        tm.substeps_needed = plan.needed;
+        tm.substeps = passes[0].plan.substeps;
+        tm.substeps_needed = passes[0].plan.needed;
         tm.total_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(substeps)
     }
@@ -778,4 +795,15 @@ impl GpuSimulation {
 enum Target<'a> {
     Submit,
     Host(&'a mut wgpu::CommandEncoder),
+}
+
+/// A collider's root box moved nowhere (a NaN centre): what a collider
+/// that takes no part in a pass of the step ([`trample::step::Pass`])
+/// gives the broad phase, which lists no patch for a box that is not
+/// finite, and the billboards' cell rectangle, which is then empty.
+fn nowhere(root: &trample::obb::Obb) -> trample::obb::Obb {
+    trample::obb::Obb {
+        center: glam::Vec3::NAN,
+        ..*root
+    }
 }

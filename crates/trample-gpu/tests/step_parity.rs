@@ -302,13 +302,14 @@ path = { kind = "circle", center = [0.0, 0.0, 0.0], radius_m = 2.20, period_s = 
 /// phase and contact response are one dispatch each per chunk, whatever
 /// the object count, that most objects touch grass, and returns the worst
 /// vertex difference (m).
-fn herd_parity(frames: u32) -> f32 {
+fn herd_parity(frames: u32, far_every: u32) -> f32 {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let mut scene = Scene::load(&dir.join("herd_small.toml")).expect("herd_small.toml");
     assert_eq!(scene.file.objects.len(), 128);
     let objects = scene.file.objects.len();
     scene.file.field.cells_per_patch = 8;
     scene.file.field.cell_size_m = 0.4;
+    scene.file.sim.far_every = far_every;
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
     let mut cpu = scenes::build(&scene);
@@ -316,8 +317,9 @@ fn herd_parity(frames: u32) -> f32 {
     let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
     let chunks = g.field.chunks.len() as u32;
     let dt = cpu.params.dt_s;
-    let (mut touched, mut substeps) = (0u64, 0);
+    let (mut touched, mut substeps, mut far_passes) = (0u64, 0, 0);
     for _ in 0..frames {
+        far_passes += trample::step::passes::plan_passes(&cpu, dt).len() - 1;
         cpu.step(dt).unwrap();
         substeps += g.step(device, queue, dt).unwrap();
         assert_eq!(
@@ -335,9 +337,10 @@ fn herd_parity(frames: u32) -> f32 {
         worst = worst.max(if d.is_nan() { f32::INFINITY } else { d });
     }
     let owners: std::collections::BTreeSet<u8> = cpu.track_owner.iter().copied().collect();
+    assert_eq!(far_passes > 0, far_every > 1, "{far_passes} far passes");
     eprintln!(
-        "herd: {objects} objects, {frames} frames ({substeps} sub-steps), {} blades, \
-         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s): \
+        "herd, far_every = {far_every}: {objects} objects, {frames} frames ({substeps} sub-steps), {} blades, \
+         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s), {far_passes} far passes: \
          worst vertex difference {worst:e} m",
         bl.count,
         owners.len()
@@ -365,7 +368,21 @@ fn herd_parity(frames: u32) -> f32 {
 /// before either change.
 #[test]
 fn herd_of_128_objects_60_frames_matches_the_cpu() {
-    let worst = herd_parity(60);
+    let worst = herd_parity(60, 1);
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+}
+
+/// Far objects stepped every fourth frame (`sim.far_every`, issue 16;
+/// `trample::step::passes`): the herd's objects beyond 30 m of the camera
+/// take turns, each over the time since its last; the GPU path runs the
+/// core's passes (its main pass with levels of detail and recovery, the far
+/// passes with only their bodies listed by the broad phase), 40 frames.
+#[test]
+fn herd_with_far_objects_every_fourth_frame_matches_the_cpu() {
+    let worst = herd_parity(40, 4);
     assert!(
         worst <= VERTEX_TOLERANCE_M,
         "worst vertex difference {worst} m"

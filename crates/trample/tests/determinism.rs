@@ -133,7 +133,7 @@ fn default_scene_after_300_steps_has_its_golden_hash_on_one_and_two_threads() {
 /// Five objects of four kinds (a ball, a box, a knot, the cow's mesh and a
 /// second ball) circling through one another over a 6.4 m field, so that
 /// blades meet several objects in one sub-step.
-fn crowd_toml() -> String {
+fn crowd_toml(eye_z: f32, far_every: u32) -> String {
     let objects = [
         ("ball", r#"{ kind = "sphere", radius_m = 0.5 }"#, 0.5, 0.0),
         (
@@ -153,11 +153,15 @@ cells_per_patch = 16
 [lod]
 geometry_m = 1000.0
 billboard_m = 2000.0
+[sim]
+far_every = FAR
 [camera]
-path = { kind = "static", position = [0.0, 3.0, 5.0] }
+path = { kind = "static", position = [0.0, 3.0, EYE_Z] }
 look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
 "#,
-    );
+    )
+    .replace("FAR", &far_every.to_string())
+    .replace("EYE_Z", &format!("{eye_z:.1}"));
     for (k, (name, shape, y, phase)) in objects.into_iter().enumerate() {
         s += &format!(
             "[[objects]]\nname = \"{name}\"\nshape = {shape}\norientation = \"face_motion\"\npath = {{ kind = \"circle\", center = [{x}, {y}, 0.0], radius_m = 1.1, period_s = {p}, phase_rad = {phase} }}\n",
@@ -176,13 +180,18 @@ look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
 /// every blade vertex's bits, of every blade's class and track owner, and
 /// the blades touched by two objects or more in the last sub-step.
 fn crowd_hash(threads: usize, steps: u64) -> (u64, u64, usize) {
+    crowd_hash_of(&crowd_toml(5.0, 1), threads, steps)
+}
+
+/// [`crowd_hash`] of the crowd scene `toml`.
+fn crowd_hash_of(toml: &str, threads: usize, steps: u64) -> (u64, u64, usize) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .unwrap();
     pool.install(|| {
         let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-        let mut sim = trample::scene::Scene::parse(&crowd_toml(), "crowd.toml", &scenes)
+        let mut sim = trample::scene::Scene::parse(toml, "crowd.toml", &scenes)
             .unwrap()
             .build()
             .unwrap();
@@ -216,4 +225,29 @@ fn a_crowd_of_objects_on_one_two_and_three_threads_is_bit_identical() {
     );
     assert_eq!(crowd_hash(2, 40), one, "1 thread and 2 threads differ");
     assert_eq!(crowd_hash(3, 40), one, "1 thread and 3 threads differ");
+}
+
+/// Far objects stepped every third frame (`sim.far_every`, issue 16): the
+/// far passes run the same parallel stages over their bodies, so the crowd
+/// watched from 400 m gives the same bits on one and two threads — and not
+/// those of the crowd stepped every frame (the passes did run).
+#[test]
+fn a_far_crowd_stepped_every_third_frame_is_bit_identical_on_one_and_two_threads() {
+    let far = crowd_toml(400.0, 3);
+    let one = crowd_hash_of(&far, 1, 40);
+    assert!(
+        one.2 > 100,
+        "the crowd's later objects own blades: {}",
+        one.2
+    );
+    assert_eq!(
+        crowd_hash_of(&far, 2, 40),
+        one,
+        "1 thread and 2 threads differ"
+    );
+    assert_ne!(
+        crowd_hash_of(&crowd_toml(400.0, 1), 1, 40).0,
+        one.0,
+        "far_every = 3 changed nothing"
+    );
 }

@@ -79,6 +79,7 @@ impl Simulation {
         self.next_body_id = self.next_body_id.wrapping_add(1);
         body.id = id;
         body.set_time(self.time as f32);
+        body.stepped_to = self.time;
         self.bodies.push(body);
         id
     }

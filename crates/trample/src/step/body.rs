@@ -72,6 +72,9 @@ pub struct Body {
     pub host_poses: Vec<Option<Pose>>,
     /// Wheel odometry, the skin's scratch memory and refit map.
     pub(crate) rig: RigState,
+    /// The time up to which the body has touched the grass, seconds: the
+    /// end of the last step it took part in ([`crate::step::passes`]).
+    pub(crate) stepped_to: f64,
 }
 
 impl Body {
@@ -123,9 +126,28 @@ impl Body {
             drive: None,
             parts,
             rig,
+            stepped_to: 0.0,
         };
         body.set_time(0.0);
         body
+    }
+
+    /// The time up to which the body has touched the grass, seconds: the
+    /// end of the last step it took part in (with `sim.far_every > 1`, a far
+    /// body's last turn; [`crate::step::passes`]).
+    #[must_use]
+    pub fn stepped_to(&self) -> f64 {
+        self.stepped_to
+    }
+
+    /// Whether the body may be stepped less often when far from the camera
+    /// ([`crate::step::SimParams::far_every`]): its poses are a pure
+    /// function of time (a scene path, no host drive, no parts whose wheels
+    /// count the distance rolled, no animated mesh), so a pass may pose it
+    /// at any earlier time.
+    #[must_use]
+    pub fn may_step_far(&self) -> bool {
+        self.drive.is_none() && self.parts.is_empty() && self.object.animated.is_none()
     }
 
     /// How many colliders the body has: 1 (its own mesh) + its parts.

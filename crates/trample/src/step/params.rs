@@ -71,6 +71,24 @@ pub struct SimParams {
     /// simulated, billboards are bent by Eq. 8 and a cell coming back to
     /// geometry gets its billboard's offset on its last segment (Eq. 13).
     pub track_everywhere: bool,
+    /// Far objects stepped less often (ours, issue 16; beside DESIGN §7's
+    /// step, resting on §6's frame-rate independence): a body on its scene
+    /// path (not driven by the host, not articulated, not animated) whose
+    /// root box lies wholly farther than
+    /// [`SimParams::far_beyond_m`] from the camera (horizontally) touches
+    /// the grass every `far_every`-th step only — the bodies take turns, by
+    /// id, so each step carries a share of them — and then over all the
+    /// time since it last did: its track is the one the whole field gets
+    /// stepped at `far_every · dt` (the displacement `F · h` of DESIGN §6
+    /// is frame-rate independent; [`crate::step::passes`]). Default 1: every
+    /// object every step. 1..=64.
+    pub far_every: u32,
+    /// How far from the camera, metres (horizontally, to the nearest point
+    /// of a body's root box's bounding sphere), a body counts as far (see
+    /// [`SimParams::far_every`]). Default 30: the default level of detail's
+    /// end of billboards, beyond which the grass is drawn as ground.
+    /// Finite, >= 0.
+    pub far_beyond_m: f32,
 }
 
 impl Default for SimParams {
@@ -91,6 +109,8 @@ impl Default for SimParams {
             contact: true,
             contact_shell_m: 0.005,
             track_everywhere: true,
+            far_every: 1,
+            far_beyond_m: 30.0,
         }
     }
 }
@@ -186,6 +206,20 @@ impl SimParams {
                 "contact_shell_m",
                 f64::from(self.contact_shell_m),
                 "must be in (0, 0.5] metres",
+            );
+        }
+        if !(1..=64).contains(&self.far_every) {
+            return err(
+                "far_every",
+                f64::from(self.far_every),
+                "must be 1..=64 (1: every object every step)",
+            );
+        }
+        if !(self.far_beyond_m.is_finite() && self.far_beyond_m >= 0.0) {
+            return err(
+                "far_beyond_m",
+                f64::from(self.far_beyond_m),
+                "must be a finite distance >= 0 metres",
             );
         }
         if !(self.memory_limit_gib.is_finite() && self.memory_limit_gib > 0.0) {

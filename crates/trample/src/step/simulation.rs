@@ -3,6 +3,7 @@
 use super::blade_class::BladeClass;
 use super::body::{Body, BodyId};
 use super::params::{SimError, SimParams, check_dt};
+use super::passes::{Pass, plan_passes};
 use super::stages;
 use super::timings::StepTimings;
 use crate::camera::{Camera, CameraView};
@@ -190,19 +191,20 @@ impl Simulation {
         let start = Instant::now();
         let mut tm = StepTimings::default();
         let t_pose = Instant::now();
-        let plan = self.begin_step(dt)?;
+        let passes = self.begin_step(dt)?;
         tm.poses_ms += ms(t_pose);
-        tm.substeps = plan.substeps;
-        tm.substeps_needed = plan.needed;
-        let h = dt / plan.substeps as f32;
+        tm.substeps = passes[0].plan.substeps;
+        tm.substeps_needed = passes[0].plan.needed;
         // The sub-steps run on one of the pool's threads (rayon::scope): each
         // stage's parallel loop then forks from a worker, not from outside
         // the pool (a wake-up and a blocking wait per loop, a dozen a
         // sub-step: measured 10 % of the default scene's step).
         rayon::scope(|_| {
-            for i in 1..=plan.substeps {
-                let t = self.substep_time(i, h);
-                stages::substep(self, t, h, &mut tm);
+            for pass in &passes {
+                let h = pass.h();
+                for i in 1..=pass.plan.substeps {
+                    stages::substep(self, pass, pass.substep_time(i), h, &mut tm);
+                }
             }
         });
         let t_cull = Instant::now();
@@ -216,43 +218,47 @@ impl Simulation {
 
     /// The start of a step of `dt` seconds, shared by the CPU path
     /// ([`Simulation::step`]) and the GPU path (STYLE rule 9: the loop both
-    /// run is written once): checks `dt`, plans the sub-steps
-    /// ([`stages::plan_substeps`]), forgets the blades and cells the last
-    /// step changed, and, when the plan is clamped, counts it
-    /// ([`Simulation::substep_clamps`]) and keeps the first
-    /// ([`Simulation::first_substep_clamp`]). Run the sub-steps `1 ..=
-    /// plan.substeps` ending at [`Simulation::substep_time`], then
-    /// [`Simulation::end_step`].
+    /// run is written once): checks `dt`, plans the step's passes over the
+    /// bodies ([`super::passes::plan_passes`]: the main pass, then a far
+    /// pass per group of far bodies due this step when `sim.far_every > 1`)
+    /// and each pass's sub-steps ([`stages::plan_substeps`]), forgets the
+    /// blades and cells the last step changed, and, when a pass's plan is
+    /// clamped, counts it ([`Simulation::substep_clamps`]) and keeps the
+    /// first ([`Simulation::first_substep_clamp`]). Run each pass's
+    /// sub-steps `1 ..= pass.plan.substeps`, ending at
+    /// [`Pass::substep_time`], in order, then [`Simulation::end_step`].
     ///
     /// # Errors
     /// [`SimError`] for a `dt` that is not a finite number of seconds in (0, 10].
-    pub fn begin_step(&mut self, dt: f32) -> Result<stages::SubstepPlan, SimError> {
+    pub fn begin_step(&mut self, dt: f32) -> Result<Vec<Pass>, SimError> {
         check_dt(dt)?;
         self.field.clear_changes();
-        let plan = stages::plan_substeps(self, dt);
-        if plan.needed > plan.substeps {
-            self.substep_clamps += 1;
-            if self.first_substep_clamp.is_none() {
-                self.first_substep_clamp = Some(SubstepClamp {
-                    frame: self.frame,
-                    time_s: self.time,
-                    object: plan
-                        .fastest
-                        .map(|i| self.bodies[i].object.name.clone())
-                        .unwrap_or_default(),
-                    needed: plan.needed,
-                    max_substeps: plan.substeps,
-                });
+        let passes = plan_passes(self, dt);
+        for pass in &passes {
+            let plan = pass.plan;
+            if plan.needed > plan.substeps {
+                self.substep_clamps += 1;
+                if self.first_substep_clamp.is_none() {
+                    self.first_substep_clamp = Some(SubstepClamp {
+                        frame: self.frame,
+                        time_s: self.time,
+                        object: plan
+                            .fastest
+                            .map(|i| self.bodies[i].object.name.clone())
+                            .unwrap_or_default(),
+                        needed: plan.needed,
+                        max_substeps: plan.substeps,
+                    });
+                }
             }
         }
-        Ok(plan)
-    }
-
-    /// The time at which sub-step `i` (1-based) of the step being taken
-    /// ends, `h` seconds each, seconds.
-    #[must_use]
-    pub fn substep_time(&self, i: u32, h: f32) -> f32 {
-        (self.time + f64::from(h) * f64::from(i)) as f32
+        let end = self.time + f64::from(dt);
+        for (i, body) in self.bodies.iter_mut().enumerate() {
+            if passes.iter().any(|p| p.has(i)) {
+                body.stepped_to = end;
+            }
+        }
+        Ok(passes)
     }
 
     /// The end of a step of `dt` seconds (see [`Simulation::begin_step`]):

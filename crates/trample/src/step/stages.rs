@@ -10,6 +10,7 @@ use super::collide::{accumulate_contacts, narrow_phase};
 use super::deform::{
     apply_transitions, bend_billboards, bend_blades, cells_from_blades, resolve_contacts,
 };
+use super::passes::Pass;
 use super::recover::recover;
 use super::simulation::{Simulation, ms};
 use super::timings::StepTimings;
@@ -59,9 +60,23 @@ pub struct SubstepPlan {
 /// Plans the sub-steps of a step of `dt` from each body's travel (and spin,
 /// measured at the root box's half diagonal) between the step's ends.
 pub fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
-    let t0 = sim.time as f32;
+    plan_substeps_of(sim, None, sim.time, dt)
+}
+
+/// [`plan_substeps`] for the bodies `active` marks (every body with `None`)
+/// over `dt` seconds from `start` (a pass of [`super::passes`]).
+pub fn plan_substeps_of(
+    sim: &Simulation,
+    active: Option<&[bool]>,
+    start: f64,
+    dt: f32,
+) -> SubstepPlan {
+    let t0 = start as f32;
     let (mut needed, mut fastest) = (1u32, None);
     for (i, body) in sim.bodies.iter().enumerate() {
+        if active.is_some_and(|a| !a.get(i).copied().unwrap_or(false)) {
+            continue;
+        }
         // The body's own mesh, then each part with its own motion.
         let mut ends = vec![(
             body.pose_at(t0),
@@ -109,33 +124,41 @@ pub(crate) fn collider_list(sim: &Simulation) -> Vec<(usize, usize)> {
         .collect()
 }
 
-/// One sub-step ending at time `t`, `h` seconds long.
-pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings) {
+/// One sub-step of `pass` ending at time `t`, `h` seconds long: in the
+/// main pass every stage; in a far pass ([`super::passes`]) only its
+/// bodies are posed and collide, and the levels of detail, the view, the
+/// transitions and the recovery (once per step, in the main pass) do not run.
+pub(crate) fn substep(sim: &mut Simulation, pass: &Pass, t: f32, h: f32, tm: &mut StepTimings) {
     // Poses.
     let clock = Instant::now();
-    for body in &mut sim.bodies {
-        body.set_time(t);
+    for (i, body) in sim.bodies.iter_mut().enumerate() {
+        if pass.main || pass.has(i) {
+            body.set_time(t);
+        }
     }
     tm.poses_ms += ms(clock);
 
     // LOD per cell from the camera eye.
     let clock = Instant::now();
-    sim.update_view(t);
-    let eye = sim.eye();
     let mut changes = Vec::new();
-    tm.lod = classify_cells(
-        &sim.field.layout,
-        &mut sim.field.cells,
-        eye,
-        &sim.lod,
-        &mut changes,
-    );
+    if pass.main {
+        sim.update_view(t);
+        let eye = sim.eye();
+        tm.lod = classify_cells(
+            &sim.field.layout,
+            &mut sim.field.cells,
+            eye,
+            &sim.lod,
+            &mut changes,
+        );
+    }
     tm.lod_ms += ms(clock);
 
     // Broad phase: patches under each collider's root box (one per rigid
-    // body, one per part of an articulated one).
+    // body, one per part of an articulated one) of the pass's bodies.
     let clock = Instant::now();
-    let colliders = collider_list(sim);
+    let mut colliders = collider_list(sim);
+    colliders.retain(|&(i, _)| pass.has(i));
     let patch_hits: Vec<Vec<u32>> = colliders
         .iter()
         .map(|&(i, k)| {
@@ -181,7 +204,12 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
             direct += 1;
         }
     }
-    tm.dbg_blades = direct;
+    // The main pass's last sub-step, plus the far passes' (their blades).
+    tm.dbg_blades = if pass.main {
+        direct
+    } else {
+        tm.dbg_blades + direct
+    };
     tm.forces_ms += ms(clock);
 
     // Propagation to neighbouring blades (Eq. 4).
@@ -222,8 +250,13 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
         }
         i = end;
     }
-    tm.pbg_blades = prop.pbg.len() as u32;
-    tm.generations = prop.generations;
+    let pbg = prop.pbg.len() as u32;
+    tm.pbg_blades = if pass.main { pbg } else { tm.pbg_blades + pbg };
+    tm.generations = if pass.main {
+        prop.generations
+    } else {
+        tm.generations.max(prop.generations)
+    };
     tm.propagation_ms += ms(clock);
 
     // Deformation: blades (Eq. 5–7), the contact response (ours) and, in the
@@ -239,7 +272,8 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     let clock = Instant::now();
     if sim.params.contact {
         let moved = resolve_contacts(sim, &colliders, &patch_hits);
-        tm.contact_blades = moved.len() as u32;
+        let n = moved.len() as u32;
+        tm.contact_blades = if pass.main { n } else { tm.contact_blades + n };
         changed.extend(moved);
     }
     tm.contact_ms += ms(clock);
@@ -260,7 +294,9 @@ pub(crate) fn substep(sim: &mut Simulation, t: f32, h: f32, tm: &mut StepTimings
     // Recovery towards rest; then (ours) the billboards and the flatness of
     // every cell whose blades moved follow its blades (Eq. 9–12).
     let clock = Instant::now();
-    changed.extend(recover(sim, h));
+    if pass.main {
+        changed.extend(recover(sim, h));
+    }
     tm.recovery_ms += ms(clock);
     if sim.params.track_everywhere {
         let clock = Instant::now();
