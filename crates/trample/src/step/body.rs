@@ -141,13 +141,15 @@ impl Body {
     }
 
     /// Whether the body may be stepped less often when far from the camera
-    /// ([`crate::step::SimParams::far_every`]): its poses are a pure
-    /// function of time (a scene path, no host drive, no parts whose wheels
-    /// count the distance rolled, no animated mesh), so a pass may pose it
-    /// at any earlier time.
+    /// ([`crate::step::SimParams::far_every`]): a pass may pose it at any
+    /// time since its last turn — on its scene path, or driven by the host
+    /// (whose moves between two turns are joined into one,
+    /// [`crate::step::Simulation::move_body`]) — so not an articulated body
+    /// (its wheels count the distance rolled) or an animated one (its mesh
+    /// is skinned for the time asked, forwards only).
     #[must_use]
     pub fn may_step_far(&self) -> bool {
-        self.drive.is_none() && self.parts.is_empty() && self.object.animated.is_none()
+        self.parts.is_empty() && self.object.animated.is_none()
     }
 
     /// How many colliders the body has: 1 (its own mesh) + its parts.

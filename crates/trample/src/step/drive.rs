@@ -96,15 +96,25 @@ impl Simulation {
     /// (and does nothing) when there is no such body or a value is not finite.
     /// See also [`Simulation::move_body`], the same by [`BodyId`].
     pub fn drive(&mut self, index: usize, position: Vec3, rotation: Quat, dt: f32) -> bool {
-        let t0 = self.time as f32;
+        let now = self.time as f32;
         let Some(body) = self.bodies.get_mut(index) else {
             return false;
         };
         if !(position.is_finite() && rotation.is_finite() && dt.is_finite() && dt > 0.0) {
             return false;
         }
+        // A body that sat out steps (far from the camera, waiting for its
+        // turn: `sim.far_every`) goes from where its last turn left it, in
+        // a straight line through the moves it sat out, so that its turn
+        // sweeps the way it went (`step::passes`).
+        let (from, t0) = if body.stepped_to < self.time {
+            let t = body.stepped_to as f32;
+            (body.pose_at(t), t)
+        } else {
+            (body.pose, now)
+        };
         body.drive = Some(Drive {
-            from: body.pose,
+            from,
             to: Pose {
                 position,
                 rotation: rotation.normalize(),
@@ -112,7 +122,7 @@ impl Simulation {
                 angular_velocity: Vec3::ZERO,
             },
             t0,
-            t1: t0 + dt,
+            t1: now + dt,
         });
         true
     }

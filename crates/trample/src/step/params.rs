@@ -72,9 +72,10 @@ pub struct SimParams {
     /// geometry gets its billboard's offset on its last segment (Eq. 13).
     pub track_everywhere: bool,
     /// Far objects stepped less often (ours, issue 16; beside DESIGN §7's
-    /// step, resting on §6's frame-rate independence): a body on its scene
-    /// path (not driven by the host, not articulated, not animated) whose
-    /// root box lies wholly farther than
+    /// step, resting on §6's frame-rate independence): a body (on its scene
+    /// path or driven by the host; not articulated, not animated:
+    /// [`crate::step::Body::may_step_far`]) whose root box lies wholly
+    /// farther than
     /// [`SimParams::far_beyond_m`] from the camera (horizontally) touches
     /// the grass every `far_every`-th step only — the bodies take turns, by
     /// id, so each step carries a share of them — and then over all the

@@ -20,7 +20,9 @@
 //!   (DESIGN §9): collision, forces (Eq. 2), propagation (Eq. 4), bending
 //!   (Eq. 5–7, the displacement `F · h` with the pass's `h`) and contact.
 //!
-//! Far bodies not due this step do not touch the grass. A turn is a step of
+//! Far bodies not due this step do not touch the grass. A body that sat
+//! out steps and is near now (the camera came, or it did) catches up in a
+//! pass of its own from where it stopped, and steps with the others after. A turn is a step of
 //! `k` frames for that body, so the track it leaves is the one the whole
 //! field gets stepped at `k · dt` (the bending is frame-rate independent,
 //! DESIGN §6, the closer the finer the step: measured in
@@ -103,17 +105,19 @@ pub fn plan_passes(sim: &Simulation, dt: f32) -> Vec<Pass> {
     let end = sim.time + f64::from(dt);
     let mut main = vec![true; n];
     let mut due: Vec<(f64, usize)> = Vec::new();
-    if every > 1 {
-        let eye = sim.eye();
-        for (i, body) in sim.bodies.iter().enumerate() {
-            if !body.may_step_far() || !is_far(body, eye, sim.params.far_beyond_m) {
-                continue;
-            }
-            main[i] = false;
-            let turn = (sim.frame + u64::from(body.id.0)).is_multiple_of(every);
-            if turn && body.stepped_to < end {
-                due.push((body.stepped_to, i));
-            }
+    let eye = sim.eye();
+    for (i, body) in sim.bodies.iter().enumerate() {
+        let far = every > 1 && body.may_step_far() && is_far(body, eye, sim.params.far_beyond_m);
+        // A body that sat out steps (far, waiting for its turn) and is near
+        // now catches up at once, from where it stopped.
+        let behind = body.stepped_to < sim.time;
+        if !far && !behind {
+            continue;
+        }
+        main[i] = false;
+        let turn = !far || (sim.frame + u64::from(body.id.0)).is_multiple_of(every);
+        if turn && body.stepped_to < end {
+            due.push((body.stepped_to, i));
         }
     }
     let mut passes = vec![Pass::new(sim, main, sim.time, dt, true)];
