@@ -399,5 +399,45 @@ path = { kind = "circle", center = [0.0, 0.25, -1.2], radius_m = 0.5, period_s =
         last_tris = tris;
     }
     assert_chart(&out.join("objects.png"));
+    assert_eq!(r["far_every"], 1);
+
+    // `--far-every` reaches every run, and the report says so; with the
+    // camera moved 400 m away every object takes turns, and fewer blades a
+    // step are hit directly than when all step every frame.
+    std::fs::write(
+        &scene,
+        std::fs::read_to_string(&scene).unwrap().replace(
+            "position = [0.0, 3.0, -4.0]",
+            "position = [0.0, 3.0, -400.0]",
+        ),
+    )
+    .unwrap();
+    let far_out = d.join("far");
+    let mut dbg = Vec::new();
+    for k in ["1", "4"] {
+        let o = trample(&[
+            "bench",
+            scene.to_str().unwrap(),
+            "--objects",
+            "--frames",
+            "12",
+            "--far-every",
+            k,
+            "--out",
+            far_out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let table = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(
+            table.contains("far objects every 4 steps"),
+            k == "4",
+            "{table}"
+        );
+        let r: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(far_out.join("objects.json")).unwrap()).unwrap();
+        assert_eq!(r["far_every"].to_string(), k);
+        dbg.push(r["points"][2]["dbg_blades_mean"].as_f64().unwrap());
+    }
+    assert!(dbg[1] < dbg[0], "DBG blades a step: {dbg:?}");
     std::fs::remove_dir_all(&d).unwrap();
 }

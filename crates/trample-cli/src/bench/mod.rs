@@ -98,6 +98,11 @@ pub struct Args {
     /// point, precision 7).
     #[arg(long, conflicts_with = "scaling")]
     pub objects: bool,
+    /// Step objects far from the camera (beyond `[sim] far_beyond_m`) only
+    /// every K-th step, taking turns (overrides `[sim] far_every`, for every
+    /// run of the bench; 1 = every object every step).
+    #[arg(long, value_name = "K")]
+    pub far_every: Option<u32>,
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -127,7 +132,11 @@ pub fn run(a: &Args) -> Result<()> {
                 .unwrap_or(if series { "7" } else { "1..7" }),
         )?;
     let threads = set_threads(a.threads)?;
-    let scene = load_scene(a.scene.as_deref(), SimOverrides::default())?;
+    let flags = SimOverrides {
+        far_every: a.far_every,
+        ..SimOverrides::default()
+    };
+    let scene = load_scene(a.scene.as_deref(), flags)?;
     let out = out_dir(&a.out)?;
     let setup = Setup {
         frames,

@@ -33,6 +33,8 @@ struct Report {
     /// The GPU adapter, when the GPU path was timed.
     adapter: Option<String>,
     blades: u64,
+    /// `sim.far_every` of every run (1: every object every step).
+    far_every: u32,
     points: Vec<Point>,
     /// Points left out, and why.
     skipped: Vec<String>,
@@ -159,6 +161,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
             .as_ref()
             .map(trample_render::headless::Gpu::adapter_name),
         blades: scene.file.field.blade_count(),
+        far_every: scene.file.sim.far_every,
         points,
         skipped,
     };
@@ -201,8 +204,13 @@ fn chart(r: &Report, setup: &Setup) -> Result<()> {
             }
         }
     }
+    let far = if r.far_every > 1 {
+        format!(", far objects every {} steps", r.far_every)
+    } else {
+        String::new()
+    };
     let title = format!(
-        "Step time vs objects ({} blades, {} frames a point)",
+        "Step time vs objects ({} blades, {} frames a point{far})",
         r.blades, r.frames
     );
     line_chart(
@@ -221,8 +229,13 @@ fn chart(r: &Report, setup: &Setup) -> Result<()> {
 }
 
 fn print_table(r: &Report) {
+    let far = if r.far_every > 1 {
+        format!(", far objects every {} steps", r.far_every)
+    } else {
+        String::new()
+    };
     println!(
-        "Step time against objects ({}, {} blades, {} frames a point, {} thread(s))",
+        "Step time against objects ({}, {} blades, {} frames a point, {} thread(s){far})",
         r.scene, r.blades, r.frames, r.threads
     );
     println!(
