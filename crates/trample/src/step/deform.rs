@@ -4,7 +4,7 @@
 //! transitions between levels of detail (Eq. 9–13).
 
 use super::simulation::Simulation;
-use super::stages::{mark_displaced, reach_rect};
+use super::stages::{mark_displaced, reach_rect, sort_displaced};
 use crate::collision::segment_obb::segment_hits_obb;
 use crate::deform::bend::{bend_blade, weights};
 use crate::deform::billboard::{billboard_slope, billboard_top, deflect_billboard};
@@ -246,7 +246,7 @@ pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
     }
     sim.scratch.bent_cells.sort_unstable();
     sim.scratch.bent_cells.dedup();
-    sim.scratch.displaced.sort_unstable();
+    sort_displaced(&mut sim.scratch.displaced);
 }
 
 /// Track everywhere (ours, DESIGN §2): every cell holding a blade of
