@@ -8,28 +8,7 @@ use common::*;
 
 use glam::{Quat, Vec3};
 use trample::Simulation;
-use trample::collision::closest_point::closest_point_on_mesh;
-use trample::collision::exact::point_inside;
 use trample_testkit::scenes;
-
-/// The deepest any blade vertex lies inside body `i` at its current pose:
-/// distance to the mesh surface of every vertex the exact inside test puts
-/// inside, metres (0 if none).
-fn deepest_inside(sim: &Simulation, i: usize) -> f32 {
-    let body = &sim.bodies[i];
-    let bl = &sim.field.blades;
-    let mut deepest = 0.0f32;
-    for b in 0..bl.count {
-        for k in 0..=bl.segments {
-            let p = body.pose.to_local(Vec3::from(bl.vertex(b, k)));
-            if point_inside(&body.tree, p) {
-                let s = closest_point_on_mesh(&body.tree, p, f32::INFINITY).unwrap();
-                deepest = deepest.max(s.distance_sq.sqrt());
-            }
-        }
-    }
-    deepest
-}
 
 fn run_contact_scene(contact: bool) -> Simulation {
     let mut scene = scenes::scene(scenes::CONTACT);

@@ -15,8 +15,6 @@ use common::*;
 
 use glam::Vec3;
 use trample::Simulation;
-use trample::collision::closest_point::closest_point_on_mesh;
-use trample::collision::exact::point_inside;
 use trample::step::passes::plan_passes;
 use trample_testkit::scenes;
 
@@ -47,30 +45,6 @@ path = {{ kind = "circle", center = [0.0, 0.3, 2.5], radius_m = 2.5, period_s = 
 "#
     );
     sim_from(&toml)
-}
-
-/// (mean tip difference / mean tip displacement, bent in both, bent in
-/// either) between two runs of the same field.
-fn track_difference(a: &Simulation, b: &Simulation) -> (f64, usize, usize) {
-    let bl = (&a.field.blades, &b.field.blades);
-    let n = bl.0.segments;
-    let (mut diff, mut disp, mut both, mut either) = (0.0f64, 0.0f64, 0, 0);
-    for i in 0..bl.0.count {
-        let rest = bl.0.rest_vertex(i, n);
-        let (ta, tb) = (bl.0.vertex(i, n), bl.1.vertex(i, n));
-        let (da, db) = (ta.distance(rest), tb.distance(rest));
-        if da > 0.05 || db > 0.05 {
-            either += 1;
-            if da > 0.05 && db > 0.05 {
-                both += 1;
-            }
-        }
-        if da > 1e-6 || db > 1e-6 {
-            diff += f64::from(ta.distance(tb));
-            disp += f64::from(da.max(db));
-        }
-    }
-    (diff / disp.max(1e-12), both, either)
 }
 
 /// A far body's turn is a step of `k` frames for that body: its track
@@ -180,23 +154,6 @@ fn far_bodies_take_turns_and_catch_up_on_the_time_since_their_last() {
         sim.step(dt).unwrap();
     }
     assert_eq!(turns, vec![3, 3, 3], "each body every third step");
-}
-
-/// The deepest any blade vertex lies inside body `i` at its current pose.
-fn deepest_inside(sim: &Simulation, i: usize) -> f32 {
-    let body = &sim.bodies[i];
-    let bl = &sim.field.blades;
-    let mut deepest = 0.0f32;
-    for b in 0..bl.count {
-        for k in 0..=bl.segments {
-            let p = body.pose.to_local(Vec3::from(bl.vertex(b, k)));
-            if point_inside(&body.tree, p) {
-                let s = closest_point_on_mesh(&body.tree, p, f32::INFINITY).unwrap();
-                deepest = deepest.max(s.distance_sq.sqrt());
-            }
-        }
-    }
-    deepest
 }
 
 /// Contact holds for far bodies at their turns: the standing box and the

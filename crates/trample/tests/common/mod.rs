@@ -87,3 +87,51 @@ impl Rng {
         (self.next() % u64::from(n)) as u32
     }
 }
+
+/// The deepest any blade vertex lies inside body `i` at its current pose:
+/// distance to the mesh surface of every vertex the exact inside test puts
+/// inside, metres (0 if none).
+pub fn deepest_inside(sim: &Simulation, i: usize) -> f32 {
+    use trample::collision::closest_point::closest_point_on_mesh;
+    use trample::collision::exact::point_inside;
+    let body = &sim.bodies[i];
+    let bl = &sim.field.blades;
+    let mut deepest = 0.0f32;
+    for b in 0..bl.count {
+        for k in 0..=bl.segments {
+            let p = body.pose.to_local(glam::Vec3::from(bl.vertex(b, k)));
+            if point_inside(&body.tree, p) {
+                let s = closest_point_on_mesh(&body.tree, p, f32::INFINITY).unwrap();
+                deepest = deepest.max(s.distance_sq.sqrt());
+            }
+        }
+    }
+    deepest
+}
+
+/// How two runs of the same field differ (DESIGN §6's frame-rate
+/// independence): the mean distance between their blades' tips over the
+/// blades either moved, divided by the mean tip displacement from rest
+/// (the larger of the two), and the blades bent (tip more than 5 cm from
+/// rest) in both and in either.
+pub fn track_difference(a: &Simulation, b: &Simulation) -> (f64, usize, usize) {
+    let bl = (&a.field.blades, &b.field.blades);
+    let n = bl.0.segments;
+    let (mut diff, mut disp, mut both, mut either) = (0.0f64, 0.0f64, 0, 0);
+    for i in 0..bl.0.count {
+        let rest = bl.0.rest_vertex(i, n);
+        let (ta, tb) = (bl.0.vertex(i, n), bl.1.vertex(i, n));
+        let (da, db) = (ta.distance(rest), tb.distance(rest));
+        if da > 0.05 || db > 0.05 {
+            either += 1;
+            if da > 0.05 && db > 0.05 {
+                both += 1;
+            }
+        }
+        if da > 1e-6 || db > 1e-6 {
+            diff += f64::from(ta.distance(tb));
+            disp += f64::from(da.max(db));
+        }
+    }
+    (diff / disp.max(1e-12), both, either)
+}
