@@ -173,12 +173,19 @@ pub fn run(a: &Args) -> Result<()> {
     )?;
     outputs.commit()?;
     eprintln!(
-        "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (max {:.3}); {} blades touched ({} DBG, {} PBG only){}; wrote {}",
+        "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (max {:.3}); {} blades touched ({} DBG, {} PBG only){}{}; wrote {}",
         summary.step_ms.median,
         summary.step_ms.max,
         summary.classes["direct"] + summary.classes["propagated"],
         summary.classes["direct"],
         summary.classes["propagated"],
+        match summary.far_every {
+            1 => String::new(),
+            k => format!(
+                "; far objects every {k} steps: {:.1} a step",
+                summary.far_bodies_mean
+            ),
+        },
         match sim.substep_clamps {
             0 => String::new(),
             n => format!("; {n} step(s) clamped by sim.max_substeps"),

@@ -95,6 +95,12 @@ pub struct SimSummary {
     pub displaced_blades: u32,
     pub lod_cells: trample::field::LodCounts,
     pub classes: BTreeMap<&'static str, usize>,
+    /// `sim.far_every`: far objects touch the grass every this many steps
+    /// (1: every object every step).
+    pub far_every: u32,
+    /// Bodies stepped in far passes a step, on average over the run (0
+    /// with `far_every = 1`).
+    pub far_bodies_mean: f64,
     /// Steps in which an object needed more than `sim.max_substeps` sub-steps.
     pub substeps_clamped_steps: u64,
     /// The first such step, in words (null when none).
@@ -145,6 +151,13 @@ impl SimSummary {
                 ("direct", count(BladeClass::Direct)),
                 ("propagated", count(BladeClass::Propagated)),
             ]),
+            far_every: sim.params.far_every,
+            far_bodies_mean: rec
+                .steps
+                .iter()
+                .map(|t| f64::from(t.far_bodies))
+                .sum::<f64>()
+                / rec.steps.len().max(1) as f64,
             substeps_clamped_steps: sim.substep_clamps,
             first_substep_clamp: sim.first_substep_clamp.as_ref().map(ToString::to_string),
             memory_estimate_mib: scene.file.field.memory_estimate_bytes() as f64 / 1024f64.powi(2),

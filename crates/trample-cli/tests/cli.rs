@@ -97,6 +97,44 @@ fn simulate_writes_summary_and_dumps() {
     assert_eq!((c.dtype, c.shape.clone()), (Dtype::U8, vec![1024]));
     assert!(c.data.iter().all(|&v| v <= 2));
     assert!(c.data.contains(&1), "the ball must hit blades");
+    assert_eq!(s["far_every"], 1);
+    assert_eq!(s["far_bodies_mean"], 0.0);
+}
+
+/// `--far-every K` reaches the simulation and the summary says what it
+/// did: the ball watched from 400 m takes its turn every fourth step.
+#[test]
+fn simulate_far_every_steps_far_objects_in_turns_and_says_so() {
+    let d = dir("far");
+    let scene = d.join("far.toml");
+    let text = SCENE.replace("position = [0.0, 2.0, 4.0]", "position = [0.0, 3.0, 400.0]");
+    assert_ne!(text, SCENE);
+    std::fs::write(&scene, text).unwrap();
+    let out = d.join("out");
+    let o = trample(&[
+        "simulate",
+        scene.to_str().unwrap(),
+        "--frames",
+        "40",
+        "--far-every",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("far objects every 4 steps: "), "{err}");
+    let s: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["far_every"], 4);
+    assert_eq!(
+        s["far_bodies_mean"], 0.25,
+        "one body, every fourth of 40 steps"
+    );
+    assert!(
+        s["classes"]["direct"].as_u64().unwrap() > 0,
+        "the ball hit blades"
+    );
 }
 
 #[test]

@@ -609,6 +609,7 @@ impl GpuSimulation {
         let tm = &mut self.sim.timings;
         tm.substeps = passes[0].plan.substeps;
         tm.substeps_needed = passes[0].plan.needed;
+        tm.far_bodies = trample::step::passes::far_bodies(&passes);
         tm.total_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(substeps)
     }

@@ -79,6 +79,12 @@ impl Pass {
         (self.start + f64::from(self.h()) * f64::from(i)) as f32
     }
 
+    /// How many bodies take part.
+    #[must_use]
+    pub fn bodies(&self) -> usize {
+        self.active.iter().filter(|&&a| a).count()
+    }
+
     /// Whether body `i` takes part.
     #[must_use]
     pub fn has(&self, i: usize) -> bool {
@@ -131,4 +137,11 @@ pub fn plan_passes(sim: &Simulation, dt: f32) -> Vec<Pass> {
         passes.push(Pass::new(sim, active, start, (end - start) as f32, false));
     }
     passes
+}
+
+/// How many bodies the far passes of `passes` step (every pass but the
+/// first, the main one): [`crate::StepTimings::far_bodies`].
+#[must_use]
+pub fn far_bodies(passes: &[Pass]) -> u32 {
+    passes.iter().skip(1).map(Pass::bodies).sum::<usize>() as u32
 }

@@ -195,6 +195,7 @@ impl Simulation {
         tm.poses_ms += ms(t_pose);
         tm.substeps = passes[0].plan.substeps;
         tm.substeps_needed = passes[0].plan.needed;
+        tm.far_bodies = super::passes::far_bodies(&passes);
         // The sub-steps run on one of the pool's threads (rayon::scope): each
         // stage's parallel loop then forks from a worker, not from outside
         // the pool (a wake-up and a blocking wait per loop, a dozen a

@@ -49,8 +49,13 @@ pub struct StepTimings {
     pub transitions: u32,
     /// Blades away from rest (being recovered).
     pub displaced_blades: u32,
-    /// Sub-steps this step was split into.
+    /// Sub-steps this step was split into (its main pass's).
     pub substeps: u32,
+    /// Bodies that touched the grass in far passes this step (ours,
+    /// `sim.far_every > 1`: far bodies taking their turn, and bodies
+    /// catching up; [`crate::step::passes`]); 0 when every body steps every
+    /// step.
+    pub far_bodies: u32,
     /// Sub-steps the fastest object needed; more than `substeps` when
     /// `sim.max_substeps` clamped them (see `SubstepClamp`).
     pub substeps_needed: u32,
