@@ -263,6 +263,8 @@ fn cases() -> Vec<(&'static str, Want, String)> {
         e("far_every huge", sim("far_every = 65")),
         e("far_beyond negative", sim("far_beyond_m = -1.0")),
         e("far_beyond nan", sim("far_beyond_m = nan")),
+        e("far_travel zero", sim("far_travel_m = 0.0")),
+        e("far_travel nan", sim("far_travel_m = nan")),
         e("memory limit zero", sim("memory_limit_gib = 0.0")),
         e("contact shell zero", sim("contact_shell_m = 0.0")),
         e("contact shell nan", sim("contact_shell_m = nan")),

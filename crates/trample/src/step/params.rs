@@ -90,6 +90,15 @@ pub struct SimParams {
     /// end of billboards, beyond which the grass is drawn as ground.
     /// Finite, >= 0.
     pub far_beyond_m: f32,
+    /// How far a body may move in one sub-step of its far turn, metres
+    /// (besides DESIGN §9's own thickness; [`crate::step::passes`]): a
+    /// turn covers `far_every` frames of travel, and a body presses the
+    /// grass flat only where its pinned patch passes (`deform::contact`;
+    /// about 0.2 m across under a 1 m ball), so longer sub-steps leave a
+    /// dotted, less flattened track. Default 0.25: at `far_every = 8` the
+    /// far tracks keep 88 % of the every-frame flattening (`inf`: 73 %, and
+    /// cheaper: BENCHMARKS.md, "Session 14"). > 0, or `inf` for no bound.
+    pub far_travel_m: f32,
 }
 
 impl Default for SimParams {
@@ -112,6 +121,7 @@ impl Default for SimParams {
             track_everywhere: true,
             far_every: 1,
             far_beyond_m: 30.0,
+            far_travel_m: 0.25,
         }
     }
 }
@@ -221,6 +231,13 @@ impl SimParams {
                 "far_beyond_m",
                 f64::from(self.far_beyond_m),
                 "must be a finite distance >= 0 metres",
+            );
+        }
+        if self.far_travel_m.is_nan() || self.far_travel_m <= 0.0 {
+            return err(
+                "far_travel_m",
+                f64::from(self.far_travel_m),
+                "must be > 0 metres, or inf for no bound",
             );
         }
         if !(self.memory_limit_gib.is_finite() && self.memory_limit_gib > 0.0) {

@@ -17,7 +17,8 @@
 //!   (usually one, `k` steps back; a body that just became far starts
 //!   later): those bodies alone, from the end of the last step they took
 //!   part in to the end of this one, sub-stepped for their own travel
-//!   (DESIGN §9): collision, forces (Eq. 2), propagation (Eq. 4), bending
+//!   (DESIGN §9, and no farther than `sim.far_travel_m` a sub-step, so that
+//!   the patch a body presses flat is not left dotted): collision, forces (Eq. 2), propagation (Eq. 4), bending
 //!   (Eq. 5–7, the displacement `F · h` with the pass's `h`) and contact.
 //!
 //! Far bodies not due this step do not touch the grass. A body that sat
@@ -57,7 +58,12 @@ pub struct Pass {
 
 impl Pass {
     fn new(sim: &Simulation, active: Vec<bool>, start: f64, dt: f32, main: bool) -> Self {
-        let plan = plan_substeps_of(sim, Some(&active), start, dt);
+        let max_travel = if main {
+            f32::INFINITY
+        } else {
+            sim.params.far_travel_m
+        };
+        let plan = plan_substeps_of(sim, Some(&active), start, dt, max_travel);
         Self {
             active,
             start,

@@ -60,16 +60,19 @@ pub struct SubstepPlan {
 /// Plans the sub-steps of a step of `dt` from each body's travel (and spin,
 /// measured at the root box's half diagonal) between the step's ends.
 pub fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
-    plan_substeps_of(sim, None, sim.time, dt)
+    plan_substeps_of(sim, None, sim.time, dt, f32::INFINITY)
 }
 
 /// [`plan_substeps`] for the bodies `active` marks (every body with `None`)
-/// over `dt` seconds from `start` (a pass of [`super::passes`]).
+/// over `dt` seconds from `start` (a pass of [`super::passes`]), no body's
+/// position moving farther than `max_travel` metres a sub-step either (its
+/// spin aside: the patch it presses flat moves with its position).
 pub fn plan_substeps_of(
     sim: &Simulation,
     active: Option<&[bool]>,
     start: f64,
     dt: f32,
+    max_travel: f32,
 ) -> SubstepPlan {
     let t0 = start as f32;
     let (mut needed, mut fastest) = (1u32, None);
@@ -95,11 +98,12 @@ pub fn plan_substeps_of(
                 * (a.angular_velocity.length() + b.angular_velocity.length())
                 * root.half_diagonal()
                 * dt;
-            let travel = a.position.distance(b.position) + spin;
+            let moved = a.position.distance(b.position);
+            let travel = moved + spin;
             let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
             if travel.is_finite() && allowed > 0.0 {
                 // `as` saturates: an absurd speed needs u32::MAX, not a wrap.
-                let k = (travel / allowed).ceil() as u32;
+                let k = ((travel / allowed).ceil() as u32).max((moved / max_travel).ceil() as u32);
                 if k > needed {
                     (needed, fastest) = (k, Some(i));
                 }
