@@ -18,21 +18,23 @@
 //!   later): those bodies alone, from the end of the last step they took
 //!   part in to the end of this one, sub-stepped for their own travel
 //!   (DESIGN §9, and no farther than `sim.far_travel_m` a sub-step, so that
-//!   the patch a body presses flat is not left dotted): collision, forces (Eq. 2), propagation (Eq. 4), bending
-//!   (Eq. 5–7, the displacement `F · h` with the pass's `h`) and contact.
+//!   the patch a body presses flat is not left dotted): collision, forces
+//!   (Eq. 2), propagation (Eq. 4), bending (Eq. 5–7, the displacement
+//!   `F · h` with the pass's `h`) and contact.
 //!
 //! Far bodies not due this step do not touch the grass. A body that sat
 //! out steps and is near now (the camera came, or it did) catches up in a
-//! pass of its own from where it stopped, and steps with the others after. A turn is a step of
-//! `k` frames for that body, so the track it leaves is the one the whole
-//! field gets stepped at `k · dt` (the bending is frame-rate independent,
-//! DESIGN §6, the closer the finer the step: measured in
+//! pass of its own from where it stopped, and steps with the others after.
+//! A turn is a coarser step for that body, so its track is no farther from
+//! the every-frame one than that of the whole field stepped at `k · dt`
+//! (the bending is frame-rate independent, DESIGN §6, the closer the finer
+//! the step; the travel bound brings it closer: measured in
 //! `tests/sim_far_objects.rs`), laid `k` frames at a time where the camera
-//! sees it as ground or billboards. A blade a far body holds is not held on the
-//! steps between (it recovers there as any blade when `recovery_s` is
+//! sees it as ground or billboards. A blade a far body holds is not held on
+//! the steps between (it recovers there as any blade when `recovery_s` is
 //! finite, and is pressed again on the next turn). Both paths run the
-//! passes planned here (STYLE rule 9): the CPU in [`super::Simulation::step`],
-//! the GPU path in its own outer loop.
+//! passes planned here (STYLE rule 9): the CPU in
+//! [`super::Simulation::step`], the GPU path in its own outer loop.
 
 use super::body::Body;
 use super::simulation::Simulation;
