@@ -21,30 +21,40 @@ use trample_testkit::scenes;
 /// A box sliding and a ball rolling through a 12.8 m field, the camera
 /// `eye_z` metres away (400: both far; 8: both near), `far_every = k`.
 fn field_watched_from(eye_z: f32, k: u32) -> Simulation {
-    let toml = format!(
+    far_field(
+        eye_z,
+        &format!("far_every = {k}"),
+        r#"
+[[objects]]
+name = "ball"
+shape = { kind = "sphere", radius_m = 0.6 }
+orientation = "rolling"
+path = { kind = "line", from = [-5.0, 0.6, -2.0], to = [5.0, 0.6, -2.0], duration_s = 4.0 }
+[[objects]]
+name = "box"
+shape = { kind = "box", half_extents_m = [0.5, 0.3, 0.4] }
+orientation = "face_motion"
+path = { kind = "circle", center = [0.0, 0.3, 2.5], radius_m = 2.5, period_s = 6.0 }
+"#,
+    )
+}
+
+/// A 12.8 m field at precision 5 with `sim` (more `[sim]` lines) and
+/// `objects`, the camera `eye_z` metres from its centre.
+fn far_field(eye_z: f32, sim: &str, objects: &str) -> Simulation {
+    sim_from(&format!(
         r#"
 [field]
 patches = [4, 4]
 cells_per_patch = 32
 [sim]
 precision = 5
-far_every = {k}
+{sim}
 [camera]
 path = {{ kind = "static", position = [0.0, 3.0, {eye_z}] }}
 look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
-[[objects]]
-name = "ball"
-shape = {{ kind = "sphere", radius_m = 0.6 }}
-orientation = "rolling"
-path = {{ kind = "line", from = [-5.0, 0.6, -2.0], to = [5.0, 0.6, -2.0], duration_s = 4.0 }}
-[[objects]]
-name = "box"
-shape = {{ kind = "box", half_extents_m = [0.5, 0.3, 0.4] }}
-orientation = "face_motion"
-path = {{ kind = "circle", center = [0.0, 0.3, 2.5], radius_m = 2.5, period_s = 6.0 }}
-"#
-    );
-    sim_from(&toml)
+{objects}"#
+    ))
 }
 
 /// A far body's turn is a step of `k` frames for that body: its track
@@ -285,26 +295,17 @@ fn a_body_that_comes_near_catches_up_from_its_last_turn() {
 /// A 2 m ball rolling at 5 m/s through a 12.8 m field watched from 400 m,
 /// `far_every = k`, `far_travel_m = travel`, after 2.5 s.
 fn fast_ball(k: u32, travel: f32) -> Simulation {
-    let toml = format!(
+    let mut sim = far_field(
+        400.0,
+        &format!("far_every = {k}\nfar_travel_m = {travel}"),
         r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 32
-[sim]
-precision = 5
-far_every = {k}
-far_travel_m = {travel}
-[camera]
-path = {{ kind = "static", position = [0.0, 3.0, 400.0] }}
-look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
 [[objects]]
 name = "ball"
-shape = {{ kind = "sphere", radius_m = 1.0 }}
+shape = { kind = "sphere", radius_m = 1.0 }
 orientation = "rolling"
-path = {{ kind = "line", from = [-5.0, 1.0, 0.0], to = [5.0, 1.0, 0.0], duration_s = 2.0 }}
-"#
+path = { kind = "line", from = [-5.0, 1.0, 0.0], to = [5.0, 1.0, 0.0], duration_s = 2.0 }
+"#,
     );
-    let mut sim = sim_from(&toml);
     sim.run(150).unwrap();
     sim
 }
