@@ -101,6 +101,9 @@ pub struct SimSummary {
     /// Bodies stepped in far passes a step, on average over the run (0
     /// with `far_every = 1`).
     pub far_bodies_mean: f64,
+    /// Sub-steps a step's main pass was split into, on average over the
+    /// run (DESIGN §9: the fastest object sets it for every object).
+    pub substeps_mean: f64,
     /// Steps in which an object needed more than `sim.max_substeps` sub-steps.
     pub substeps_clamped_steps: u64,
     /// The first such step, in words (null when none).
@@ -157,6 +160,8 @@ impl SimSummary {
                 .iter()
                 .map(|t| f64::from(t.far_bodies))
                 .sum::<f64>()
+                / rec.steps.len().max(1) as f64,
+            substeps_mean: rec.steps.iter().map(|t| f64::from(t.substeps)).sum::<f64>()
                 / rec.steps.len().max(1) as f64,
             substeps_clamped_steps: sim.substep_clamps,
             first_substep_clamp: sim.first_substep_clamp.as_ref().map(ToString::to_string),

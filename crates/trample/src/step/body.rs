@@ -75,6 +75,9 @@ pub struct Body {
     /// The time up to which the body has touched the grass, seconds: the
     /// end of the last step it took part in ([`crate::step::passes`]).
     pub(crate) stepped_to: f64,
+    /// What each collider kept while at rest ([`super::at_rest`]), by
+    /// collider index; grown on first use.
+    pub(crate) rest: Vec<super::at_rest::ColliderMemo>,
 }
 
 impl Body {
@@ -127,6 +130,7 @@ impl Body {
             parts,
             rig,
             stepped_to: 0.0,
+            rest: Vec::new(),
         };
         body.set_time(0.0);
         body

@@ -1,6 +1,7 @@
 //! Stages 4–5 of a sub-step (DESIGN §7): the narrow phase of one object over
 //! the blades the broad phase kept, and the forces of Eq. 2 it gives.
 
+use super::at_rest::{ColliderMemo, NarrowPlan, RestKey};
 use super::body::Body;
 use super::simulation::Simulation;
 use super::stages::{DBG_WEIGHT, reach_rect};
@@ -9,7 +10,7 @@ use crate::collision::narrow_phase::{
     BladeContacts, LocalMotion, box_clear_of, box_outside, contact_blade, contact_blade_near,
     final_nodes_near,
 };
-use crate::field::Lod;
+use crate::field::{Blades, Lod};
 use crate::force::eqf::eqf;
 use crate::obb::ObbTree;
 use crate::object::Pose;
@@ -43,6 +44,10 @@ struct ColliderNarrow<'a> {
     candidates: Vec<u32>,
     /// Each tile's range in `candidates`.
     tiles: Vec<(u32, u32)>,
+    /// What the collider reads besides the blades, when it may be at rest
+    /// ([`super::at_rest`]; `None`: an animated body, the paper's mode, or
+    /// `sim.reuse_at_rest = false`).
+    key: Option<RestKey>,
 }
 
 impl<'a> ColliderNarrow<'a> {
@@ -56,6 +61,20 @@ impl<'a> ColliderNarrow<'a> {
         let pose = *collider.pose;
         let tree = collider.tree;
         let inverse = pose.rotation.inverse();
+        let params = &sim.params;
+        let key =
+            (params.reuse_at_rest && params.track_everywhere && body.object.animated.is_none())
+                .then(|| {
+                    RestKey::new(
+                        &pose,
+                        tree,
+                        h,
+                        params.precision,
+                        shell,
+                        body.object.track.press,
+                        sim.field.max_blade_length + shell,
+                    )
+                });
         Self {
             tree,
             pose,
@@ -68,6 +87,7 @@ impl<'a> ColliderNarrow<'a> {
             },
             candidates,
             tiles,
+            key,
         }
     }
 
@@ -192,34 +212,79 @@ pub(crate) fn narrow_phase(
     colliders: &[(usize, usize)],
     patches: &[Vec<u32>],
     h: f32,
+    memos: &mut [ColliderMemo],
     tm: &mut StepTimings,
-) -> Vec<Vec<BladeHit>> {
+) -> (Vec<Vec<BladeHit>>, Vec<Option<RestKey>>) {
     let jobs: Vec<ColliderNarrow> = colliders
         .iter()
         .zip(patches)
         .map(|(&(i, k), p)| ColliderNarrow::new(sim, &sim.bodies[i], k, p, h))
         .collect();
     tm.narrow_candidates += jobs.iter().map(|j| j.candidates.len() as u32).sum::<u32>();
+    // Colliders at rest take the kept hits of the tiles whose blades did
+    // not change (`super::at_rest`).
+    let plans: Vec<NarrowPlan> = jobs
+        .iter()
+        .zip(memos.iter_mut())
+        .map(|(job, memo)| memo.plan(job.key, &job.candidates, &job.tiles))
+        .collect();
     let work: Vec<(usize, usize)> = jobs
         .iter()
         .enumerate()
         .flat_map(|(j, job)| (0..job.tiles.len()).map(move |t| (j, t)))
         .collect();
-    let found: Vec<Vec<BladeHit>> = work
+    let blades = &sim.field.blades;
+    let n = blades.segments;
+    let kept: &[ColliderMemo] = memos;
+    let found: Vec<(Vec<BladeHit>, Option<Vec<Vec3>>)> = work
         .par_iter()
         .map_init(
             || (BladeContacts::default(), TileScratch::default()),
-            |(contacts, scratch), &(j, t)| jobs[j].tile_hits(sim, t, contacts, scratch),
+            |(contacts, scratch), &(j, t)| {
+                let plan = plans[j];
+                let (start, end) = jobs[j].tiles[t];
+                let tile = &jobs[j].candidates[start as usize..end as usize];
+                if plan == NarrowPlan::Reuse {
+                    if let Some(hits) = kept[j].kept_tile(t, n, tile_vertices(blades, tile)) {
+                        return (hits.to_vec(), None);
+                    }
+                }
+                let hits = jobs[j].tile_hits(sim, t, contacts, scratch);
+                let copy = (plan != NarrowPlan::Plain)
+                    .then(|| tile_vertices(blades, tile).map(Vec3::from).collect());
+                (hits, copy)
+            },
         )
         .collect();
     let mut per_collider = vec![Vec::new(); jobs.len()];
-    for (&(j, _), hits) in work.iter().zip(found) {
+    let mut tested: Vec<Vec<Option<(Vec<Vec3>, Vec<BladeHit>)>>> =
+        jobs.iter().map(|job| vec![None; job.tiles.len()]).collect();
+    for (&(j, t), (hits, copy)) in work.iter().zip(found) {
+        if let Some(verts) = copy {
+            tested[j][t] = Some((verts, hits.clone()));
+        }
         per_collider[j].extend(hits);
+    }
+    for (((job, memo), plan), tested) in jobs.iter().zip(memos.iter_mut()).zip(&plans).zip(tested) {
+        memo.keep_tiles(*plan, &job.candidates, &job.tiles, n, tested);
     }
     for hits in &mut per_collider {
         hits.sort_unstable_by_key(|hit| hit.blade);
     }
-    per_collider
+    let keys = memos
+        .iter()
+        .zip(&plans)
+        .map(|(memo, &plan)| memo.rest_key(plan))
+        .collect();
+    (per_collider, keys)
+}
+
+/// The vertices of a tile's blades as a collider at rest keeps them
+/// ([`super::at_rest`]): vertex by vertex, each over the tile's blades —
+/// the field's own vertex-major order, so that comparing them streams
+/// through memory.
+fn tile_vertices<'a>(blades: &'a Blades, tile: &'a [u32]) -> impl Iterator<Item = Vec3A> + 'a {
+    (0..=blades.segments).flat_map(move |k| tile.iter().map(move |&b| blades.vertex(b as usize, k)))
 }
 
 /// Whether the blades of `tile` surely have no contact with `tree` (posed

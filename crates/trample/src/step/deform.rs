@@ -3,6 +3,7 @@
 //! paper's mode; from their blades, Eq. 9–12, otherwise) and the
 //! transitions between levels of detail (Eq. 9–13).
 
+use super::at_rest::{ColliderMemo, RestKey};
 use super::simulation::Simulation;
 use super::stages::{mark_displaced, reach_rect, sort_displaced};
 use crate::collision::segment_obb::segment_hits_obb;
@@ -74,6 +75,8 @@ pub(crate) fn resolve_contacts(
     sim: &mut Simulation,
     colliders: &[(usize, usize)],
     patch_hits: &[Vec<u32>],
+    keys: &[Option<RestKey>],
+    memos: &mut [ColliderMemo],
 ) -> Vec<u32> {
     let n = sim.field.blades.segments;
     let per_patch = sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize;
@@ -87,7 +90,8 @@ pub(crate) fn resolve_contacts(
     touched.sort_unstable();
     touched.dedup();
     let mut out = Vec::new();
-    for (&(i, k), patches) in colliders.iter().zip(patch_hits) {
+    for (((&(i, k), patches), &key), memo) in colliders.iter().zip(patch_hits).zip(keys).zip(memos)
+    {
         let collider = sim.bodies[i].collider(k);
         // The touched blades in the collider's patches: blades are stored
         // patch by patch and `touched` is sorted, so each listed patch
@@ -101,36 +105,56 @@ pub(crate) fn resolve_contacts(
             list.extend_from_slice(&touched[lo..hi]);
         }
         if list.is_empty() {
+            memo.keep_blades(None, Vec::new());
             continue;
         }
         let blades = &sim.field.blades;
         let terrain = &sim.field.terrain;
         let mask = &sim.scratch.mask;
+        let kept: &ColliderMemo = memo;
         let mut work = vec![Vec3A::ZERO; list.len() * (n + 1)];
-        let mut moved = vec![false; list.len()];
+        // Per blade: whether it moved, and whether it is where it was
+        // found (a fixed point a collider at rest keeps, `super::at_rest`).
+        let mut moved = vec![(false, false); list.len()];
         work.par_chunks_mut(n + 1)
             .zip(moved.par_iter_mut())
             .zip(list.par_iter())
             .for_each(|((v, moved), &b)| {
                 let b = b as usize;
                 blades.load(b, v);
-                *moved = resolve_contact(
+                let first = mask[b].trailing_zeros();
+                let seg_len = blades.seg_len[b];
+                if let Some(was) = kept.kept_blade(key, b as u32, first, seg_len, v) {
+                    *moved = (was, true);
+                    return;
+                }
+                let mut before = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+                before[..=n].copy_from_slice(v);
+                let m = resolve_contact(
                     v,
-                    blades.seg_len[b],
-                    mask[b].trailing_zeros() as usize,
+                    seg_len,
+                    first as usize,
                     collider.pose,
                     collider.tree,
                     terrain,
                     GROUND_CLEARANCE_M,
-                    blades.seg_len[b],
+                    seg_len,
                 );
+                *moved = (m, key.is_some() && v == &before[..=n]);
             });
-        for ((v, &b), &m) in work.chunks_exact(n + 1).zip(&list).zip(&moved) {
+        let mut resting = Vec::new();
+        for ((v, &b), &(m, fixed)) in work.chunks_exact(n + 1).zip(&list).zip(&moved) {
             if m {
                 sim.field.blades.store(b as usize, v);
                 out.push(b);
             }
+            if fixed {
+                let first = sim.scratch.mask[b as usize].trailing_zeros();
+                let seg_len = sim.field.blades.seg_len[b as usize];
+                resting.push((b, ColliderMemo::resting(first, seg_len, m, v)));
+            }
         }
+        memo.keep_blades(key, resting);
     }
     for &b in &out {
         mark_displaced(sim, b);

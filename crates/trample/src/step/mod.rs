@@ -1,5 +1,6 @@
 //! One simulation step (DESIGN §7) and the parameters and timings around it.
 
+mod at_rest;
 pub mod blade_class;
 pub mod bodies;
 pub mod body;

@@ -99,6 +99,15 @@ pub struct SimParams {
     /// far tracks keep 88 % of the every-frame flattening (`inf`: 73 %, and
     /// cheaper: BENCHMARKS.md, "Session 14"). > 0, or `inf` for no bound.
     pub far_travel_m: f32,
+    /// Colliders at rest reuse their work (ours, `step::at_rest`): while
+    /// an object's pose and velocities stay the same bits from one sub-step
+    /// to the next, its narrow phase takes the hits it kept for each tile
+    /// whose blades did not change, and its contact response leaves
+    /// without a query each blade it left as it found it and that is still
+    /// those bits. The same answers bit for bit; a parked object then costs
+    /// a comparison of the blades under it instead of its queries. Default
+    /// `true`; `false` runs every query every sub-step.
+    pub reuse_at_rest: bool,
 }
 
 impl Default for SimParams {
@@ -122,6 +131,7 @@ impl Default for SimParams {
             far_every: 1,
             far_beyond_m: 30.0,
             far_travel_m: 0.25,
+            reuse_at_rest: true,
         }
     }
 }

@@ -5,6 +5,7 @@
 //! and forces; `deform.rs`: bending, contact, billboards, transitions;
 //! `recover.rs`: recovery).
 
+use super::at_rest::ColliderMemo;
 use super::blade_class::BladeClass;
 use super::collide::{accumulate_contacts, narrow_phase};
 use super::deform::{
@@ -188,7 +189,19 @@ pub(crate) fn substep(sim: &mut Simulation, pass: &Pass, t: f32, h: f32, tm: &mu
     // Narrow phase and EqF per blade (Eq. 2), collider by collider; the
     // blades count as pressed by the collider's body.
     let clock = Instant::now();
-    let found = narrow_phase(sim, &colliders, &patch_hits, h, tm);
+    // What each collider kept while at rest (`super::at_rest`), taken out
+    // of its body for the sub-step.
+    let mut memos: Vec<ColliderMemo> = colliders
+        .iter()
+        .map(|&(i, k)| {
+            let rest = &mut sim.bodies[i].rest;
+            if rest.len() <= k {
+                rest.resize(k + 1, ColliderMemo::default());
+            }
+            std::mem::take(&mut rest[k])
+        })
+        .collect();
+    let (found, rest_keys) = narrow_phase(sim, &colliders, &patch_hits, h, &mut memos, tm);
     tm.narrow_ms += ms(clock);
     let clock = Instant::now();
     for (&(i, _), hits) in colliders.iter().zip(&found) {
@@ -275,12 +288,15 @@ pub(crate) fn substep(sim: &mut Simulation, pass: &Pass, t: f32, h: f32, tm: &mu
     tm.deformation_ms += ms(clock);
     let clock = Instant::now();
     if sim.params.contact {
-        let moved = resolve_contacts(sim, &colliders, &patch_hits);
+        let moved = resolve_contacts(sim, &colliders, &patch_hits, &rest_keys, &mut memos);
         let n = moved.len() as u32;
         tm.contact_blades = if pass.main { n } else { tm.contact_blades + n };
         changed.extend(moved);
     }
     tm.contact_ms += ms(clock);
+    for (&(i, k), memo) in colliders.iter().zip(memos) {
+        sim.bodies[i].rest[k] = memo;
+    }
     let clock = Instant::now();
     if !sim.params.track_everywhere {
         tm.bbg_cells += bend_billboards(sim, &colliders, &patch_hits);

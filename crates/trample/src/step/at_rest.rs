@@ -1,0 +1,304 @@
+//! Colliders at rest (ours; `sim.reuse_at_rest`): a parked car, a standing
+//! character, a ball that stopped keep costing their full narrow phase and
+//! contact response every step — 128 parked objects on `herd_small` 61 ms
+//! a step, forever — although nothing under them changes.
+//!
+//! Both stages are pure functions of what they read. The narrow phase of a
+//! tile ([`super::collide`]) reads the tile's blade vertices and, besides,
+//! only the collider's pose and velocities, its tree, the sub-step's length
+//! and four parameters ([`RestKey`]); the contact response of one blade
+//! ([`crate::deform::contact::resolve_contact`]) reads the blade's vertices,
+//! its segment length, its lowest touched segment, the pose and the tree.
+//! So, while a collider's [`RestKey`] is the one of its sub-step before,
+//! bit for bit:
+//!
+//! - the narrow phase keeps each tile's hits with a copy of the tile's
+//!   vertices, and a tile whose vertices are still those bits takes its kept
+//!   hits instead of being tested again;
+//! - the contact response keeps each blade it left as it found it (a blade
+//!   at its fixed point: resting against the object, or pinned flat under
+//!   it), and a blade found again with the same bits, segment length and
+//!   lowest touched segment is left again without a query, counted as moved
+//!   or not as it was then.
+//!
+//! The answers are those of the stages, bit for bit (`tests/at_rest.rs`
+//! steps scenes with parked, stopping, starting and passing objects with
+//! `reuse_at_rest` on and off and compares every blade). A moving collider
+//! pays one key comparison a sub-step and keeps nothing; a collider at rest
+//! keeps a copy of the blades its root box may reach (about 100 KB for a
+//! car) and pays a comparison of them a sub-step instead of its queries.
+//! Not for animated bodies (their trees are refitted in place) or in the
+//! paper's mode (`sim.track_everywhere = false`, where a cell's level of
+//! detail also decides what is tested).
+
+use super::collide::BladeHit;
+use crate::field::MAX_SEGMENTS;
+use crate::obb::ObbTree;
+use crate::object::Pose;
+use glam::{Vec3, Vec3A};
+
+/// Everything a collider's narrow phase and contact response read besides
+/// the blades, as bits: its pose and velocities, the sub-step's length,
+/// `sim.precision`, `sim.contact_shell_m`, the object's press, the reach of
+/// its candidate rectangle, and which tree (by address and size: an
+/// animated body's tree, refitted in place, is never keyed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct RestKey {
+    bits: [u32; 18],
+    tree: (usize, usize),
+}
+
+impl RestKey {
+    /// The key of a collider at `pose` with `tree`, in a sub-step of `h`
+    /// seconds.
+    pub(crate) fn new(
+        pose: &Pose,
+        tree: &ObbTree,
+        h: f32,
+        precision: u32,
+        shell: f32,
+        press: f32,
+        reach: f32,
+    ) -> Self {
+        let mut bits = [0; 18];
+        let values = pose
+            .position
+            .to_array()
+            .into_iter()
+            .chain(pose.rotation.to_array())
+            .chain(pose.velocity.to_array())
+            .chain(pose.angular_velocity.to_array())
+            .chain([h, shell, press, reach]);
+        for (b, v) in bits.iter_mut().zip(values) {
+            *b = v.to_bits();
+        }
+        bits[17] = precision;
+        Self {
+            bits,
+            tree: (std::ptr::from_ref(tree) as usize, tree.nodes.len()),
+        }
+    }
+}
+
+/// What a collider at rest kept from its latest sub-steps.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ColliderMemo {
+    /// The key of the latest sub-step the collider took part in.
+    last: Option<RestKey>,
+    /// The narrow phase's tiles, with the key they were tested under.
+    narrow: Option<NarrowMemo>,
+    /// The contact response's blades at their fixed point.
+    contact: Option<ContactMemo>,
+}
+
+#[derive(Clone, Debug)]
+struct NarrowMemo {
+    key: RestKey,
+    candidates: Vec<u32>,
+    tiles: Vec<(u32, u32)>,
+    /// The candidates' vertices, world, as tested, tile by tile: each
+    /// tile's `n + 1` vertices, each over the tile's blades.
+    verts: Vec<Vec3>,
+    /// Each tile's hits.
+    hits: Vec<Vec<BladeHit>>,
+}
+
+#[derive(Clone, Debug)]
+struct ContactMemo {
+    key: RestKey,
+    /// Ascending.
+    blades: Vec<u32>,
+    entries: Vec<RestingBlade>,
+}
+
+/// A blade the contact response left as it found it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RestingBlade {
+    first: u32,
+    seg_len: u32,
+    moved: bool,
+    verts: [Vec3; MAX_SEGMENTS + 1],
+}
+
+/// How a collider's narrow phase runs this sub-step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum NarrowPlan {
+    /// Moving, or not keyed: every tile tested, nothing kept.
+    Plain,
+    /// At rest since the sub-step before: every tile tested and kept.
+    Record,
+    /// At rest with kept tiles: a tile whose vertices are the kept bits
+    /// takes its kept hits; the others are tested and kept.
+    Reuse,
+}
+
+/// Whether two vertices have the same bits (`==` would take `-0.0` for
+/// `0.0`).
+fn same_bits(a: Vec3A, b: Vec3) -> bool {
+    a.x.to_bits() == b.x.to_bits()
+        && a.y.to_bits() == b.y.to_bits()
+        && a.z.to_bits() == b.z.to_bits()
+}
+
+/// Whether `verts` (a blade's or a tile's vertices now) are `kept`, bit for bit.
+pub(crate) fn same_vertices(verts: impl IntoIterator<Item = Vec3A>, kept: &[Vec3]) -> bool {
+    let mut n = 0;
+    for (v, k) in verts.into_iter().zip(kept) {
+        if !same_bits(v, *k) {
+            return false;
+        }
+        n += 1;
+    }
+    n == kept.len()
+}
+
+impl ColliderMemo {
+    /// The plan of this sub-step for a collider with `key` (`None`: not
+    /// keyed) over `candidates` in `tiles`; forgets what a moving collider
+    /// kept.
+    pub(crate) fn plan(
+        &mut self,
+        key: Option<RestKey>,
+        candidates: &[u32],
+        tiles: &[(u32, u32)],
+    ) -> NarrowPlan {
+        let last = std::mem::replace(&mut self.last, key);
+        let Some(key) = key else {
+            (self.narrow, self.contact) = (None, None);
+            return NarrowPlan::Plain;
+        };
+        if self
+            .narrow
+            .as_ref()
+            .is_some_and(|m| m.key == key && m.candidates == candidates && m.tiles == tiles)
+        {
+            return NarrowPlan::Reuse;
+        }
+        self.narrow = None;
+        if last == Some(key) {
+            NarrowPlan::Record
+        } else {
+            self.contact = None;
+            NarrowPlan::Plain
+        }
+    }
+
+    /// The kept hits of tile `t` when its vertices `now` are the kept bits
+    /// (plan [`NarrowPlan::Reuse`], under which the tiles are the kept
+    /// ones); a tile's vertices are kept vertex by vertex, each over the
+    /// tile's blades (the field's vertex-major order,
+    /// [`crate::field::Blades::pos`]).
+    pub(crate) fn kept_tile(
+        &self,
+        t: usize,
+        segments: usize,
+        now: impl IntoIterator<Item = Vec3A>,
+    ) -> Option<&[BladeHit]> {
+        let m = self.narrow.as_ref()?;
+        let (start, end) = m.tiles[t];
+        let kept = &m.verts[start as usize * (segments + 1)..end as usize * (segments + 1)];
+        same_vertices(now, kept).then_some(m.hits[t].as_slice())
+    }
+
+    /// Keeps what the narrow phase found under `plan`: for
+    /// [`NarrowPlan::Record`] every tile, for [`NarrowPlan::Reuse`] the
+    /// tiles it tested again; `tested[t]` is `Some((vertices, hits))` for a
+    /// tile tested and kept this sub-step.
+    pub(crate) fn keep_tiles(
+        &mut self,
+        plan: NarrowPlan,
+        candidates: &[u32],
+        tiles: &[(u32, u32)],
+        segments: usize,
+        tested: Vec<Option<(Vec<Vec3>, Vec<BladeHit>)>>,
+    ) {
+        let per = segments + 1;
+        match plan {
+            NarrowPlan::Plain => {}
+            NarrowPlan::Record => {
+                let Some(key) = self.last else { return };
+                let mut verts = Vec::with_capacity(candidates.len() * per);
+                let mut hits = Vec::with_capacity(tiles.len());
+                for t in tested {
+                    let Some((v, h)) = t else { return };
+                    verts.extend(v);
+                    hits.push(h);
+                }
+                self.narrow = Some(NarrowMemo {
+                    key,
+                    candidates: candidates.to_vec(),
+                    tiles: tiles.to_vec(),
+                    verts,
+                    hits,
+                });
+            }
+            NarrowPlan::Reuse => {
+                let Some(m) = self.narrow.as_mut() else {
+                    return;
+                };
+                for (t, tested) in tested.into_iter().enumerate() {
+                    if let Some((v, h)) = tested {
+                        let start = m.tiles[t].0 as usize * per;
+                        m.verts[start..start + v.len()].copy_from_slice(&v);
+                        m.hits[t] = h;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The kept contact response of blade `b` (lowest touched segment
+    /// `first`, segment length `seg_len`, vertices `verts` now) for a
+    /// collider keyed `key`: whether it counted as moved, when the blade is
+    /// as it was kept.
+    pub(crate) fn kept_blade(
+        &self,
+        key: Option<RestKey>,
+        b: u32,
+        first: u32,
+        seg_len: f32,
+        verts: &[Vec3A],
+    ) -> Option<bool> {
+        let m = self.contact.as_ref().filter(|m| Some(m.key) == key)?;
+        let e = &m.entries[m.blades.binary_search(&b).ok()?];
+        (e.first == first
+            && e.seg_len == seg_len.to_bits()
+            && same_vertices(verts.iter().copied(), &e.verts[..verts.len()]))
+        .then_some(e.moved)
+    }
+
+    /// A blade at its fixed point, to keep ([`ColliderMemo::keep_blades`]).
+    pub(crate) fn resting(first: u32, seg_len: f32, moved: bool, verts: &[Vec3A]) -> RestingBlade {
+        let mut kept = [Vec3::ZERO; MAX_SEGMENTS + 1];
+        for (k, v) in kept.iter_mut().zip(verts) {
+            *k = Vec3::from(*v);
+        }
+        RestingBlade {
+            first,
+            seg_len: seg_len.to_bits(),
+            moved,
+            verts: kept,
+        }
+    }
+
+    /// Keeps the contact response's blades at their fixed point
+    /// (`resting`, ascending by blade) for a collider keyed `key` (`None`:
+    /// nothing kept).
+    pub(crate) fn keep_blades(&mut self, key: Option<RestKey>, resting: Vec<(u32, RestingBlade)>) {
+        self.contact = key.map(|key| {
+            let (blades, entries) = resting.into_iter().unzip();
+            ContactMemo {
+                key,
+                blades,
+                entries,
+            }
+        });
+    }
+
+    /// The key under which this collider is at rest this sub-step: its key
+    /// when its narrow phase ran under [`NarrowPlan::Record`] or
+    /// [`NarrowPlan::Reuse`].
+    pub(crate) fn rest_key(&self, plan: NarrowPlan) -> Option<RestKey> {
+        (plan != NarrowPlan::Plain).then_some(self.last).flatten()
+    }
+}
