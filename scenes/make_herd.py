@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Writes scenes/herd.toml and scenes/herd_small.toml: 128 mixed objects
 (balls, boxes, knots, the beetle car, the cow) each circling somewhere on a
-large field (issue 16). Run from the repository root:
+large field (issue 16); and scenes/herd_parked.toml: the same 128 objects
+on herd.toml's field, parked where their circles start (objects at rest,
+`sim.reuse_at_rest`). Run from the repository root:
 
     python3 scenes/make_herd.py
 
@@ -17,9 +19,10 @@ KINDS = ["ball"] * 32 + ["box"] * 32 + ["knot"] * 24 + ["car"] * 20 + ["cow"] * 
 assert len(KINDS) == 128
 
 
-def objects(extent_m, seed, radius_range):
+def objects(extent_m, seed, radius_range, parked=False):
     """One [[objects]] block per object, on a jittered 16 x 8 grid over a
-    square field of side extent_m centred on the origin."""
+    square field of side extent_m centred on the origin; parked: standing
+    still where its circle starts."""
     rng = random.Random(seed)
     kinds = KINDS[:]
     rng.shuffle(kinds)
@@ -58,15 +61,21 @@ def objects(extent_m, seed, radius_range):
             shape = '{ kind = "mesh", path = "meshes/spot.obj", anchor = "bottom" }'
             extra = 'scale = 1.4\norientation = "face_motion"'
             y = 0.0
-        out.append(
-            f'[[objects]]\nname = "{name}"\nshape = {shape}\n{extra}\n'
-            f'path = {{ kind = "circle", center = [{cx:.2f}, {y}, {cz:.2f}], '
-            f"radius_m = {r:.2f}, period_s = {period:.2f}, phase_rad = {phase:.3f} }}\n"
-        )
+        if parked:
+            extra = "\n".join(l for l in extra.split("\n") if not l.startswith("orientation"))
+            x, z = cx + r * math.cos(phase), cz + r * math.sin(phase)
+            path = f'{{ kind = "static", position = [{x:.2f}, {y}, {z:.2f}] }}'
+        else:
+            path = (
+                f'{{ kind = "circle", center = [{cx:.2f}, {y}, {cz:.2f}], '
+                f"radius_m = {r:.2f}, period_s = {period:.2f}, phase_rad = {phase:.3f} }}"
+            )
+        extra = f"{extra}\n" if extra else ""
+        out.append(f'[[objects]]\nname = "{name}"\nshape = {shape}\n{extra}path = {path}\n')
     return "\n".join(out)
 
 
-def scene(name, description, patches, extent_m, radius_range, comment, limit=8.0):
+def scene(name, description, patches, extent_m, radius_range, comment, limit=8.0, parked=False):
     return f"""# {comment}
 # Written by scenes/make_herd.py (seeded): edit that and run it again.
 name = "{name}"
@@ -83,7 +92,7 @@ memory_limit_gib = {limit}
 path = {{ kind = "static", position = [0.0, 8.0, -6.0] }}
 look_at = {{ kind = "point", at = [0.0, 0.0, 10.0] }}
 
-{objects(extent_m, 128, radius_range)}"""
+{objects(extent_m, 128, radius_range, parked)}"""
 
 
 # The default field's patches are 32 x 32 cells of 0.1 m: 3.2 m.
@@ -113,5 +122,19 @@ with open("scenes/herd_small.toml", "w") as f:
             (1.0, 2.5),
             "herd.toml on a smaller field (32 x 32 patches, 1,048,576 blades,\n"
             "# 102.4 m square) with tighter circles: for CI and tests.",
+        )
+    )
+with open("scenes/herd_parked.toml", "w") as f:
+    f.write(
+        scene(
+            "herd_parked",
+            "herd.toml's 128 objects parked where their circles start, over 16.8 M blades",
+            128,
+            128 * 3.2,
+            (3.0, 8.0),
+            "herd.toml's 128 objects standing still where their circles start, on its\n"
+            "# 16,777,216-blade field: what objects at rest cost (sim.reuse_at_rest).",
+            10.0,
+            parked=True,
         )
     )

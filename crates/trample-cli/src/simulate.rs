@@ -173,7 +173,7 @@ pub fn run(a: &Args) -> Result<()> {
     )?;
     outputs.commit()?;
     eprintln!(
-        "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (max {:.3}); {} blades touched ({} DBG, {} PBG only){}{}; wrote {}",
+        "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (max {:.3}); {} blades touched ({} DBG, {} PBG only){}{}{}; wrote {}",
         summary.step_ms.median,
         summary.step_ms.max,
         summary.classes["direct"] + summary.classes["propagated"],
@@ -185,6 +185,14 @@ pub fn run(a: &Args) -> Result<()> {
                 "; far objects every {k} steps: {:.1} a step",
                 summary.far_bodies_mean
             ),
+        },
+        if summary.reused_tiles_mean > 0.0 {
+            format!(
+                "; objects at rest reused {:.0} tiles and {:.0} blades a step",
+                summary.reused_tiles_mean, summary.reused_blades_mean
+            )
+        } else {
+            String::new()
         },
         match sim.substep_clamps {
             0 => String::new(),

@@ -104,6 +104,12 @@ pub struct SimSummary {
     /// Sub-steps a step's main pass was split into, on average over the
     /// run (DESIGN §9: the fastest object sets it for every object).
     pub substeps_mean: f64,
+    /// Tiles a step whose narrow phase objects at rest took from what they
+    /// kept (`sim.reuse_at_rest`), on average over the run.
+    pub reused_tiles_mean: f64,
+    /// Blades a step the contact response of objects at rest left without
+    /// a query, on average over the run.
+    pub reused_blades_mean: f64,
     /// Steps in which an object needed more than `sim.max_substeps` sub-steps.
     pub substeps_clamped_steps: u64,
     /// The first such step, in words (null when none).
@@ -127,6 +133,10 @@ impl SimSummary {
     ) -> Self {
         let count = |c: BladeClass| sim.class.iter().filter(|&&x| x == c).count();
         let last = rec.steps.last().cloned().unwrap_or_default();
+        let mean = |count: fn(&trample::step::StepTimings) -> u32| {
+            rec.steps.iter().map(|t| f64::from(count(t))).sum::<f64>()
+                / rec.steps.len().max(1) as f64
+        };
         Self {
             scene: scene.source.clone(),
             blades: sim.field.blades.count,
@@ -155,14 +165,10 @@ impl SimSummary {
                 ("propagated", count(BladeClass::Propagated)),
             ]),
             far_every: sim.params.far_every,
-            far_bodies_mean: rec
-                .steps
-                .iter()
-                .map(|t| f64::from(t.far_bodies))
-                .sum::<f64>()
-                / rec.steps.len().max(1) as f64,
-            substeps_mean: rec.steps.iter().map(|t| f64::from(t.substeps)).sum::<f64>()
-                / rec.steps.len().max(1) as f64,
+            far_bodies_mean: mean(|t| t.far_bodies),
+            substeps_mean: mean(|t| t.substeps),
+            reused_tiles_mean: mean(|t| t.reused_tiles),
+            reused_blades_mean: mean(|t| t.reused_blades),
             substeps_clamped_steps: sim.substep_clamps,
             first_substep_clamp: sim.first_substep_clamp.as_ref().map(ToString::to_string),
             memory_estimate_mib: scene.file.field.memory_estimate_bytes() as f64 / 1024f64.powi(2),

@@ -79,3 +79,18 @@ fn herd_small_builds_steps_and_every_object_is_over_the_field() {
     }
     assert!(sim.timings.total_ms > 0.0);
 }
+
+/// `scenes/herd_parked.toml` is the herd's field and objects, each standing
+/// still (a static path) where its circle in `herd.toml` starts.
+#[test]
+fn herd_parked_is_the_herd_standing_still() {
+    let (parked, herd) = (load("herd_parked.toml"), load("herd.toml"));
+    parked.validate().expect("herd_parked.toml is valid");
+    assert_eq!(parked.file.field.blade_count(), 16_777_216);
+    assert_eq!(kinds(&parked), kinds(&herd));
+    for (p, h) in parked.file.objects.iter().zip(&herd.file.objects) {
+        assert_eq!(p.name, h.name);
+        assert_eq!(p.path.kind_name(), "static", "{}", p.name);
+        assert_eq!(h.path.kind_name(), "circle", "{}", h.name);
+    }
+}

@@ -120,6 +120,10 @@ pub(crate) struct RestingBlade {
     verts: [Vec3; MAX_SEGMENTS + 1],
 }
 
+/// A tile tested this sub-step, to keep: its vertices (as kept, see
+/// [`ColliderMemo::kept_tile`]) and its hits.
+pub(crate) type TestedTile = (Vec<Vec3>, Vec<BladeHit>);
+
 /// How a collider's narrow phase runs this sub-step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum NarrowPlan {
@@ -210,7 +214,7 @@ impl ColliderMemo {
         candidates: &[u32],
         tiles: &[(u32, u32)],
         segments: usize,
-        tested: Vec<Option<(Vec<Vec3>, Vec<BladeHit>)>>,
+        tested: Vec<Option<TestedTile>>,
     ) {
         let per = segments + 1;
         match plan {

@@ -1,7 +1,7 @@
 //! Stages 4–5 of a sub-step (DESIGN §7): the narrow phase of one object over
 //! the blades the broad phase kept, and the forces of Eq. 2 it gives.
 
-use super::at_rest::{ColliderMemo, NarrowPlan, RestKey};
+use super::at_rest::{ColliderMemo, NarrowPlan, RestKey, TestedTile};
 use super::body::Body;
 use super::simulation::Simulation;
 use super::stages::{DBG_WEIGHT, reach_rect};
@@ -236,7 +236,7 @@ pub(crate) fn narrow_phase(
     let blades = &sim.field.blades;
     let n = blades.segments;
     let kept: &[ColliderMemo] = memos;
-    let found: Vec<(Vec<BladeHit>, Option<Vec<Vec3>>)> = work
+    let found: Vec<(Vec<BladeHit>, Option<Vec<Vec3>>, bool)> = work
         .par_iter()
         .map_init(
             || (BladeContacts::default(), TileScratch::default()),
@@ -244,22 +244,24 @@ pub(crate) fn narrow_phase(
                 let plan = plans[j];
                 let (start, end) = jobs[j].tiles[t];
                 let tile = &jobs[j].candidates[start as usize..end as usize];
-                if plan == NarrowPlan::Reuse {
-                    if let Some(hits) = kept[j].kept_tile(t, n, tile_vertices(blades, tile)) {
-                        return (hits.to_vec(), None);
-                    }
+                if plan == NarrowPlan::Reuse
+                    && let Some(hits) = kept[j].kept_tile(t, n, tile_vertices(blades, tile))
+                {
+                    return (hits.to_vec(), None, true);
                 }
                 let hits = jobs[j].tile_hits(sim, t, contacts, scratch);
                 let copy = (plan != NarrowPlan::Plain)
                     .then(|| tile_vertices(blades, tile).map(Vec3::from).collect());
-                (hits, copy)
+                (hits, copy, false)
             },
         )
         .collect();
     let mut per_collider = vec![Vec::new(); jobs.len()];
-    let mut tested: Vec<Vec<Option<(Vec<Vec3>, Vec<BladeHit>)>>> =
+    let mut tested: Vec<Vec<Option<TestedTile>>> =
         jobs.iter().map(|job| vec![None; job.tiles.len()]).collect();
-    for (&(j, t), (hits, copy)) in work.iter().zip(found) {
+    tm.narrow_tiles += work.len() as u32;
+    for (&(j, t), (hits, copy, reused)) in work.iter().zip(found) {
+        tm.reused_tiles += u32::from(reused);
         if let Some(verts) = copy {
             tested[j][t] = Some((verts, hits.clone()));
         }

@@ -77,6 +77,7 @@ pub(crate) fn resolve_contacts(
     patch_hits: &[Vec<u32>],
     keys: &[Option<RestKey>],
     memos: &mut [ColliderMemo],
+    reused: &mut u32,
 ) -> Vec<u32> {
     let n = sim.field.blades.segments;
     let per_patch = sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize;
@@ -113,9 +114,10 @@ pub(crate) fn resolve_contacts(
         let mask = &sim.scratch.mask;
         let kept: &ColliderMemo = memo;
         let mut work = vec![Vec3A::ZERO; list.len() * (n + 1)];
-        // Per blade: whether it moved, and whether it is where it was
-        // found (a fixed point a collider at rest keeps, `super::at_rest`).
-        let mut moved = vec![(false, false); list.len()];
+        // Per blade: whether it moved, whether it is where it was found (a
+        // fixed point a collider at rest keeps, `super::at_rest`), and
+        // whether it was left without a query (kept so before).
+        let mut moved = vec![(false, false, false); list.len()];
         work.par_chunks_mut(n + 1)
             .zip(moved.par_iter_mut())
             .zip(list.par_iter())
@@ -125,7 +127,7 @@ pub(crate) fn resolve_contacts(
                 let first = mask[b].trailing_zeros();
                 let seg_len = blades.seg_len[b];
                 if let Some(was) = kept.kept_blade(key, b as u32, first, seg_len, v) {
-                    *moved = (was, true);
+                    *moved = (was, true, true);
                     return;
                 }
                 let mut before = [Vec3A::ZERO; MAX_SEGMENTS + 1];
@@ -140,10 +142,15 @@ pub(crate) fn resolve_contacts(
                     GROUND_CLEARANCE_M,
                     seg_len,
                 );
-                *moved = (m, key.is_some() && v == &before[..=n]);
+                let same = v
+                    .iter()
+                    .zip(&before)
+                    .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits));
+                *moved = (m, key.is_some() && same, false);
             });
         let mut resting = Vec::new();
-        for ((v, &b), &(m, fixed)) in work.chunks_exact(n + 1).zip(&list).zip(&moved) {
+        for ((v, &b), &(m, fixed, skipped)) in work.chunks_exact(n + 1).zip(&list).zip(&moved) {
+            *reused += u32::from(skipped);
             if m {
                 sim.field.blades.store(b as usize, v);
                 out.push(b);

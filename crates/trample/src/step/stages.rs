@@ -288,7 +288,14 @@ pub(crate) fn substep(sim: &mut Simulation, pass: &Pass, t: f32, h: f32, tm: &mu
     tm.deformation_ms += ms(clock);
     let clock = Instant::now();
     if sim.params.contact {
-        let moved = resolve_contacts(sim, &colliders, &patch_hits, &rest_keys, &mut memos);
+        let moved = resolve_contacts(
+            sim,
+            &colliders,
+            &patch_hits,
+            &rest_keys,
+            &mut memos,
+            &mut tm.reused_blades,
+        );
         let n = moved.len() as u32;
         tm.contact_blades = if pass.main { n } else { tm.contact_blades + n };
         changed.extend(moved);

@@ -38,6 +38,10 @@ pub struct StepTimings {
     pub generations: u32,
     /// Blades tested by the narrow phase.
     pub narrow_candidates: u32,
+    /// Tiles of blades (`TILE_CELLS`² cells) the narrow phase took up,
+    /// tested or reused ([`StepTimings::reused_tiles`]), over the step's
+    /// sub-steps.
+    pub narrow_tiles: u32,
     /// Billboards deflected by an object (BBG, Eq. 8, the paper's mode), or
     /// cells whose billboard and flatness followed their blades (ours,
     /// `sim.track_everywhere`).
@@ -56,6 +60,13 @@ pub struct StepTimings {
     /// catching up; [`crate::step::passes`]); 0 when every body steps every
     /// step.
     pub far_bodies: u32,
+    /// Tiles whose narrow phase a collider at rest took from what it kept
+    /// instead of testing them again, over the step's sub-steps (ours,
+    /// `sim.reuse_at_rest`; `step::at_rest`).
+    pub reused_tiles: u32,
+    /// Blades the contact response of a collider at rest left without a
+    /// query (kept at their fixed point), over the step's sub-steps.
+    pub reused_blades: u32,
     /// Sub-steps the fastest object needed; more than `substeps` when
     /// `sim.max_substeps` clamped them (see `SubstepClamp`).
     pub substeps_needed: u32,
