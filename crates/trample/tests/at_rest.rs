@@ -17,39 +17,31 @@ use trample::Simulation;
 /// crate and a ball rolling past it, 0.1 m from its side (bending into it
 /// the blades it holds).
 fn parked_field(reuse: bool, recovery: &str) -> Simulation {
-    sim_from(&format!(
+    field_12m(
+        9.0,
+        &format!("recovery_s = {recovery}\nreuse_at_rest = {reuse}"),
         r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 32
-[sim]
-precision = 5
-recovery_s = {recovery}
-reuse_at_rest = {reuse}
-[camera]
-path = {{ kind = "static", position = [0.0, 3.0, 9.0] }}
-look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
 [[objects]]
 name = "crate"
-shape = {{ kind = "box", half_extents_m = [0.5, 0.3, 0.4] }}
-path = {{ kind = "static", position = [-3.0, 0.29, -3.0] }}
+shape = { kind = "box", half_extents_m = [0.5, 0.3, 0.4] }
+path = { kind = "static", position = [-3.0, 0.29, -3.0] }
 [[objects]]
 name = "ball"
-shape = {{ kind = "sphere", radius_m = 0.5 }}
+shape = { kind = "sphere", radius_m = 0.5 }
 orientation = "rolling"
-path = {{ kind = "line", from = [-5.0, 0.5, 2.0], to = [0.0, 0.5, 2.0], duration_s = 1.0 }}
+path = { kind = "line", from = [-5.0, 0.5, 2.0], to = [0.0, 0.5, 2.0], duration_s = 1.0 }
 [[objects]]
 name = "passer"
-shape = {{ kind = "box", half_extents_m = [0.3, 0.25, 0.3] }}
+shape = { kind = "box", half_extents_m = [0.3, 0.25, 0.3] }
 orientation = "face_motion"
-path = {{ kind = "circle", center = [-3.0, 0.25, -3.0], radius_m = 1.3, period_s = 3.0 }}
+path = { kind = "circle", center = [-3.0, 0.25, -3.0], radius_m = 1.3, period_s = 3.0 }
 [[objects]]
 name = "grazer"
-shape = {{ kind = "sphere", radius_m = 0.3 }}
+shape = { kind = "sphere", radius_m = 0.3 }
 orientation = "rolling"
-path = {{ kind = "line", from = [-2.1, 0.3, -5.5], to = [-2.1, 0.3, -0.5], duration_s = 3.0 }}
-"#
-    ))
+path = { kind = "line", from = [-2.1, 0.3, -5.5], to = [-2.1, 0.3, -0.5], duration_s = 3.0 }
+"#,
+    )
 }
 
 /// The first difference between two simulations' blades, classes and

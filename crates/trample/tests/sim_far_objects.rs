@@ -21,7 +21,7 @@ use trample_testkit::scenes;
 /// A box sliding and a ball rolling through a 12.8 m field, the camera
 /// `eye_z` metres away (400: both far; 8: both near), `far_every = k`.
 fn field_watched_from(eye_z: f32, k: u32) -> Simulation {
-    far_field(
+    field_12m(
         eye_z,
         &format!("far_every = {k}"),
         r#"
@@ -37,24 +37,6 @@ orientation = "face_motion"
 path = { kind = "circle", center = [0.0, 0.3, 2.5], radius_m = 2.5, period_s = 6.0 }
 "#,
     )
-}
-
-/// A 12.8 m field at precision 5 with `sim` (more `[sim]` lines) and
-/// `objects`, the camera `eye_z` metres from its centre.
-fn far_field(eye_z: f32, sim: &str, objects: &str) -> Simulation {
-    sim_from(&format!(
-        r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 32
-[sim]
-precision = 5
-{sim}
-[camera]
-path = {{ kind = "static", position = [0.0, 3.0, {eye_z}] }}
-look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
-{objects}"#
-    ))
 }
 
 /// A far body's turn is a step of `k` frames for that body: its track
@@ -295,7 +277,7 @@ fn a_body_that_comes_near_catches_up_from_its_last_turn() {
 /// A 2 m ball rolling at 5 m/s through a 12.8 m field watched from 400 m,
 /// `far_every = k`, `far_travel_m = travel`, after 2.5 s.
 fn fast_ball(k: u32, travel: f32) -> Simulation {
-    let mut sim = far_field(
+    let mut sim = field_12m(
         400.0,
         &format!("far_every = {k}\nfar_travel_m = {travel}"),
         r#"

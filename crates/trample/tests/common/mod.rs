@@ -43,6 +43,24 @@ pub fn sim_from(toml: &str) -> Simulation {
         .expect("buildable scene")
 }
 
+/// A 12.8 m field at precision 5 with `sim` (more `[sim]` lines) and
+/// `objects`, the camera `eye_z` metres from its centre.
+pub fn field_12m(eye_z: f32, sim: &str, objects: &str) -> Simulation {
+    sim_from(&format!(
+        r#"
+[field]
+patches = [4, 4]
+cells_per_patch = 32
+[sim]
+precision = 5
+{sim}
+[camera]
+path = {{ kind = "static", position = [0.0, 3.0, {eye_z}] }}
+look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
+{objects}"#
+    ))
+}
+
 /// Height of blade `b`'s tip above its root.
 pub fn tip_height(sim: &Simulation, b: usize) -> f32 {
     let bl = &sim.field.blades;
