@@ -179,3 +179,25 @@ fn a_settled_parked_body_reuses_its_work_and_moving_ones_none() {
         assert_eq!(t.reused_tiles + t.reused_blades, 0, "frame {f}: {t:?}");
     }
 }
+
+/// A parked object keeps its work while the host's `dt` changes from step
+/// to step (a game loop's): a still collider's key leaves the sub-step's
+/// length out, since with no velocity neither the contact weights nor Eq.
+/// 2 read it. The same bits with reuse on and off under a `dt` cycling
+/// through 1/60, 1/45, 1/90 and 1/30 s, and the parked bodies reuse their
+/// tiles (none would be if the key kept the length: checked).
+#[test]
+fn a_parked_body_reuses_its_work_under_a_varying_dt() {
+    let (mut on, mut off) = (parked_field(true, "2.0"), parked_field(false, "2.0"));
+    let mut reused = 0u64;
+    for f in 0..200usize {
+        let dt = [1.0 / 60.0, 1.0 / 45.0, 1.0 / 90.0, 1.0 / 30.0][f % 4];
+        on.step(dt).unwrap();
+        off.step(dt).unwrap();
+        if let Some(d) = first_difference(&on, &off) {
+            panic!("frame {f} (dt {dt}): {d}");
+        }
+        reused += u64::from(on.timings.reused_tiles);
+    }
+    assert!(reused > 1_000, "reused {reused} tiles");
+}

@@ -55,7 +55,11 @@ pub(crate) struct RestKey {
 
 impl RestKey {
     /// The key of a collider at `pose` with `tree`, in a sub-step of `h`
-    /// seconds.
+    /// seconds. The sub-step's length counts only for a moving collider:
+    /// the narrow phase reads it as the travel `speed · h` of the contact
+    /// weights' ramp (`LocalMotion::ramp_at`), and Eq. 2's force is
+    /// `speed · EqN`, so with no velocity and no spin neither depends on
+    /// it — a parked object keeps its work under a host's varying `dt`.
     pub(crate) fn new(
         pose: &Pose,
         tree: &ObbTree,
@@ -65,6 +69,8 @@ impl RestKey {
         press: f32,
         reach: f32,
     ) -> Self {
+        let still = pose.velocity == Vec3::ZERO && pose.angular_velocity == Vec3::ZERO;
+        let h = if still { 0.0 } else { h };
         let mut bits = [0; 18];
         let values = pose
             .position
