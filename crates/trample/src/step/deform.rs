@@ -130,8 +130,13 @@ pub(crate) fn resolve_contacts(
                     *moved = (was, true, true);
                     return;
                 }
-                let mut before = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-                before[..=n].copy_from_slice(v);
+                // Only a collider at rest keeps fixed points: a moving one
+                // copies and compares nothing.
+                let before = key.map(|_| {
+                    let mut copy = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+                    copy[..=n].copy_from_slice(v);
+                    copy
+                });
                 let m = resolve_contact(
                     v,
                     seg_len,
@@ -142,11 +147,12 @@ pub(crate) fn resolve_contacts(
                     GROUND_CLEARANCE_M,
                     seg_len,
                 );
-                let same = v
-                    .iter()
-                    .zip(&before)
-                    .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits));
-                *moved = (m, key.is_some() && same, false);
+                let fixed = before.is_some_and(|before| {
+                    v.iter().zip(&before).all(|(a, b)| {
+                        a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)
+                    })
+                });
+                *moved = (m, fixed, false);
             });
         let mut resting = Vec::new();
         for ((v, &b), &(m, fixed, skipped)) in work.chunks_exact(n + 1).zip(&list).zip(&moved) {
