@@ -7,7 +7,8 @@
 #   2. the same, simulation + a 1920x1080 frame on the GPU;
 #   3. scenes/herd.toml (128 objects over 16.8 M blades), simulation alone,
 #      both paths;
-#   4. the herd, simulation + a 1920x1080 frame;
+#   4. the herd, simulation + a 1920x1080 frame (2 and 4: each frame read
+#      back, then drawn and waited for without the read-back);
 #   5. the herd's step against the object count (1 … 128), GPU path.
 #
 # Here (a checkout with a release build: `cargo build --release -p
@@ -24,10 +25,11 @@
 # It writes into $OUT (at most 8 files, the tool's limit): adapter.txt,
 # log.txt, default.json, default_1080p.json, herd.json, herd_1080p.json,
 # objects.json, objects.png. Each step has its own time limit, so one that
-# hangs costs only its share (560 s in all, 580 with the fallback); the whole run should take
-# about 5 minutes on a 16-core machine with an H100 (not yet run on one:
-# checked with QUICK=1 on llvmpipe, 85 s on 2 cores). Record the figures in BENCHMARKS.md with
-# the adapter's name.
+# hangs costs only its share (665 s in all, more with the fallbacks: keep
+# timeout_s above what the run needs, not above that sum). On an H200 (16
+# cores) the whole run took 180 s before the `--no-readback` steps were
+# added (2026-11-26); QUICK=1 on lavapipe takes about 2.5 minutes on 2
+# cores. Record the figures in BENCHMARKS.md with the adapter's name.
 #
 # To check the script without a GPU (software driver, small scene, a few
 # frames): WGPU_BACKEND=gl QUICK=1 HERD=scenes/herd_small.toml
@@ -143,6 +145,14 @@ if [ ! -f "$OUT/herd.json" ] && [ -f scenes/herd_small.toml ]; then
 fi
 step herd_1080p 90 "$HERD" --backend gpu --render --size 1920x1080 --precisions 7 \
     --frames "$(frames 200 2)"
+# The frames drawn and waited for, not read back (what an application that
+# presents them pays): in the log only (the tool's eight files).
+# shellcheck disable=SC2086
+step default_1080p_present 45 $SCENE --backend gpu --render --no-readback --size 1920x1080 \
+    --precisions 7 --frames "$(frames 1000 2)"
+step herd_1080p_present 90 "$HERD" --backend gpu --render --no-readback --size 1920x1080 \
+    --precisions 7 --frames "$(frames 200 2)"
+rm -f "$OUT/default_1080p_present.json" "$OUT/herd_1080p_present.json"
 step objects 170 "$HERD" --objects --backend gpu --frames "$(frames 100 2)"
 [ -f "$work/objects/objects.png" ] && cp "$work/objects/objects.png" "$OUT/"
 grep -E "^== |^ +(cpu|gpu) +[0-9]|^ +[0-9]+ +[0-9]+x[0-9]+|^Simulation \+ rendering|^trample bench --objects" "$log" || true

@@ -171,8 +171,48 @@ fn bench_render_adds_the_frame_rate_with_rendering() {
         let fps = |k: &str| x["fps"][k].as_f64().unwrap();
         assert!(fps("min") <= fps("avg") && fps("avg") <= fps("max"), "{x}");
         assert!(fps("avg") < p["fps"]["avg"].as_f64().unwrap(), "{p}");
+        assert_eq!(x["read_back"], serde_json::json!(true), "{x}");
     }
     assert_chart(&out.join("bench.png"));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn bench_render_without_readback_waits_for_each_frame() {
+    let d = dir("render_no_readback");
+    let out = d.join("out");
+    let o = trample(&[
+        "bench",
+        "--frames",
+        "3",
+        "--precisions",
+        "2",
+        "--backend",
+        "both",
+        "--render",
+        "--no-readback",
+        "--size",
+        "160x90",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(table.contains("not read back"), "{table}");
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+    let runs = r["precisions"].as_array().unwrap();
+    assert_eq!(runs.len(), 2, "{r}");
+    for p in runs {
+        let x = &p["render"];
+        assert_eq!(x["read_back"], serde_json::json!(false), "{x}");
+        assert!(x["render_ms"]["median"].as_f64().unwrap() > 0.0, "{x}");
+    }
+    // The flag means nothing without --render: refused, naming both.
+    let o = trample(&["bench", "--no-readback", "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("--render"), "{e}");
     std::fs::remove_dir_all(&d).unwrap();
 }
 

@@ -32,6 +32,14 @@ fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
     if b == NOT_IN_CHUNK || generation[b] == NO_GENERATION {
         return;
     }
+    bend_blade(b);
+}
+
+// Eq. 6 on blade b (reached by propagation). A function of its own: its
+// vertex array is zero-initialised where it is declared (WGSL, and naga
+// declares a function's variables at its entry), so only the blades bent
+// pay for it, not every thread of the field.
+fn bend_blade(b: u32) {
     let n = min(params.counts.y, MAX_VERTS - 1u);
     var v: array<vec3<f32>, MAX_VERTS>;
     for (var k = 0u; k <= n; k++) {

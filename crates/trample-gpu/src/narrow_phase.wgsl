@@ -61,20 +61,29 @@ struct Walk {
     deepest_hit: u32,
 }
 
+// The walks' stack (`walk`, `contact_segment`, `list_near`; none calls
+// another while its stack is in use) and the blade in the object's frame
+// (`collide_blade`). Module-scope, not function-scope: WGSL zero-initialises
+// a variable where it is declared, and naga declares a function's variables
+// at its entry, so a function-scope stack cost 528 zeroed bytes a call
+// (four calls a blade and object, most of them returning at the root box);
+// these are zeroed once a thread.
+var<private> walk_stack: array<vec2<u32>, STACK_SIZE>;
+var<private> blade_local: array<vec3<f32>, 16>;
+
 // `narrow_phase::walk` with shell 0: the paper's walk, depth first, left
 // child first, fixed-size stack.
 fn walk(p0: vec3<f32>, p1: vec3<f32>, final_depth: u32) -> Walk {
     let centre = (p0 + p1) * 0.5;
     let half = (p1 - p0) * 0.5;
     var out = Walk(vec3<f32>(0.0), NONE, vec3<f32>(0.0), 0u);
-    var stack: array<vec2<u32>, STACK_SIZE>;
-    stack[0] = vec2<u32>(0u, 1u);
+    walk_stack[0] = vec2<u32>(0u, 1u);
     var len = 1u;
     let count = tree.x;
     while len > 0u {
         len -= 1u;
-        let i = stack[len].x;
-        let depth = stack[len].y;
+        let i = walk_stack[len].x;
+        let depth = walk_stack[len].y;
         if i >= count {
             continue;
         }
@@ -87,8 +96,8 @@ fn walk(p0: vec3<f32>, p1: vec3<f32>, final_depth: u32) -> Walk {
         let r = n.children.y;
         let leaf = l == NO_CHILD;
         if depth < final_depth && !leaf && l > i && r > i && len + 2u <= STACK_SIZE {
-            stack[len] = vec2<u32>(r, depth + 1u);
-            stack[len + 1u] = vec2<u32>(l, depth + 1u);
+            walk_stack[len] = vec2<u32>(r, depth + 1u);
+            walk_stack[len + 1u] = vec2<u32>(l, depth + 1u);
             len += 2u;
         } else {
             let dir = eqn_direction(i, p0, p1);
@@ -296,8 +305,7 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     pen_asked = vec2<u32>(0u);
     var acc = Weighted(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0));
     var deepest = 0u;
-    var stack: array<vec2<u32>, STACK_SIZE>;
-    stack[0] = vec2<u32>(0u, 1u);
+    walk_stack[0] = vec2<u32>(0u, 1u);
     var len = 1u;
     let count = tree.x;
     let final_depth = tree.z;
@@ -316,8 +324,8 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     }
     while len > 0u {
         len -= 1u;
-        let i = stack[len].x;
-        let depth = stack[len].y;
+        let i = walk_stack[len].x;
+        let depth = walk_stack[len].y;
         if i >= count {
             continue;
         }
@@ -330,8 +338,8 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
         }
         deepest = max(deepest, depth);
         if descend {
-            stack[len] = vec2<u32>(r, depth + 1u);
-            stack[len + 1u] = vec2<u32>(l, depth + 1u);
+            walk_stack[len] = vec2<u32>(r, depth + 1u);
+            walk_stack[len + 1u] = vec2<u32>(l, depth + 1u);
             len += 2u;
             continue;
         }
@@ -434,15 +442,14 @@ fn node_may_meet(n: Node, reach: bool, shell: f32, lo: vec3<f32>, hi: vec3<f32>)
 // lo..hi (object frame) may meet (`narrow_phase::final_nodes_near_each`).
 fn list_near(lo: vec3<f32>, hi: vec3<f32>, shell: f32) {
     near_count = 0u;
-    var stack: array<vec2<u32>, STACK_SIZE>;
-    stack[0] = vec2<u32>(0u, 1u);
+    walk_stack[0] = vec2<u32>(0u, 1u);
     var len = 1u;
     let count = tree.x;
     let final_depth = tree.z;
     while len > 0u {
         len -= 1u;
-        let i = stack[len].x;
-        let depth = stack[len].y;
+        let i = walk_stack[len].x;
+        let depth = walk_stack[len].y;
         if i >= count {
             continue;
         }
@@ -458,8 +465,8 @@ fn list_near(lo: vec3<f32>, hi: vec3<f32>, shell: f32) {
             continue;
         }
         if descend {
-            stack[len] = vec2<u32>(r, depth + 1u);
-            stack[len + 1u] = vec2<u32>(l, depth + 1u);
+            walk_stack[len] = vec2<u32>(r, depth + 1u);
+            walk_stack[len + 1u] = vec2<u32>(l, depth + 1u);
             len += 2u;
         } else if near_count == NEAR_MAX {
             near_count = NEAR_NONE;
@@ -533,22 +540,21 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
         let shell = obj.contact.x;
         let press = obj.contact.y;
         // The blade in the object's frame, and its box.
-        var local: array<vec3<f32>, 16>;
         var lo = vec3<f32>(3.0e38);
         var hi = vec3<f32>(-3.0e38);
         for (var k = 0u; k <= segments; k++) {
-            local[k] = to_local(pos[vertex_at(k, b)].xyz);
-            lo = min(lo, local[k]);
-            hi = max(hi, local[k]);
+            blade_local[k] = to_local(pos[vertex_at(k, b)].xyz);
+            lo = min(lo, blade_local[k]);
+            hi = max(hi, blade_local[k]);
         }
         near_count = NEAR_NONE;
         if weighted && shell > 0.0 && tree.x > 0u && all(lo <= hi) {
             // `step::collide::TILE_PAD_M`.
             list_near(lo - vec3<f32>(1.0e-4), hi + vec3<f32>(1.0e-4), shell);
         }
-        var prev = local[0];
+        var prev = blade_local[0];
         for (var k = 0u; k < segments; k++) {
-            let next = local[k + 1u];
+            let next = blade_local[k + 1u];
             var c = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0));
             if weighted {
                 c = contact_segment(prev, next, shell);

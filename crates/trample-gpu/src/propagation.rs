@@ -7,7 +7,9 @@
 //! Without a read-back the host does not know when propagation ends, so it
 //! records `max_generations` gather passes as indirect dispatches whose
 //! size `advance` writes: zero workgroups once a generation reached no
-//! blade (or at the cap).
+//! blade (or at the cap). Generation 1 takes a gather and a commit pass;
+//! each later one a single pass (`gather_commit`): every pass, empty or
+//! not, costs a barrier, and the cap is 32 generations.
 
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
@@ -27,6 +29,7 @@ const SEED: usize = 1;
 const GATHER: usize = 2;
 const COMMIT: usize = 3;
 const ADVANCE: usize = 4;
+const GATHER_COMMIT: usize = 5;
 
 /// The compiled propagation kernels and the indirect arguments of the
 /// gather passes.
@@ -52,7 +55,14 @@ impl Propagation {
                     Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite, Read,
                     ReadWrite,
                 ],
-                &["begin", "seed", "gather", "commit", "advance"],
+                &[
+                    "begin",
+                    "seed",
+                    "gather",
+                    "commit",
+                    "advance",
+                    "gather_commit",
+                ],
             ),
             unused_args: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu gather dispatch (unused)"),
@@ -111,9 +121,10 @@ impl Propagation {
     }
 
     /// Records generation 0 (every blade touched, DBG from `DBG_WEIGHT`)
-    /// from the narrow phase's contacts, then `passes` gather and commit
-    /// passes (Eq. 4). [`Propagation::record_reset`] must
-    /// come first in the sub-step.
+    /// from the narrow phase's contacts, then `passes` generation passes
+    /// (Eq. 4): gather and commit for the first, `gather_commit` for the
+    /// others. [`Propagation::record_reset`] must come first in the
+    /// sub-step.
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -127,11 +138,20 @@ impl Propagation {
         let group = self.bind(device, field, params, state, &self.next_gather);
         self.kernel.dispatch(encoder, SEED, &group, groups);
         let gather_group = self.bind(device, field, params, state, &self.unused_args);
-        for _ in 0..passes {
-            self.kernel
-                .dispatch_indirect(encoder, GATHER, &gather_group, &self.next_gather);
-            self.kernel
-                .dispatch_indirect(encoder, COMMIT, &gather_group, &self.next_gather);
+        for pass in 0..passes {
+            if pass == 0 {
+                self.kernel
+                    .dispatch_indirect(encoder, GATHER, &gather_group, &self.next_gather);
+                self.kernel
+                    .dispatch_indirect(encoder, COMMIT, &gather_group, &self.next_gather);
+            } else {
+                self.kernel.dispatch_indirect(
+                    encoder,
+                    GATHER_COMMIT,
+                    &gather_group,
+                    &self.next_gather,
+                );
+            }
             self.kernel.dispatch(encoder, ADVANCE, &group, (1, 1));
         }
     }

@@ -1,14 +1,16 @@
 // Force propagation from DBG to PBG (paper §5.2, Definitions 1–7, Eq. 4;
 // DESIGN §5) as generation passes: `begin` and `seed` once, then
-// `gather` + `commit` + `advance` once per generation up to the cap. Each
-// blade of generation G+1 gathers, in the fixed order −x, +x, −z, +z, the
-// contributions of the active generation-G neighbours that point at it:
-// the gather of `trample::force::propagation::gather_force`, no float
-// atomics. `gather` only reads the state and writes `next`; `commit`
-// applies it: a blade may be both a source and a candidate of generation
-// 1 (an ancestor an object holds lightly, which takes part of a push), and
-// its sources must see it as it was. A pass after the last generation
-// returns at once (`stop`).
+// `gather` + `commit` + `advance` for generation 1 and `gather_commit` +
+// `advance` for each later one, up to the cap. Each blade of generation
+// G+1 gathers, in the fixed order −x, +x, −z, +z, the contributions of the
+// active generation-G neighbours that point at it: the gather of
+// `trample::force::propagation::gather_force`, no float atomics. For
+// generation 1, `gather` only reads the state and writes `next`, and
+// `commit` applies it: a blade may be both a source and a candidate of
+// generation 0 → 1 (an ancestor an object holds lightly, which takes part
+// of a push), and its sources must see it as it was. From generation 1 on
+// no blade is both, and one pass does both (`gather_commit`). A pass after
+// the last generation returns at once (`stop`).
 
 @group(0) @binding(0) var<uniform> params: StepParams;
 @group(0) @binding(1) var<storage, read_write> state: State;
@@ -116,21 +118,19 @@ fn held(b: u32) -> f32 {
     return 1.0;
 }
 
-@compute @workgroup_size(64)
-fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = blade_index(gid);
-    if c >= params.counts.x || state.stop != 0u {
-        return;
-    }
+// What generation G+1 brings blade c (`gather_force`): in xyz the new
+// force's bits, in w 1 + the owner of the first pusher (0: not reached).
+fn reach(c: u32) -> vec4<u32> {
+    let none = vec4<u32>(0u);
     let own = generation[c];
     var take = 1.0;
     if own == 0u {
         take = 1.0 - held(c);
         if !(take > 0.0) {
-            return;
+            return none;
         }
     } else if own != NO_GENERATION {
-        return;
+        return none;
     }
     let g = state.g;
     let nb = neighbours[c];
@@ -156,9 +156,25 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
         }
     }
-    if first != NONE_U32 {
-        let owner = (blade_class[first] >> 8u) & 0xffu;
-        next[c] = vec4<u32>(bitcast<vec3<u32>>(sum), owner + 1u);
+    if first == NONE_U32 {
+        return none;
+    }
+    let owner = (blade_class[first] >> 8u) & 0xffu;
+    return vec4<u32>(bitcast<vec3<u32>>(sum), owner + 1u);
+}
+
+// Generation 0 → 1: `reach` only reads the state and writes `next`,
+// applied by `commit`, since a blade may be both a source of generation 0
+// and a candidate (an ancestor an object holds lightly).
+@compute @workgroup_size(64)
+fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = blade_index(gid);
+    if c >= params.counts.x || state.stop != 0u {
+        return;
+    }
+    let nx = reach(c);
+    if nx.w != 0u {
+        next[c] = nx;
     }
 }
 
@@ -174,6 +190,28 @@ fn commit(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     next[c] = vec4<u32>(0u);
+    join(c, nx);
+}
+
+// Generations G ≥ 1: gather and commit in one pass. No blade is both a
+// source (generation G ≥ 1) and a candidate (no generation, or 0), and a
+// blade joining G+1 mid-pass reads as no source either way (0 or none
+// before, G+1 after), so applying each reach at once gives what the two
+// passes give — with one pass and one barrier less a generation.
+@compute @workgroup_size(64)
+fn gather_commit(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let c = blade_index(gid);
+    if c >= params.counts.x || state.stop != 0u {
+        return;
+    }
+    let nx = reach(c);
+    if nx.w != 0u {
+        join(c, nx);
+    }
+}
+
+// Blade c joins generation G+1 with what `reach` found.
+fn join(c: u32, nx: vec4<u32>) {
     force[c] = vec4<f32>(bitcast<vec3<f32>>(nx.xyz), force[c].w);
     generation[c] = state.g + 1u;
     var kind = blade_class[c];

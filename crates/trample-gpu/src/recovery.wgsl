@@ -41,6 +41,14 @@ fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
         atomicAdd(&state.displaced, 1u);
         return;
     }
+    recover_blade(b);
+}
+
+// The recovery of displaced blade b. A function of its own: the blade's
+// vertex arrays are zero-initialised where they are declared (WGSL), and
+// declared here they cost only the displaced blades, not every thread of
+// the field (naga declares a function's variables at its entry).
+fn recover_blade(b: u32) {
     let n = min(params.counts.y, MAX_VERTS - 1u);
     var v: array<vec3<f32>, MAX_VERTS>;
     var r: array<vec3<f32>, MAX_VERTS>;

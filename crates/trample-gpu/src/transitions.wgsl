@@ -68,24 +68,33 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
-        displaced[b] = 1u;
-        let rest_h = length(rest[vertex_at(n, b)].xyz - rest[vertex_at(0u, b)].xyz);
-        var v: array<vec3<f32>, MAX_VERTS>;
-        for (var k = 0u; k <= n; k++) {
-            v[k] = pos[vertex_at(k, b)].xyz;
-        }
-        let v1 = missing * rest_h;
-        let ab = v[n] - v[0];
-        let ab_len2 = dot(ab, ab);
-        if ab_len2 <= 1.17549435e-38 {
-            continue;
-        }
-        let perpendicular = v1 - ab * (dot(v1, ab) / ab_len2);
-        if dot(perpendicular, perpendicular) <= 1e-12 * dot(v1, v1) {
-            continue;
-        }
-        v[n] += perpendicular;
-        preserve_from(&v, n, n, pos[vertex_at(0u, b)].w);
-        pos[vertex_at(n, b)] = vec4<f32>(v[n], 0.0);
+        bend_last_segment(b, n, missing);
     }
+}
+
+// Eq. 13 on blade b: `missing` on its last segment through Eq. 5. A
+// function of its own: its vertex array is zero-initialised where it is
+// declared (naga declares a function's variables at its entry), so only
+// the blades of cells coming back to geometry pay for it, not every
+// cell's thread.
+fn bend_last_segment(b: u32, n: u32, missing: vec3<f32>) {
+    displaced[b] = 1u;
+    let rest_h = length(rest[vertex_at(n, b)].xyz - rest[vertex_at(0u, b)].xyz);
+    var v: array<vec3<f32>, MAX_VERTS>;
+    for (var k = 0u; k <= n; k++) {
+        v[k] = pos[vertex_at(k, b)].xyz;
+    }
+    let v1 = missing * rest_h;
+    let ab = v[n] - v[0];
+    let ab_len2 = dot(ab, ab);
+    if ab_len2 <= 1.17549435e-38 {
+        return;
+    }
+    let perpendicular = v1 - ab * (dot(v1, ab) / ab_len2);
+    if dot(perpendicular, perpendicular) <= 1e-12 * dot(v1, v1) {
+        return;
+    }
+    v[n] += perpendicular;
+    preserve_from(&v, n, n, pos[vertex_at(0u, b)].w);
+    pos[vertex_at(n, b)] = vec4<f32>(v[n], 0.0);
 }

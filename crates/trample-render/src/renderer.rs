@@ -234,6 +234,46 @@ impl Renderer {
         queue.submit([encoder.finish()]);
     }
 
+    /// Draws `sim`'s current state and waits until the GPU has drawn it,
+    /// without reading it back: what a frame costs an application that
+    /// presents it (`trample bench --render --no-readback`). The frame is
+    /// in [`Renderer::frame_view`].
+    ///
+    /// # Errors
+    /// [`RenderError::Readback`] when the wait fails (device lost).
+    pub fn draw_and_wait(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: &Simulation,
+    ) -> Result<FrameCounts, RenderError> {
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame"),
+        });
+        let counts = self.encode(device, queue, sim, &mut encoder);
+        queue.submit([encoder.finish()]);
+        wait(device)?;
+        Ok(counts)
+    }
+
+    /// [`Renderer::draw_and_wait`] for the GPU path ([`Renderer::encode_gpu`]).
+    ///
+    /// # Errors
+    /// [`RenderError::Readback`] when the wait fails (device lost).
+    pub fn draw_gpu_and_wait(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        gpu: &mut trample_gpu::GpuSimulation,
+    ) -> Result<(), RenderError> {
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame (GPU path)"),
+        });
+        self.encode_gpu(device, queue, gpu, &mut encoder);
+        queue.submit([encoder.finish()]);
+        wait(device)
+    }
+
     /// Draws the GPU path's current state ([`Renderer::draw_gpu`]) and reads
     /// the image back: the frame, not the field, crosses to the CPU.
     ///
@@ -248,4 +288,12 @@ impl Renderer {
         self.draw_gpu(device, queue, gpu);
         self.target.read(device)
     }
+}
+
+/// Waits for everything submitted to `device`'s queue.
+fn wait(device: &wgpu::Device) -> Result<(), RenderError> {
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map(drop)
+        .map_err(|e| RenderError::Readback(e.to_string()))
 }

@@ -71,6 +71,11 @@ pub struct Args {
     /// takes seconds: use a few --frames.
     #[arg(long)]
     pub render: bool,
+    /// With --render: wait for each frame to be drawn but do not read it
+    /// back (what an application that presents its frames pays); without
+    /// it each frame is also copied to the CPU.
+    #[arg(long, requires = "render")]
+    pub no_readback: bool,
     /// Image size with --render, WIDTHxHEIGHT (default 1280x720, the paper's
     /// comparison size).
     #[arg(long, default_value = "1280x720", value_parser = crate::common::parse_size)]
@@ -144,6 +149,7 @@ pub fn run(a: &Args) -> Result<()> {
         threads,
         out,
         render: a.render.then_some(a.size),
+        read_back: !a.no_readback,
         backend: a.backend,
         max_blades: a.max_blades,
         max_triangles: a.max_triangles,
@@ -169,6 +175,8 @@ pub struct Setup {
     pub out: PathBuf,
     /// Render each frame at this size too (`--render`).
     pub render: Option<(u32, u32)>,
+    /// With `render`: read each frame back (not with `--no-readback`).
+    pub read_back: bool,
     /// Which paths to time (`--backend`).
     pub backend: Backend,
     /// `--max-blades` (scaling).

@@ -81,8 +81,10 @@ struct PrecisionRun {
 struct RenderRun {
     /// Image size, pixels.
     size: [u32; 2],
-    /// Render + read-back time per frame, ms.
+    /// Render time per frame (and the read-back, when `read_back`), ms.
     render_ms: Stats,
+    /// Whether each frame was read back to the CPU (`--no-readback`: no).
+    read_back: bool,
     /// Frame rate of step + render: `min` from the slowest frame, `max` from
     /// the fastest, `avg` = frames / total time.
     fps: Fps,
@@ -179,9 +181,11 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
             if let (Some(r), Some(g)) = (renderer.as_mut(), &gpu) {
                 let c = Instant::now();
                 // The GPU path is drawn straight from its buffers.
-                match stepped {
-                    Stepped::Cpu(sim) => drop(r.render(&g.device, &g.queue, sim)?),
-                    Stepped::Gpu(s) => drop(r.render_gpu(&g.device, &g.queue, s)?),
+                match (stepped, setup.read_back) {
+                    (Stepped::Cpu(sim), true) => drop(r.render(&g.device, &g.queue, sim)?),
+                    (Stepped::Gpu(s), true) => drop(r.render_gpu(&g.device, &g.queue, s)?),
+                    (Stepped::Cpu(sim), false) => drop(r.draw_and_wait(&g.device, &g.queue, sim)?),
+                    (Stepped::Gpu(s), false) => r.draw_gpu_and_wait(&g.device, &g.queue, s)?,
                 }
                 let ms = c.elapsed().as_secs_f64() * 1e3;
                 render_ms.push(ms);
@@ -200,6 +204,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
             RenderRun {
                 size: [w, h],
                 render_ms: Stats::of(&render_ms),
+                read_back: setup.read_back,
                 fps: Fps {
                     min: 1000.0 / frames.max,
                     avg: 1000.0 / frames.mean,
@@ -500,9 +505,19 @@ fn print_tables(r: &Report) {
     }
     if r.precisions.iter().any(|p| p.render.is_some()) {
         println!();
+        let read_back = r
+            .precisions
+            .iter()
+            .filter_map(|p| p.render.as_ref())
+            .any(|x| x.read_back);
         println!(
-            "Simulation + rendering on {}:",
-            r.adapter.as_deref().unwrap_or("?")
+            "Simulation + rendering on {} ({}):",
+            r.adapter.as_deref().unwrap_or("?"),
+            if read_back {
+                "each frame read back"
+            } else {
+                "each frame drawn and waited for, not read back"
+            }
         );
         println!(
             "{:>9} {:>11} {:>9} {:>9} {:>9} {:>16}",

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# Per-stage GPU times on a lent GPU (issue 16 item 6), for one or more
+# builds side by side on the same machine: `trample simulate --backend gpu`
+# (its profiling mode: timestamp queries, `summary.json`'s `stages_ms`) on
+# the default scene, `scenes/herd.toml` and `scenes/herd_parked.toml`, for
+# each binary named in BINS; then `trample bench --backend gpu` on the
+# default scene and the herd with the first binary (not with BENCH=0).
+#
+# Here, once per build to compare: `bash scripts/real_gpu_bench.sh
+# --prepare` (the loaders in .gl/, a stripped build in .carry/trample);
+# copy an older build to .carry/NAME to compare with it. Then, with the
+# device tool, from the repo root:
+#
+#   run(command = "BINS='trample trample_old' bash scripts/real_gpu_stages.sh",
+#       carry = [".carry", ".gl"], timeout_s = 400)
+#
+# Writes into $OUT: log.txt and SCENE_BIN.json (each run's summary.json;
+# three scenes and two builds fill the tool's eight files with the log).
+# QUICK=1 runs a few frames (to check the script on a software driver:
+# WGPU_BACKEND=gl QUICK=1 HERD=scenes/herd_small.toml PARKED=... OUT=...).
+set -u
+OUT=${OUT:?set OUT to the folder for the results}
+BINS=${BINS:-trample}
+DIR=${DIR:-.carry}
+HERD=${HERD:-scenes/herd.toml}
+PARKED=${PARKED:-scenes/herd_parked.toml}
+QUICK=${QUICK:-0}
+log="$OUT/log.txt"
+mkdir -p "$OUT"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+: >"$log"
+frames() { if [ "$QUICK" = 1 ]; then echo "$2"; else echo "$1"; fi; }
+
+if ls .gl/*.deb >/dev/null 2>&1; then
+    for f in .gl/*.deb; do dpkg -x "$f" /; done
+    ldconfig
+fi
+icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+[ -f "$icd" ] && export VK_DRIVER_FILES="$icd"
+export WGPU_BACKEND=${WGPU_BACKEND:-vulkan}
+export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
+nvidia-smi -L >>"$log" 2>&1
+
+# run LIMIT_S NAME ARGS...: one trample command, logged.
+run() {
+    local limit=$1 name=$2
+    shift 2
+    echo "== $name: $* ($(date -u +%T))" >>"$log"
+    timeout "$limit" "$@" >>"$log" 2>&1
+    echo "== $name: exit $?" >>"$log"
+}
+
+for bin in $BINS; do
+    t=$DIR/$bin
+    run 40 "default_$bin" "$t" simulate --backend gpu --precision 7 \
+        --frames "$(frames 300 3)" --out "$work/default_$bin"
+    run 60 "herd_$bin" "$t" simulate "$HERD" --backend gpu --frames "$(frames 100 2)" \
+        --out "$work/herd_$bin"
+    run 60 "parked_$bin" "$t" simulate "$PARKED" --backend gpu --frames "$(frames 100 2)" \
+        --out "$work/parked_$bin"
+    for s in default herd parked; do
+        f=$work/${s}_$bin/summary.json
+        [ -f "$f" ] && cp "$f" "$OUT/${s}_$bin.json"
+    done
+done
+first=${BINS%% *}
+[ "${BENCH:-1}" = 0 ] || {
+run 40 bench_default "$DIR/$first" bench --backend gpu --precisions 3,7 \
+    --frames "$(frames 2000 3)" --out "$work/bench_default"
+run 60 bench_herd "$DIR/$first" bench "$HERD" --backend gpu --precisions 7 \
+    --frames "$(frames 300 2)" --out "$work/bench_herd"
+}
+grep -E "^== |step median|^ +gpu +[0-9]" "$log"
+python3 - "$OUT" <<'EOF' || true
+import json, pathlib, sys
+for f in sorted(pathlib.Path(sys.argv[1]).glob("*.json")):
+    d = json.load(open(f))
+    st = d["stages_ms"]
+    print(f"{f.stem:22} step {d['step_ms']['median']:8.3f}  stages {sum(st.values()):8.3f}  "
+          + " ".join(f"{k} {v:.3f}" for k, v in sorted(st.items()) if v))
+EOF
