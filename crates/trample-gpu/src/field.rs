@@ -66,6 +66,10 @@ pub struct GpuField {
     /// Per blade, between propagation's gather and commit passes
     /// (`propagation.wgsl`); `[u32; 4]`.
     pub(crate) next: wgpu::Buffer,
+    /// Propagation's candidate lists (`propagation.wgsl`, `frontier`): two
+    /// lengths and two unused words, two bits a blade, two lists of blade
+    /// indices; `u32`, 12 bytes a blade.
+    pub(crate) frontier: wgpu::Buffer,
     /// Generation per blade this sub-step (0 = DBG, 1… = PBG, 255 = none).
     pub generation: wgpu::Buffer,
     /// Per blade, as `u32`: bits 0–1 its `BladeClass` (0 untouched, 1 DBG,
@@ -374,6 +378,12 @@ impl GpuField {
                 label: Some("trample-gpu propagation next"),
                 size: blades.count as u64 * 16,
                 usage: U::STORAGE | U::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            frontier: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu propagation candidates"),
+                size: (4 + 3 * blades.count as u64) * 4,
+                usage: U::STORAGE,
                 mapped_at_creation: false,
             }),
         })

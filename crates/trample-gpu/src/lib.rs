@@ -17,7 +17,7 @@
 //! | broad phase | **done** ([`broad_phase`]): each object's rectangle of patches from the CPU's grid lookup, one thread per object and candidate patch (the CPU's SAT, twice its slack; a mark per patch lists it once), per-chunk lists, indirect dispatch of the narrow phase over the listed patches' blades; lists equal to the CPU's (`tests/broad_phase_parity.rs`) |
 //! | narrow phase through the OBB tree, all levels in one dispatch | **done** ([`narrow_phase`]), parity-tested; one dispatch per chunk for all objects (the broad phase's per-patch object masks; the objects in one table, [`object::GpuObjects`]) |
 //! | EqF (Eq. 2), several objects | **done**, in the narrow-phase kernel |
-//! | propagation as generation passes (gather), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested |
+//! | propagation as generation passes (gather over each generation's candidates, listed by the last), bending with length preservation, recovery | **done** ([`propagation`], [`bend`], [`recovery`]), whole-run parity-tested |
 //! | the whole step, one submission per sub-step | **done** ([`GpuSimulation::step`]) |
 //! | the step recorded into the host's encoder | **done** ([`GpuSimulation::record_step`]; per-sub-step uploads staged in order with the passes, [`upload`]; `step` is a thin wrapper over the same loop) |
 //! | a host's device | **done**: [`required_limits`] (the default limits, storage buffers per stage raised to what the stages bind, binding size raised only for fields over 128 MiB) and [`required_features`] (none); tested on a device made with exactly those (`tests/host_device.rs`); a device below them is refused with [`GpuError::Limit`] |

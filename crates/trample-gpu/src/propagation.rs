@@ -9,7 +9,11 @@
 //! size `advance` writes: zero workgroups once a generation reached no
 //! blade (or at the cap). Generation 1 takes a gather and a commit pass;
 //! each later one a single pass (`gather_commit`): every pass, empty or
-//! not, costs a barrier, and the cap is 32 generations.
+//! not, costs a barrier, and the cap is 32 generations. The passes run over
+//! a generation's candidates only, not the field: `seed` lists the blades
+//! next to generation 0, each blade that joins a generation lists its
+//! neighbours for the next (once each: a bit a blade), and `advance` sizes
+//! the next pass by that list (`GpuField::frontier`).
 
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
@@ -30,6 +34,7 @@ const GATHER: usize = 2;
 const COMMIT: usize = 3;
 const ADVANCE: usize = 4;
 const GATHER_COMMIT: usize = 5;
+const PRIME: usize = 6;
 
 /// The compiled propagation kernels and the indirect arguments of the
 /// gather passes.
@@ -53,7 +58,7 @@ impl Propagation {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite, Read,
-                    ReadWrite,
+                    ReadWrite, ReadWrite,
                 ],
                 &[
                     "begin",
@@ -62,6 +67,7 @@ impl Propagation {
                     "commit",
                     "advance",
                     "gather_commit",
+                    "prime",
                 ],
             ),
             unused_args: device.create_buffer(&wgpu::BufferDescriptor {
@@ -116,14 +122,15 @@ impl Propagation {
                 args,
                 &field.touch,
                 &field.next,
+                &field.frontier,
             ],
         )
     }
 
     /// Records generation 0 (every blade touched, DBG from `DBG_WEIGHT`)
-    /// from the narrow phase's contacts, then `passes` generation passes
-    /// (Eq. 4): gather and commit for the first, `gather_commit` for the
-    /// others. [`Propagation::record_reset`] must come first in the
+    /// from the narrow phase's contacts and the list of its neighbours,
+    /// then `passes` generation passes (Eq. 4) over the candidates: gather
+    /// and commit for the first, `gather_commit` for the others. [`Propagation::record_reset`] must come first in the
     /// sub-step.
     pub fn record(
         &self,
@@ -137,6 +144,7 @@ impl Propagation {
     ) {
         let group = self.bind(device, field, params, state, &self.next_gather);
         self.kernel.dispatch(encoder, SEED, &group, groups);
+        self.kernel.dispatch(encoder, PRIME, &group, (1, 1));
         let gather_group = self.bind(device, field, params, state, &self.unused_args);
         for pass in 0..passes {
             if pass == 0 {

@@ -30,6 +30,11 @@
 // Per blade, written by `gather`, applied by `commit`: the new force in
 // xyz, and in w 1 + the owner of the first pusher (0: not reached).
 @group(0) @binding(8) var<storage, read_write> next: array<vec4<u32>>;
+// The candidates of a generation (the blades next to the last one), in
+// two lists used in turn: words 0 and 1 the lists' lengths, then per blade
+// two bits (bit p: listed in list p, so a blade is listed once), then the
+// two lists of N blade indices each (`list_base`).
+@group(0) @binding(9) var<storage, read_write> frontier: array<atomic<u32>>;
 
 const NONE_U32: u32 = 0xffffffffu;
 const CLASS_UNTOUCHED: u32 = 0u;
@@ -38,6 +43,44 @@ const CLASS_PROPAGATED: u32 = 2u;
 // `stages::DBG_WEIGHT`. The threshold's fade-in and the hold weight
 // (`PropagationParams`) are in the step uniform: `params.lod.y`, `.z`.
 const DBG_WEIGHT: f32 = 0.01;
+// Words of `frontier` before the per-blade bits.
+const FRONTIER_HEAD: u32 = 4u;
+
+// First word of candidate list p (0 or 1) in `frontier`.
+fn list_base(p: u32) -> u32 {
+    return FRONTIER_HEAD + params.counts.x * (1u + p);
+}
+
+// Puts blade c in candidate list p unless it is there already.
+fn list_candidate(c: u32, p: u32) {
+    if c >= params.counts.x {
+        return;
+    }
+    let bit = 1u << p;
+    if (atomicOr(&frontier[FRONTIER_HEAD + c], bit) & bit) == 0u {
+        let i = atomicAdd(&frontier[p], 1u);
+        atomicStore(&frontier[list_base(p) + i], c);
+    }
+}
+
+// The candidate of this thread in list p (a dispatch over the list's
+// length, `set_args`), or NONE_U32 past its end.
+fn listed(gid: vec3<u32>, p: u32) -> u32 {
+    let i = blade_index(gid);
+    if i >= atomicLoad(&frontier[p]) {
+        return NONE_U32;
+    }
+    return atomicLoad(&frontier[list_base(p) + i]);
+}
+
+// The indirect arguments of a dispatch over `n` candidates (the layout of
+// `blade_index`: at most `counts.w` workgroups in x).
+fn set_args(n: u32) {
+    let groups = (n + 63u) / 64u;
+    next_gather[0] = min(groups, params.counts.w);
+    next_gather[1] = max((groups + params.counts.w - 1u) / params.counts.w, 1u);
+    next_gather[2] = 1u;
+}
 
 // Reset the per-sub-step state.
 @compute @workgroup_size(1)
@@ -54,12 +97,13 @@ fn begin() {
     atomicStore(&state.lod[1], 0u);
     atomicStore(&state.lod[2], 0u);
     atomicStore(&state.contact, 0u);
-    next_gather[0] = params.counts.w;
-    next_gather[1] = (params.counts.x + params.counts.w * 64u - 1u) / (params.counts.w * 64u);
+    atomicStore(&frontier[0], 0u);
+    atomicStore(&frontier[1], 0u);
+    next_gather[0] = 0u;
+    next_gather[1] = 1u;
     next_gather[2] = 1u;
     if params.counts.z == 0u {
         state.stop = 1u;
-        next_gather[0] = 0u;
     }
 }
 
@@ -74,6 +118,26 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let t = touch[b];
     next[b] = vec4<u32>(0u);
+    // The blade's listed bits start clear every sub-step (a list left over
+    // at the cap, or by a caller recording fewer passes, is forgotten); no
+    // other thread writes them in this pass.
+    atomicStore(&frontier[FRONTIER_HEAD + b], 0u);
+    // A candidate of generation 1 (list 0): a neighbour that points back
+    // at it was touched (generation 0), as `reach` will look for.
+    if params.counts.z != 0u {
+        let nb = neighbours[b];
+        var near_touched = false;
+        for (var s = 0u; s < 4u; s++) {
+            let j = nb[s];
+            if j < params.counts.x && neighbours[j][s ^ 1u] == b && force[j].w > 0.0 {
+                near_touched = true;
+            }
+        }
+        if near_touched {
+            let i = atomicAdd(&frontier[0], 1u);
+            atomicStore(&frontier[list_base(0u) + i], b);
+        }
+    }
     // Touched: a contact weight above 0 (a segment mask bit set).
     if force[b].w > 0.0 {
         generation[b] = 0u;
@@ -163,13 +227,27 @@ fn reach(c: u32) -> vec4<u32> {
     return vec4<u32>(bitcast<vec3<u32>>(sum), owner + 1u);
 }
 
-// Generation 0 → 1: `reach` only reads the state and writes `next`,
-// applied by `commit`, since a blade may be both a source of generation 0
-// and a candidate (an ancestor an object holds lightly).
+// After `seed`: the first gather pass runs over list 0.
+@compute @workgroup_size(1)
+fn prime() {
+    if state.stop != 0u {
+        return;
+    }
+    let n = atomicLoad(&frontier[0]);
+    if n == 0u {
+        state.stop = 1u;
+        return;
+    }
+    set_args(n);
+}
+
+// Generation 0 → 1 over list 0: `reach` only reads the state and writes
+// `next`, applied by `commit`, since a blade may be both a source of
+// generation 0 and a candidate (an ancestor an object holds lightly).
 @compute @workgroup_size(64)
 fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = blade_index(gid);
-    if c >= params.counts.x || state.stop != 0u {
+    let c = listed(gid, state.g % 2u);
+    if c == NONE_U32 || state.stop != 0u {
         return;
     }
     let nx = reach(c);
@@ -181,8 +259,8 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
 // Applies what `gather` found: the blade joins generation G+1.
 @compute @workgroup_size(64)
 fn commit(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = blade_index(gid);
-    if c >= params.counts.x || state.stop != 0u {
+    let c = listed(gid, state.g % 2u);
+    if c == NONE_U32 || state.stop != 0u {
         return;
     }
     let nx = next[c];
@@ -200,10 +278,14 @@ fn commit(@builtin(global_invocation_id) gid: vec3<u32>) {
 // passes give — with one pass and one barrier less a generation.
 @compute @workgroup_size(64)
 fn gather_commit(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = blade_index(gid);
-    if c >= params.counts.x || state.stop != 0u {
+    let p = state.g % 2u;
+    let c = listed(gid, p);
+    if c == NONE_U32 || state.stop != 0u {
         return;
     }
+    // Out of list p (the next list but one uses its bit again); this pass
+    // only adds to the other list.
+    atomicAnd(&frontier[FRONTIER_HEAD + c], ~(1u << p));
     let nx = reach(c);
     if nx.w != 0u {
         join(c, nx);
@@ -221,6 +303,12 @@ fn join(c: u32, nx: vec4<u32>) {
     blade_class[c] = (kind & ~0xff00u) | ((nx.w - 1u) << 8u);
     atomicAdd(&state.pbg, 1u);
     atomicStore(&state.any, 1u);
+    // Its neighbours are the next generation's candidates.
+    let nb = neighbours[c];
+    let p = (state.g + 1u) % 2u;
+    for (var s = 0u; s < 4u; s++) {
+        list_candidate(nb[s], p);
+    }
 }
 
 // After a commit pass: stop when no blade was reached (termination status,
@@ -230,6 +318,8 @@ fn advance() {
     if state.stop != 0u {
         return;
     }
+    // The list just gone through is empty for the generation after next.
+    atomicStore(&frontier[state.g % 2u], 0u);
     if atomicLoad(&state.any) == 0u {
         state.stop = 1u;
         next_gather[0] = 0u;
@@ -241,5 +331,7 @@ fn advance() {
     if state.generations >= params.counts.z {
         state.stop = 1u;
         next_gather[0] = 0u;
+        return;
     }
+    set_args(atomicLoad(&frontier[state.g % 2u]));
 }

@@ -36,7 +36,7 @@ fn compare(device: &wgpu::Device, queue: &wgpu::Queue, fade: f32, hold: f32) {
     let field = Field::generate(&params, Terrain::Flat(0.0)).unwrap();
     let count = field.blades.count;
     let g = GpuField::from_field(device, queue, &field).unwrap();
-    let prop = PropagationParams {
+    let full = PropagationParams {
         att: 0.5,
         threshold: 0.25,
         max_generations: 32,
@@ -51,24 +51,51 @@ fn compare(device: &wgpu::Device, queue: &wgpu::Queue, fade: f32, hold: f32) {
         seed ^= seed << 17;
         (seed >> 40) as f32 / (1u64 << 24) as f32
     };
-    let mut force = vec![Vec3::ZERO; count];
+    let mut start = vec![Vec3::ZERO; count];
     let mut weight = vec![0.0f32; count];
     let mut dbg = Vec::new();
     for _ in 0..120 {
         let b = (next() * count as f32) as usize % count;
         let f = Vec3::new(next() * 2.0 - 1.0, next() * 0.2, next() * 2.0 - 1.0).normalize()
             * (0.3 + 5.7 * next());
-        if force[b] == Vec3::ZERO {
-            force[b] = f;
+        if start[b] == Vec3::ZERO {
+            start[b] = f;
             // Contact weights from a graze to firmly held (all 1 for the paper).
             weight[b] = if hold > 0.0 { 0.02 + 0.2 * next() } else { 1.0 };
             dbg.push(b as u32);
         }
     }
     dbg.sort_unstable();
+    // Cut at 3 generations, then in full, on the same GPU field: the
+    // candidates left listed at the cap must not hide any from the next
+    // sub-step.
+    for cap in [3, full.max_generations] {
+        let prop = PropagationParams {
+            max_generations: cap,
+            ..full
+        };
+        run(device, queue, &field, &g, &prop, &start, &weight, &dbg);
+    }
+}
+
+/// One sub-step's propagation on `g` from `start` forces against the CPU's.
+#[allow(clippy::too_many_arguments)]
+fn run(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    field: &Field,
+    g: &GpuField,
+    prop: &PropagationParams,
+    start: &[Vec3],
+    weight: &[f32],
+    dbg: &[u32],
+) {
+    let (fade, hold) = (prop.threshold_fade, prop.hold_weight);
+    let count = field.blades.count;
+    let mut force = start.to_vec();
     let gpu_forces: Vec<GpuForce> = force
         .iter()
-        .zip(&weight)
+        .zip(weight)
         .map(|(f, &w)| GpuForce {
             force: f.to_array(),
             num: w,
@@ -103,11 +130,11 @@ fn compare(device: &wgpu::Device, queue: &wgpu::Queue, fade: f32, hold: f32) {
     });
     let kernel = trample_gpu::propagation::Propagation::new(device);
     let mut enc = device.create_command_encoder(&Default::default());
-    kernel.record_reset(device, &mut enc, &g, &uniform, &state);
+    kernel.record_reset(device, &mut enc, g, &uniform, &state);
     kernel.record(
         device,
         &mut enc,
-        &g,
+        g,
         &uniform,
         &state,
         (groups_x, 1),
@@ -117,17 +144,23 @@ fn compare(device: &wgpu::Device, queue: &wgpu::Queue, fade: f32, hold: f32) {
 
     let mut generation = vec![NO_GENERATION; count];
     let cpu = propagate_forces(
-        &dbg,
+        dbg,
         &field.layout.neighbours,
         &mut force,
         &mut generation,
-        &weight,
-        &prop,
+        weight,
+        prop,
     );
     let gpu_gen = g.read_u32(device, queue, &g.generation).unwrap();
     let gpu_force = g.read_forces(device, queue).unwrap();
     let counters: Vec<GpuCounters> = read_buffer(device, queue, &state, "counters").unwrap();
     assert!(cpu.pbg.len() > 100, "only {} PBG blades", cpu.pbg.len());
+    // The cut run must stop at its cap, the full one go past it.
+    if prop.max_generations == 3 {
+        assert_eq!(cpu.generations, 3, "the cap must cut propagation");
+    } else {
+        assert!(cpu.generations > 3, "{} generations", cpu.generations);
+    }
     let taken = cpu
         .pbg
         .iter()
@@ -137,7 +170,8 @@ fn compare(device: &wgpu::Device, queue: &wgpu::Queue, fade: f32, hold: f32) {
         assert!(taken > 5, "only {taken} lightly held ancestors took a push");
     }
     eprintln!(
-        "fade {fade}, hold {hold}: {} DBG ({taken} of them also pushed), {} PBG over {} generations (GPU: {} PBG, {} generations)",
+        "cap {}, fade {fade}, hold {hold}: {} DBG ({taken} of them also pushed), {} PBG over {} generations (GPU: {} PBG, {} generations)",
+        prop.max_generations,
         dbg.len(),
         cpu.pbg.len(),
         cpu.generations,
