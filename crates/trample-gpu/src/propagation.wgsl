@@ -129,7 +129,7 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
         var near_touched = false;
         for (var s = 0u; s < 4u; s++) {
             let j = nb[s];
-            if j < params.counts.x && neighbours[j][s ^ 1u] == b && force[j].w > 0.0 {
+            if j < params.counts.x && force[j].w > 0.0 && neighbours[j][s ^ 1u] == b {
                 near_touched = true;
             }
         }
