@@ -54,33 +54,12 @@ if [ "${1:-}" = "--prepare" ]; then
     exit 0
 fi
 
-OUT=${OUT:?set OUT to the folder for the results}
 TRAMPLE=${TRAMPLE:-.carry/trample}
 HERD=${HERD:-scenes/herd.toml}
 # The paper's field: the embedded default scene unless SCENE names a file.
 SCENE=${SCENE:-}
-QUICK=${QUICK:-0}
-log="$OUT/log.txt"
-mkdir -p "$OUT"
-# Each step's own output folder (its charts stay here: the tool brings
-# back eight files at most).
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-: >"$log"
-
-# Frames per step: the real run, or a handful to check the script.
-frames() { if [ "$QUICK" = 1 ]; then echo "$2"; else echo "$1"; fi; }
-
-# The loaders the device machine lacks (see the device tool's README).
-if ls .gl/*.deb >/dev/null 2>&1; then
-    for f in .gl/*.deb; do dpkg -x "$f" /; done
-    ldconfig
-fi
-icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-egl=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
-[ -f "$icd" ] && export VK_DRIVER_FILES="$icd"
-[ -f "$egl" ] && export __EGL_VENDOR_LIBRARY_FILENAMES="$egl"
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
+# shellcheck source=scripts/device_setup.sh
+. "$(dirname "$0")/device_setup.sh"
 
 # The backend: WGPU_BACKEND if set, else Vulkan, else GL (EGL) where a
 # two-frame GPU run of the default scene fails on Vulkan.

@@ -19,27 +19,13 @@
 # QUICK=1 runs a few frames (to check the script on a software driver:
 # WGPU_BACKEND=gl QUICK=1 HERD=scenes/herd_small.toml PARKED=... OUT=...).
 set -u
-OUT=${OUT:?set OUT to the folder for the results}
 BINS=${BINS:-trample}
 DIR=${DIR:-.carry}
 HERD=${HERD:-scenes/herd.toml}
 PARKED=${PARKED:-scenes/herd_parked.toml}
-QUICK=${QUICK:-0}
-log="$OUT/log.txt"
-mkdir -p "$OUT"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-: >"$log"
-frames() { if [ "$QUICK" = 1 ]; then echo "$2"; else echo "$1"; fi; }
-
-if ls .gl/*.deb >/dev/null 2>&1; then
-    for f in .gl/*.deb; do dpkg -x "$f" /; done
-    ldconfig
-fi
-icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-[ -f "$icd" ] && export VK_DRIVER_FILES="$icd"
+# shellcheck source=scripts/device_setup.sh
+. "$(dirname "$0")/device_setup.sh"
 export WGPU_BACKEND=${WGPU_BACKEND:-vulkan}
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
 nvidia-smi -L >>"$log" 2>&1
 
 # run LIMIT_S NAME ARGS...: one trample command, logged.
