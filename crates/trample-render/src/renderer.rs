@@ -247,12 +247,10 @@ impl Renderer {
         queue: &wgpu::Queue,
         sim: &Simulation,
     ) -> Result<FrameCounts, RenderError> {
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("frame"),
-        });
-        let counts = self.encode(device, queue, sim, &mut encoder);
-        queue.submit([encoder.finish()]);
-        wait(device)?;
+        let mut counts = FrameCounts::default();
+        record_and_wait(device, queue, "frame", |e| {
+            counts = self.encode(device, queue, sim, e);
+        })?;
         Ok(counts)
     }
 
@@ -266,12 +264,9 @@ impl Renderer {
         queue: &wgpu::Queue,
         gpu: &mut trample_gpu::GpuSimulation,
     ) -> Result<(), RenderError> {
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("frame (GPU path)"),
-        });
-        self.encode_gpu(device, queue, gpu, &mut encoder);
-        queue.submit([encoder.finish()]);
-        wait(device)
+        record_and_wait(device, queue, "frame (GPU path)", |e| {
+            self.encode_gpu(device, queue, gpu, e);
+        })
     }
 
     /// Draws the GPU path's current state ([`Renderer::draw_gpu`]) and reads
@@ -290,8 +285,18 @@ impl Renderer {
     }
 }
 
-/// Waits for everything submitted to `device`'s queue.
-fn wait(device: &wgpu::Device) -> Result<(), RenderError> {
+/// Records a frame with `record` into an encoder of its own, submits it
+/// and waits for everything submitted to `queue`.
+fn record_and_wait(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    record: impl FnOnce(&mut wgpu::CommandEncoder),
+) -> Result<(), RenderError> {
+    let mut encoder =
+        device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+    record(&mut encoder);
+    queue.submit([encoder.finish()]);
     device
         .poll(wgpu::PollType::wait_indefinitely())
         .map(drop)
