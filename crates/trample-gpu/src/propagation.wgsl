@@ -1,7 +1,9 @@
 // Force propagation from DBG to PBG (paper §5.2, Definitions 1–7, Eq. 4;
-// DESIGN §5) as generation passes: `begin` and `seed` once, then
+// DESIGN §5) as generation passes: `begin`, `seed` and `prime` once, then
 // `gather` + `commit` + `advance` for generation 1 and `gather_commit` +
-// `advance` for each later one, up to the cap. Each blade of generation
+// `advance` for each later one, up to the cap, each over the generation's
+// candidates (`frontier`: the blades next to the last generation, listed
+// by `seed` and by each blade as it joins), not the field. Each blade of generation
 // G+1 gathers, in the fixed order −x, +x, −z, +z, the contributions of the
 // active generation-G neighbours that point at it: the gather of
 // `trample::force::propagation::gather_force`, no float atomics. For
