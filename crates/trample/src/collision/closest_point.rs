@@ -150,10 +150,29 @@ fn distance_sq_to_box(p: Vec3, obb: &Obb) -> f32 {
 /// triangles. No allocation.
 #[must_use]
 pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Option<SurfacePoint> {
-    if tree.is_empty() || !p.is_finite() || max_distance.is_nan() || max_distance < 0.0 {
+    if max_distance.is_nan() || max_distance < 0.0 {
         return None;
     }
-    let mut best_sq = max_distance * max_distance;
+    closest_point_within_sq(tree, p, max_distance * max_distance)
+}
+
+/// [`closest_point_on_mesh`] among the points within `sqrt(max_sq)` of
+/// `p`, the bound given squared so that a distance measured earlier
+/// (`closest_point_on_triangle_region(p, tri)`, then `distance_squared`)
+/// bounds the walk exactly: that triangle is then found, or one nearer.
+///
+/// With `max_sq` at least the squared distance of the mesh's closest point,
+/// the answer is that of the unbounded walk, bit for bit: a bound only
+/// skips boxes farther than it, the walk's order does not depend on it,
+/// and the triangle the unbounded walk keeps — the first in that order at
+/// the least distance — lies in boxes no farther than that distance. (What
+/// [`crate::collision::contact::push_out_hinted`] relies on.)
+#[must_use]
+pub fn closest_point_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32) -> Option<SurfacePoint> {
+    if tree.is_empty() || !p.is_finite() || max_sq.is_nan() || max_sq < 0.0 {
+        return None;
+    }
+    let mut best_sq = max_sq;
     let mut best: Option<SurfacePoint> = None;
     // (node, its box's squared distance, computed once when it is pushed).
     let mut stack = [(0u32, 0.0f32); STACK_SIZE];
@@ -260,6 +279,63 @@ mod tests {
             }
         }
     }
+    /// A bound taken from any triangle's distance, measured as the walk
+    /// measures it, gives the unbounded walk's answer bit for bit — the
+    /// tightest one too (the answer's own triangle), and on a box, whose
+    /// faces' diagonals and edges make ties. What `push_out_hinted` relies on.
+    #[test]
+    fn a_bound_from_a_measured_triangle_keeps_the_answer() {
+        let mut rng = XorShift(0x51_7cc1_b727_220au64);
+        for mesh in [
+            sphere(1.0, 3),
+            knot(2.4),
+            crate::object::shapes::cuboid(Vec3::new(0.5, 0.2, 0.9)),
+        ] {
+            let tree = ObbTree::build(&mesh, 32);
+            let n = tree.triangles.len();
+            let (mut checked, mut tight) = (0, 0);
+            for _ in 0..600 {
+                // Near the surface: a point of a random triangle (a corner,
+                // an edge's middle or inside), moved a little.
+                let t = tree.triangles[(rng.next_u64() % n as u64) as usize];
+                let on = match rng.next_u64() % 3 {
+                    0 => t[0],
+                    1 => (t[0] + t[1]) * 0.5,
+                    _ => (t[0] + t[1] + t[2]) / 3.0,
+                };
+                let p = on
+                    + Vec3::new(
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                    ) * 0.05;
+                let want = closest_point_on_mesh(&tree, p, f32::INFINITY).unwrap();
+                let own = want.triangle as usize;
+                let other = (own + 1 + (rng.next_u64() % 7) as usize) % n;
+                for k in [own, other] {
+                    let d = closest_point_on_triangle_region(p, &tree.triangles[k])
+                        .0
+                        .distance_squared(p);
+                    let got = closest_point_within_sq(&tree, p, d)
+                        .expect("the bound's triangle is within it");
+                    assert_eq!(
+                        got.point.to_array().map(f32::to_bits),
+                        want.point.to_array().map(f32::to_bits),
+                        "{p}"
+                    );
+                    assert_eq!(
+                        (got.triangle, got.region, got.distance_sq.to_bits()),
+                        (want.triangle, want.region, want.distance_sq.to_bits()),
+                        "{p}"
+                    );
+                    checked += 1;
+                    tight += usize::from(k == own);
+                }
+            }
+            assert_eq!((checked, tight), (1200, 600));
+        }
+    }
+
     /// The walk's order written plainly (both children pushed, the nearer
     /// popped next): the order the GPU twin (`object.wgsl`) keeps, whose
     /// first found triangle wins a tie.

@@ -9,7 +9,7 @@
 //!
 //! - **Closed meshes**: the inside grid (`inside_grid.rs`) answers for a
 //!   vertex in a voxel that meets no triangle; otherwise the closest point of
-//!   the mesh ([`closest_point_on_mesh`]) decides by the side of its
+//!   the mesh ([`closest_point_on_mesh`](super::closest_point::closest_point_on_mesh)) decides by the side of its
 //!   triangle where it lies on a face's interior (exact: the point projects
 //!   onto the face along its normal), and the exact ray-parity test
 //!   ([`point_inside_by_ray`]) where it lies on an edge or a corner.
@@ -31,7 +31,7 @@
 use glam::Vec3;
 
 use super::closest_point::{
-    Feature, SurfacePoint, closest_point_on_mesh, closest_point_on_triangle_region,
+    Feature, SurfacePoint, closest_point_on_triangle_region, closest_point_within_sq,
 };
 use super::exact::point_inside_by_ray;
 use crate::obb::ObbTree;
@@ -51,7 +51,7 @@ pub const CONTACT_TOLERANCE_M: f32 = 0.003;
 /// counts as inside). Non-finite `p` gives `None`. No allocation.
 #[must_use]
 pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f32)> {
-    match surface_and_side(tree, p, open_depth) {
+    match surface_and_side(tree, p, open_depth, f32::INFINITY) {
         Some((s, true)) => Some((s.point, s.distance_sq.sqrt())),
         _ => None,
     }
@@ -60,8 +60,17 @@ pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f3
 /// The closest surface point that [`penetration`] measured `p` against and
 /// whether `p` is inside (see the module docs); `None` when no point was
 /// needed (empty tree, non-finite `p`, a voxel known outside, nothing
-/// within `open_depth` of an open mesh).
-fn surface_and_side(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(SurfacePoint, bool)> {
+/// within `open_depth` of an open mesh). `bound_sq`: a squared distance
+/// from `p` to some point of the mesh, measured as the walk measures
+/// (`closest_point_on_triangle_region`, `distance_squared`), or infinity:
+/// the walk skips the boxes farther than it, with the same answer
+/// ([`closest_point_within_sq`]).
+fn surface_and_side(
+    tree: &ObbTree,
+    p: Vec3,
+    open_depth: f32,
+    bound_sq: f32,
+) -> Option<(SurfacePoint, bool)> {
     if tree.is_empty() || !p.is_finite() {
         return None;
     }
@@ -70,7 +79,7 @@ fn surface_and_side(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Surface
         if known == Some(false) {
             return None;
         }
-        let s = closest_point_on_mesh(tree, p, f32::INFINITY)?;
+        let s = closest_point_within_sq(tree, p, bound_sq)?;
         let inside = match (known, s.feature()) {
             (Some(true), _) => true,
             (_, Feature::Face) => (p - s.point).dot(s.normal) < 0.0,
@@ -78,7 +87,10 @@ fn surface_and_side(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Surface
         };
         Some((s, inside))
     } else {
-        let s = closest_point_on_mesh(tree, p, open_depth)?;
+        if open_depth.is_nan() || open_depth < 0.0 {
+            return None;
+        }
+        let s = closest_point_within_sq(tree, p, (open_depth * open_depth).min(bound_sq))?;
         let inside = (p - s.point).dot(s.side_normal(tree)) < 0.0;
         Some((s, inside))
     }
@@ -107,13 +119,17 @@ pub const NO_HINT: u32 = u32::MAX;
 /// rest against the surface at the tolerance.
 #[must_use]
 pub fn push_out_hinted(tree: &ObbTree, p: Vec3, open_depth: f32, hint: &mut u32) -> Option<Vec3> {
+    let mut bound_sq = f32::INFINITY;
     if let Some(tri) = tree.triangles.get(*hint as usize) {
         let (q, _) = closest_point_on_triangle_region(p, tri);
-        if q.distance_squared(p).sqrt() <= CONTACT_TOLERANCE_M {
+        let d = q.distance_squared(p);
+        if d.sqrt() <= CONTACT_TOLERANCE_M {
             return None;
         }
+        // The walk need not look farther than the hint (same answer).
+        bound_sq = d;
     }
-    let (s, inside) = surface_and_side(tree, p, open_depth)?;
+    let (s, inside) = surface_and_side(tree, p, open_depth, bound_sq)?;
     *hint = s.triangle;
     let depth = s.distance_sq.sqrt();
     (inside && depth > CONTACT_TOLERANCE_M)
@@ -123,6 +139,7 @@ pub fn push_out_hinted(tree: &ObbTree, p: Vec3, open_depth: f32, hint: &mut u32)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::collision::closest_point::closest_point_on_mesh;
     use crate::collision::exact::point_inside;
     use crate::object::TriMesh;
     use crate::object::shapes::{cuboid, knot, sphere};
