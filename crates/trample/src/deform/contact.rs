@@ -120,14 +120,36 @@ pub fn resolve_contact(
     clearance: f32,
     open_depth: f32,
 ) -> bool {
+    let mut hints = [NO_HINT; MAX_SEGMENTS + 1];
+    resolve_contact_hinted(
+        verts, seg_len, first, pose, tree, terrain, clearance, open_depth, &mut hints,
+    )
+}
+
+/// [`resolve_contact`] with a triangle of `tree` per vertex to try first
+/// (`hints[k]` for vertex `k`; [`NO_HINT`] or any index: the answers are
+/// the same bit for bit, a triangle near the vertex saves the most, see
+/// [`push_out_hinted`]); on return each holds the triangle of the vertex's
+/// last closest point, for the collider's next sub-step.
+#[allow(clippy::too_many_arguments)]
+pub fn resolve_contact_hinted(
+    verts: &mut [Vec3A],
+    seg_len: f32,
+    first: usize,
+    pose: &Pose,
+    tree: &ObbTree,
+    terrain: &Terrain,
+    clearance: f32,
+    open_depth: f32,
+    hints: &mut [u32; MAX_SEGMENTS + 1],
+) -> bool {
     if verts.len() < 2 || !super::bend::valid_blade(verts, seg_len) {
         return false;
     }
     let mut from = first.max(1);
     let mut moved = false;
     // Per vertex, the triangle of its last closest point: a later round
-    // tries it first (`push_out_hinted`, same answers).
-    let mut hints = [NO_HINT; MAX_SEGMENTS + 1];
+    // (or sub-step) tries it first (`push_out_hinted`, same answers).
     // Per vertex, the last point it was asked `pinned` at and the answer: a
     // later round asking again at the same point (the lower end of a
     // segment turned again) takes it from here (a third of the questions
@@ -263,6 +285,61 @@ mod tests {
         assert_eq!(turn_towards(d, Vec3A::ZERO, Vec3A::X, 0.1), d);
         let tiny = turn_towards(d, Vec3A::new(1e-7, 0.0, 0.0), Vec3A::X, 0.1);
         assert!((tiny - d).length() < 1e-5);
+    }
+
+    /// Whatever triangles the hints name — none, the right ones, wrong
+    /// ones, indices past the mesh — the blade ends where it ends without
+    /// them, bit for bit, and the hints it hands back name the triangles it
+    /// found (the contact stage keeps them for the collider's next
+    /// sub-step).
+    #[test]
+    fn hints_change_no_bit_of_the_response() {
+        use crate::object::shapes::{cuboid, knot, sphere};
+        use crate::test_rng::XorShift;
+        let terrain = Terrain::Flat(0.0);
+        let mut rng = XorShift(0x0000_ddb1_a5e5_u64);
+        let (mut moved, mut checked) = (0, 0);
+        for mesh in [sphere(0.6, 3), knot(1.2), cuboid(Vec3::new(0.5, 0.3, 0.4))] {
+            let tree = ObbTree::build(&mesh, 32);
+            let n_tri = tree.triangles.len() as u64;
+            let pose = Pose::at_rest(Vec3::new(0.0, 0.35, 0.0));
+            for _ in 0..300 {
+                // A blade of four 0.1 m segments rooted under or beside the
+                // object, leaning a little.
+                let root = Vec3A::new(rng.range(-0.8, 0.8), 0.0, rng.range(-0.8, 0.8));
+                let lean = Vec3A::new(rng.range(-0.3, 0.3), 1.0, rng.range(-0.3, 0.3)).normalize();
+                let blade: Vec<Vec3A> = (0..5).map(|k| root + lean * (0.1 * k as f32)).collect();
+                let mut plain = blade.clone();
+                let m = resolve_contact(&mut plain, 0.1, 1, &pose, &tree, &terrain, 0.002, 0.1);
+                let mut found = [NO_HINT; MAX_SEGMENTS + 1];
+                let mut again = blade.clone();
+                resolve_contact_hinted(
+                    &mut again, 0.1, 1, &pose, &tree, &terrain, 0.002, 0.1, &mut found,
+                );
+                for round in 0..3 {
+                    let mut hints = match round {
+                        0 => found,
+                        1 => [0; MAX_SEGMENTS + 1].map(|_| (rng.next_u64() % n_tri) as u32),
+                        _ => [u32::MAX - 1; MAX_SEGMENTS + 1],
+                    };
+                    let mut v = blade.clone();
+                    let mh = resolve_contact_hinted(
+                        &mut v, 0.1, 1, &pose, &tree, &terrain, 0.002, 0.1, &mut hints,
+                    );
+                    assert_eq!(mh, m);
+                    for (a, b) in v.iter().zip(&plain) {
+                        assert_eq!(
+                            a.to_array().map(f32::to_bits),
+                            b.to_array().map(f32::to_bits)
+                        );
+                    }
+                    checked += 1;
+                }
+                moved += usize::from(m);
+            }
+        }
+        assert_eq!(checked, 2700);
+        assert!(moved > 100, "only {moved} blades met an object");
     }
 
     /// A segment standing straight up, a few ulp of noise either way: it is

@@ -91,9 +91,14 @@ impl RestKey {
     }
 }
 
-/// What a collider at rest kept from its latest sub-steps.
+/// What a collider kept from its latest sub-steps: while at rest, its
+/// narrow phase and contact response; always, its contact response's hints
+/// ([`super::contact_hints`]).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ColliderMemo {
+    /// The closest triangles of the vertices its contact response asked
+    /// about last (moving or not).
+    pub(crate) hints: super::contact_hints::ContactHints,
     /// The key of the latest sub-step the collider took part in.
     last: Option<RestKey>,
     /// The narrow phase's tiles, with the key they were tested under.

@@ -4,12 +4,14 @@
 //! transitions between levels of detail (Eq. 9–13).
 
 use super::at_rest::{ColliderMemo, RestKey};
+use super::contact_hints::ContactHints;
 use super::simulation::Simulation;
 use super::stages::{mark_displaced, reach_rect, sort_displaced};
+use crate::collision::contact::NO_HINT;
 use crate::collision::segment_obb::segment_hits_obb;
 use crate::deform::bend::{bend_blade, weights};
 use crate::deform::billboard::{billboard_slope, billboard_top, deflect_billboard};
-use crate::deform::contact::resolve_contact;
+use crate::deform::contact::resolve_contact_hinted;
 use crate::deform::transition::{
     bend_last_segment, cell_offset_and_flatness, offset_from_slope, slope_from_offset,
 };
@@ -68,7 +70,7 @@ pub(crate) fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) -> Vec<u
 /// bodies in order, each body's own mesh then its parts), every
 /// blade some object touched this sub-step (a segment mask, from the narrow
 /// phase) in the patches the broad phase listed for it is moved out of it
-/// ([`resolve_contact`], from the lowest vertex touched). The GPU path runs
+/// ([`crate::deform::contact::resolve_contact`], from the lowest vertex touched). The GPU path runs
 /// the same sets: one dispatch per object over its listed patches. Returns
 /// the blades that moved and marks them displaced.
 pub(crate) fn resolve_contacts(
@@ -107,6 +109,7 @@ pub(crate) fn resolve_contacts(
         }
         if list.is_empty() {
             memo.keep_blades(None, Vec::new());
+            memo.hints = ContactHints::default();
             continue;
         }
         let blades = &sim.field.blades;
@@ -118,10 +121,15 @@ pub(crate) fn resolve_contacts(
         // fixed point a collider at rest keeps, `super::at_rest`), and
         // whether it was left without a query (kept so before).
         let mut moved = vec![(false, false, false); list.len()];
+        // Each vertex's closest triangle, from the collider's sub-step
+        // before and for its next (`super::contact_hints`).
+        let mut hints = vec![[NO_HINT; MAX_SEGMENTS + 1]; list.len()];
         work.par_chunks_mut(n + 1)
             .zip(moved.par_iter_mut())
+            .zip(hints.par_iter_mut())
             .zip(list.par_iter())
-            .for_each(|((v, moved), &b)| {
+            .for_each(|(((v, moved), hint), &b)| {
+                *hint = kept.hints.of(b, n + 1);
                 let b = b as usize;
                 blades.load(b, v);
                 let first = mask[b].trailing_zeros();
@@ -137,7 +145,7 @@ pub(crate) fn resolve_contacts(
                     copy[..=n].copy_from_slice(v);
                     copy
                 });
-                let m = resolve_contact(
+                let m = resolve_contact_hinted(
                     v,
                     seg_len,
                     first as usize,
@@ -146,6 +154,7 @@ pub(crate) fn resolve_contacts(
                     terrain,
                     GROUND_CLEARANCE_M,
                     seg_len,
+                    hint,
                 );
                 let fixed = before.is_some_and(|before| {
                     v.iter().zip(&before).all(|(a, b)| {
@@ -168,6 +177,7 @@ pub(crate) fn resolve_contacts(
             }
         }
         memo.keep_blades(key, resting);
+        memo.hints = ContactHints::keep(list, &hints, n + 1);
     }
     for &b in &out {
         mark_displaced(sim, b);

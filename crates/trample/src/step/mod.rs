@@ -6,6 +6,7 @@ pub mod bodies;
 pub mod body;
 pub mod changes;
 mod collide;
+mod contact_hints;
 mod deform;
 pub mod drive;
 pub mod params;
