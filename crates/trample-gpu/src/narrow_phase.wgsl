@@ -72,7 +72,8 @@ var<private> walk_stack: array<vec2<u32>, STACK_SIZE>;
 var<private> blade_local: array<vec3<f32>, 16>;
 
 // `narrow_phase::walk` with shell 0: the paper's walk, depth first, left
-// child first, fixed-size stack.
+// child first, fixed-size stack; a node is met when its box and its tilted
+// boxes are (`hits_node`).
 fn walk(p0: vec3<f32>, p1: vec3<f32>, final_depth: u32) -> Walk {
     let centre = (p0 + p1) * 0.5;
     let half = (p1 - p0) * 0.5;
@@ -88,7 +89,7 @@ fn walk(p0: vec3<f32>, p1: vec3<f32>, final_depth: u32) -> Walk {
             continue;
         }
         let n = node_at(i);
-        if !hits_obb(centre, half, n) {
+        if !hits_node(centre, half, n, i) {
             continue;
         }
         out.deepest_hit = max(out.deepest_hit, depth);

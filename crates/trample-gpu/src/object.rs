@@ -9,7 +9,7 @@
 //! word 0 is the header (object count, mask words per patch of the broad
 //! phase, first mask word in the broad phase's lists, 0); object `o`'s
 //! [`GpuObjectParams`] are the 16 words from `1 + 16 o`; its nodes
-//! ([`GpuNode`], 10 words each), triangles (3 words each, one a corner),
+//! ([`GpuNode`], 15 words each), triangles (3 words each, one a corner),
 //! an open mesh's pseudo-normals (6 words a triangle: edges `ab`, `bc`, `ca`,
 //! corners `a`, `b`, `c`; `trample::obb::pseudo_normals`) and a closed
 //! mesh's voxels (4 to a word) start at the words its `base` names. Only the
@@ -18,6 +18,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
+use trample::obb::slabs::EXTRA_BOXES;
 use trample::obb::{EQN_EPSILON, ObbTree};
 use trample::object::Pose;
 use trample::step::Simulation;
@@ -37,7 +38,9 @@ pub struct GpuNode {
     pub axis_v: [f32; 4],
     /// Axis w (w unused).
     pub axis_w: [f32; 4],
-    /// Half extents (hu, hv, hw) (w unused).
+    /// Half extents (hu, hv, hw); w: the thin axis its tilted boxes turn
+    /// from (`trample::obb::slabs::NodeSlabs::thin`: 0, 1 or 2), or −1
+    /// when the tree has none (a nested tree).
     pub half: [f32; 4],
     /// xyz: Eq. 3's EqN normalised when w = 1; else the node's fallback
     /// axis (see `ObbTree::eqn_direction`), w = 0.
@@ -53,8 +56,12 @@ pub struct GpuNode {
     /// (`ObbTree::node_velocity`; zero for a mesh that does not deform)
     /// (w unused).
     pub velocity: [f32; 4],
+    /// The node's tilted boxes (`trample::obb::slabs::NodeSlabs::faces`):
+    /// per box, the centre and half extent along its two turned axes (zero
+    /// when the tree has none).
+    pub tilted: [[f32; 4]; EXTRA_BOXES],
 }
-const _: () = assert!(std::mem::size_of::<GpuNode>() == 160);
+const _: () = assert!(std::mem::size_of::<GpuNode>() == 240);
 
 /// An object's pose and tree header. Layout-compatible with `ObjectParams`
 /// in `object.wgsl` (read from the object table by `load_object`).
@@ -102,7 +109,7 @@ const _: () = assert!(std::mem::size_of::<GpuObjectParams>() == 256);
 /// 16-byte words of one object's [`GpuObjectParams`] in the table.
 const PARAM_WORDS: usize = 16;
 /// 16-byte words of one [`GpuNode`].
-const NODE_WORDS: usize = 10;
+const NODE_WORDS: usize = 15;
 
 fn v4(v: Vec3) -> [f32; 4] {
     [v.x, v.y, v.z, 0.0]
@@ -121,17 +128,20 @@ pub fn flatten_nodes(tree: &ObbTree) -> Vec<GpuNode> {
             let c = n.obb.center;
             let d = tree.eqn_direction(i as u32, c, c);
             let reach = tree.reach.get(i).copied().unwrap_or(n.obb);
+            let slabs = tree.slabs.get(i);
+            let thin = slabs.map_or(-1.0, |s| s.thin as f32);
             GpuNode {
                 center: v4(c),
                 axis_u: v4(n.obb.axes[0]),
                 axis_v: v4(n.obb.axes[1]),
                 axis_w: v4(n.obb.axes[2]),
-                half: v4(n.obb.half),
+                half: [n.obb.half.x, n.obb.half.y, n.obb.half.z, thin],
                 dir: [d.x, d.y, d.z, if valid { 1.0 } else { 0.0 }],
                 children: [n.children[0], n.children[1], n.first_tri, n.tri_count],
                 reach_center: v4(reach.center),
                 reach_half: v4(reach.half),
                 velocity: v4(tree.node_velocity(i as u32)),
+                tilted: slabs.map_or([[0.0; 4]; EXTRA_BOXES], |s| s.faces),
             }
         })
         .collect()
@@ -156,6 +166,7 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
             words(n.reach_half),
             words(n.velocity),
         ]);
+        out.extend(n.tilted.map(words));
     }
     let mut params = GpuObjectParams::zeroed();
     params.base[0] = 0;

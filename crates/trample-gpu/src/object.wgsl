@@ -13,6 +13,8 @@ struct Node {
     axis_u: vec4<f32>,
     axis_v: vec4<f32>,
     axis_w: vec4<f32>,
+    // xyz: half extents; w: the thin axis the tilted boxes turn from (0, 1,
+    // 2), or -1 for none (`GpuNode::half`).
     half: vec4<f32>,
     // xyz: Eq. 3's EqN normalised when w == 1; else the smallest box axis,
     // pointing up (the fallback of `ObbTree::eqn_direction`).
@@ -26,7 +28,13 @@ struct Node {
     // The node's deformation velocity in the object's frame, m/s
     // (`ObbTree::node_velocity`; zero for a mesh that does not deform).
     velocity: vec4<f32>,
+    // Then five words the walk reads only where it needs them
+    // (`hits_tilted`): the node's tilted boxes (`trample::obb::slabs`).
 }
+
+// Words of one node in the table: the ten of `Node`, then its five tilted
+// boxes (`GpuNode::tilted`).
+const NODE_WORDS: u32 = 15u;
 
 // Layout-compatible with `GpuObjectParams` in object.rs.
 struct ObjectParams {
@@ -58,7 +66,7 @@ struct ObjectParams {
 
 // The object table (`object.rs`): word 0 = (objects, mask words per patch,
 // first mask word in the broad phase's lists, 0); object o's parameters at
-// words 1 + 16 o ..; its nodes (10 words each), triangles (3 words each),
+// words 1 + 16 o ..; its nodes (15 words each), triangles (3 words each),
 // pseudo-normals (6 words a triangle, open meshes) and voxels (4 to a word)
 // from the words its `base` names. Floats by their bits.
 @group(1) @binding(0) var<storage, read> objects: array<vec4<u32>>;
@@ -104,7 +112,7 @@ fn load_object(o: u32, gz: u32) {
 
 // Node i of the object's tree.
 fn node_at(i: u32) -> Node {
-    let a = obj.base.x + 10u * i;
+    let a = obj.base.x + NODE_WORDS * i;
     return Node(
         word_f(a), word_f(a + 1u), word_f(a + 2u), word_f(a + 3u), word_f(a + 4u),
         word_f(a + 5u), objects[a + 6u], word_f(a + 7u), word_f(a + 8u), word_f(a + 9u),
@@ -146,6 +154,57 @@ fn to_box(n: Node, v: vec3<f32>) -> vec3<f32> {
 
 fn hits_obb(centre: vec3<f32>, half: vec3<f32>, n: Node) -> bool {
     return hits_box(centre, half, n.center.xyz, n.axis_u.xyz, n.axis_v.xyz, n.axis_w.xyz, n.half.xyz);
+}
+
+// `trample::obb::slabs`: sin and cos of the tilt (15°), and of the turn (45°).
+const TILT_SIN: f32 = 0.25881904;
+const TILT_COS: f32 = 0.9659258;
+const TURN_45: f32 = 0.70710677;
+
+// `segment_slabs::hits_tilted_local`: segment c ± h in node i's box frame
+// against its five tilted boxes (`slabs::TURNS`), each on its own.
+fn hits_tilted(c: vec3<f32>, h: vec3<f32>, e: vec3<f32>, i: u32, thin: u32) -> bool {
+    let a = obj.base.x + NODE_WORDS * i + 10u;
+    for (var j = 0u; j < 5u; j++) {
+        var p = 0u;
+        var q = 1u;
+        var sn = TILT_SIN;
+        var cs = TILT_COS;
+        if j >= 2u && j < 4u {
+            q = 2u;
+        }
+        if j == 1u || j == 3u {
+            sn = -TILT_SIN;
+        }
+        if j == 4u {
+            p = 1u;
+            q = 2u;
+            sn = TURN_45;
+            cs = TURN_45;
+        }
+        p = (thin + p) % 3u;
+        q = (thin + q) % 3u;
+        let r = 3u - p - q;
+        let f = word_f(a + j);
+        let lc = vec3<f32>(cs * c[p] + sn * c[q] - f.x, cs * c[q] - sn * c[p] - f.z, c[r]);
+        let lh = vec3<f32>(cs * h[p] + sn * h[q], cs * h[q] - sn * h[p], h[r]);
+        if !hits_box_local(lc, lh, vec3<f32>(f.y, f.w, e[r])) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// `segment_slabs::segment_hits_node`: the node's box, then its tilted boxes
+// (none where `half.w` < 0).
+fn hits_node(centre: vec3<f32>, half: vec3<f32>, n: Node, i: u32) -> bool {
+    let d = centre - n.center.xyz;
+    let c = vec3<f32>(dot3(n.axis_u.xyz, d), dot3(n.axis_v.xyz, d), dot3(n.axis_w.xyz, d));
+    let h = vec3<f32>(dot3(n.axis_u.xyz, half), dot3(n.axis_v.xyz, half), dot3(n.axis_w.xyz, half));
+    if !hits_box_local(c, h, n.half.xyz) {
+        return false;
+    }
+    return n.half.w < 0.0 || hits_tilted(c, h, n.half.xyz, i, u32(n.half.w));
 }
 
 // glam `Quat::mul_vec3a` (SSE path) for a unit quaternion q = (x, y, z, w).

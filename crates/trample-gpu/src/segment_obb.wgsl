@@ -18,6 +18,12 @@ fn hits_box(centre: vec3<f32>, half: vec3<f32>, bc: vec3<f32>, u: vec3<f32>, v: 
     let d = centre - bc;
     let c = vec3<f32>(dot3(u, d), dot3(v, d), dot3(w, d));
     let h = vec3<f32>(dot3(u, half), dot3(v, half), dot3(w, half));
+    return hits_box_local(c, h, e);
+}
+
+// `segment_obb::hits_centred_local`: segment c ± h in the frame of a box
+// centred at the origin with half extents e, the six separating axes.
+fn hits_box_local(c: vec3<f32>, h: vec3<f32>, e: vec3<f32>) -> bool {
     let ah = abs(h);
     let faces = abs(c) <= e + ah;
     let cr = abs(cross3(c, h));

@@ -250,9 +250,27 @@ fn sphere_pushes_blades_outwards_at_every_precision() {
         collide_segment(a, b, &tree, 1),
         "precision 0 is 1"
     );
-    // In the root box's corner but outside the sphere: precision 1 hits, depth
-    // does not. (The corner towards (1, −1, 1), whatever the box's orientation.)
+    // In the root's volume (its box and tilted boxes: `obb::slabs`) but
+    // outside the sphere: precision 1 hits, depth does not.
     let root = tree.nodes[0].obb;
+    let slabs = tree.slabs[0];
+    let n = 24;
+    let a = (0..n * n * n)
+        .map(|g| {
+            let f = |k: usize| -1.0 + 2.0 * (k as f32 + 0.5) / n as f32;
+            Vec3::new(f(g % n), f(g / n % n), f(g / n / n)) * root.half * 0.98
+        })
+        .filter(|x| slabs.holds(x.to_array(), -0.01))
+        .map(|x| root.center + root.axes[0] * x.x + root.axes[1] * x.y + root.axes[2] * x.z)
+        .max_by(|p, q| p.length().total_cmp(&q.length()))
+        .unwrap();
+    let b = a * 0.99;
+    assert!(b.length() > 1.1, "outside the sphere: {a}");
+    assert!(collide_segment(a, b, &tree, 1).is_some());
+    assert!(collide_segment(a, b, &tree, 7).is_none());
+    assert!(!segment_hits_exact(&tree, a, b));
+    // The root box's corner towards (1, −1, 1) lies outside its tilted
+    // boxes: precision 1 no longer hits there (the paper's root box did).
     let corner = root
         .corners()
         .into_iter()
@@ -265,10 +283,7 @@ fn sphere_pushes_blades_outwards_at_every_precision() {
         root.center.lerp(corner, 0.93),
         root.center.lerp(corner, 0.87),
     );
-    assert!(a.length() > 1.3 && b.length() > 1.3, "outside the sphere");
-    assert!(collide_segment(a, b, &tree, 1).is_some());
-    assert!(collide_segment(a, b, &tree, 7).is_none());
-    assert!(!segment_hits_exact(&tree, a, b));
+    assert!(collide_segment(a, b, &tree, 1).is_none());
 }
 
 #[test]

@@ -11,6 +11,7 @@ pub mod inside_grid;
 pub mod narrow_phase;
 pub mod segment_obb;
 pub mod segment_obb_wide;
+pub mod segment_slabs;
 pub mod segment_triangle;
 
 pub use broad_phase::{

@@ -44,6 +44,7 @@ use super::segment_obb::{
     centred, segment_depth_in_obb, segment_hits_obb_centred, segment_hits_obb_inflated,
 };
 use super::segment_obb_wide::Segments4;
+use super::segment_slabs::segment_hits_node;
 use crate::field::MAX_SEGMENTS;
 use crate::obb::build::closest_point_on_segment;
 use crate::obb::{MAX_TREE_DEPTH, ObbTree};
@@ -894,7 +895,7 @@ fn walk(
             let reach = tree.reach.get(i as usize).filter(|_| descend);
             segment_hits_obb_inflated(centre, half, reach.unwrap_or(&node.obb), shell)
         } else {
-            segment_hits_obb_centred(centre, half, &node.obb)
+            segment_hits_node(centre, half, &node.obb, tree.slabs.get(i as usize))
         };
         if !hit {
             continue;

@@ -92,7 +92,7 @@ pub(crate) fn segment_depth_in_obb(centre: Vec3A, half: Vec3A, obb: &Obb, shell:
 /// Segment `c ± h` moved into the frame of `obb` (rows u, v, w of the
 /// box's axes: multiplying by them takes a vector into the box frame).
 #[inline]
-fn to_box_frame(centre: Vec3A, half: Vec3A, obb: &Obb) -> (Vec3A, Vec3A) {
+pub(crate) fn to_box_frame(centre: Vec3A, half: Vec3A, obb: &Obb) -> (Vec3A, Vec3A) {
     let to_box =
         Mat3A::from_cols(obb.axes[0].into(), obb.axes[1].into(), obb.axes[2].into()).transpose();
     (to_box * (centre - Vec3A::from(obb.center)), to_box * half)
@@ -137,7 +137,7 @@ pub fn max_depth_local(c: Vec3A, h: Vec3A, e: Vec3A) -> f32 {
 /// The six separating-axis tests, box frame: segment `c ± h`, box half
 /// extents `e`. NaN anywhere gives `false`.
 #[inline]
-fn hits_centred_local(c: Vec3A, h: Vec3A, e: Vec3A) -> bool {
+pub(crate) fn hits_centred_local(c: Vec3A, h: Vec3A, e: Vec3A) -> bool {
     let ah = h.abs();
     let faces = c.abs().cmple(e + ah);
     let cross = c.cross(h).abs();

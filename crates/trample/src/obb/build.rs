@@ -158,6 +158,7 @@ impl ObbTree {
             nested: false,
             inside: None,
             reach: Vec::new(),
+            slabs: Vec::new(),
             velocity: Vec::new(),
             features: MeshFeatures::default(),
             feature_normals: Vec::new(),
@@ -167,6 +168,7 @@ impl ObbTree {
             tree.feature_normals = tree.features.normals(&tree.triangles);
         }
         tree.reach = super::reach::reach_boxes(&tree.nodes);
+        tree.slabs = super::slabs::fit_slabs(&tree.nodes, &tree.triangles);
         tree.inside = InsideGrid::build(&tree, |p| point_inside_by_ray(&tree, p));
         tree
     }

@@ -3,7 +3,7 @@
 //! §4.2; DESIGN §3). One operation per file, parry-style: [`fit`] (one box
 //! around triangles), [`build`] (the tree, Eq. 3, EqN direction), [`refit`]
 //! (the same tree around a deformed mesh), [`reach`] (the pruning boxes of
-//! the contact walk), [`pseudo_normals`] (an open mesh's sides at edges
+//! the contact walk), [`slabs`] (tilted boxes that tighten each node), [`pseudo_normals`] (an open mesh's sides at edges
 //! and corners), [`shared`] (many meshes, each distinct one built once), [`validation`] (invariants); the types are in [`node`].
 
 pub mod build;
@@ -15,6 +15,7 @@ pub mod pseudo_normals;
 pub mod reach;
 pub mod refit;
 pub mod shared;
+pub mod slabs;
 pub mod split;
 pub mod validation;
 

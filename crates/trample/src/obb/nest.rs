@@ -33,7 +33,9 @@ impl ObbTree {
     /// each node's reach box ([`super::reach`], the same growth), so the
     /// grown boxes are the reach boxes and the reach boxes stay as they
     /// were. Sets [`ObbTree::nested`], which makes [`ObbTree::validate`]
-    /// check it and [`ObbTree::refit`] keep it. Costs accuracy (see the
+    /// check it and [`ObbTree::refit`] keep it. Drops the tilted boxes
+    /// ([`ObbTree::slabs`]), which hold the triangles, not the grown boxes.
+    /// Costs accuracy (see the
     /// module doc); O(nodes).
     pub fn nest_boxes(&mut self) {
         let reach = reach_boxes(&self.nodes);
@@ -41,6 +43,8 @@ impl ObbTree {
             node.obb = *grown;
         }
         self.reach = reach;
+        // The tilted boxes hold the triangles, not the grown boxes.
+        self.slabs.clear();
         self.nested = true;
     }
 }

@@ -116,6 +116,11 @@ pub struct ObbTree {
     /// final-depth node whose box a segment meets even where a child's box
     /// sticks out of its parent's.
     pub reach: Vec<Obb>,
+    /// Per node, the tilted boxes around its triangles that cut its box's
+    /// empty corners ([`super::slabs`]): a segment meets a node only if it
+    /// meets its box and these. Empty for a [`ObbTree::nested`] tree (its
+    /// boxes alone decide) and then not tested.
+    pub slabs: Vec<super::slabs::NodeSlabs>,
     /// Per node, how fast its box's centre moves in the object's frame
     /// because the mesh deforms, m/s (a skinned limb's own swing, set when
     /// the tree is refitted to a posed skin: `step/rig.rs`). Eq. 2's contact

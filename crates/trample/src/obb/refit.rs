@@ -50,6 +50,7 @@ use super::build::{equivalent_normal_from_sums, equivalent_normal_sums};
 use super::fit::{fit_obb_searched, padding};
 use super::node::{Obb, ObbTree};
 use super::pseudo_normals::NormalScratch;
+use super::slabs::{EXTRA_BOXES, NodeSlabs};
 use crate::object::TriMesh;
 
 /// How node orientations follow a deformation; see the module documentation.
@@ -247,7 +248,7 @@ pub struct RefitScratch {
     /// Eq. 3's `Σ S·N` and `Σ S` (square metres) per node, f64.
     sums: Vec<(DVec3, f64)>,
     /// One level's new boxes and sums, in the level's node order.
-    level: Vec<(Obb, (DVec3, f64))>,
+    level: Vec<(Obb, (DVec3, f64), Option<NodeSlabs>)>,
     /// An open mesh's pseudo-normal sums.
     normals: NormalScratch,
 }
@@ -333,9 +334,18 @@ impl ObbTree {
         // before it is refitted; the nodes of one level are independent and
         // refitted in parallel (each writes only itself: the same bits on
         // any thread count).
+        if !self.nested {
+            // Every node is written below, level by level.
+            let unset = NodeSlabs {
+                thin: 0,
+                faces: [[0.0; 4]; EXTRA_BOXES],
+            };
+            self.slabs.resize(n, unset);
+        }
         for level in map.levels.iter().rev() {
             let tree = &*self;
             let sums = &scratch.sums;
+            let slabs = !tree.nested;
             level
                 .par_iter()
                 .map(|&i| {
@@ -345,20 +355,30 @@ impl ObbTree {
                     let tris = &tree.triangles[first..first + node.tri_count as usize];
                     let points = map.node_points(i, positions);
                     let search = searched_at(node.depth, tris.len());
-                    if node.is_leaf() {
+                    let (obb, sum) = if node.is_leaf() {
                         let sum = equivalent_normal_sums(tris);
-                        (leaf_box(tris, points, &node.obb, rule, search), sum)
+                        (leaf_box(tris, points.clone(), &node.obb, rule, search), sum)
                     } else {
                         let [l, r] = node.children.map(|c| c as usize);
                         let sum = (sums[l].0 + sums[r].0, sums[l].1 + sums[r].1);
                         let children = (&tree.nodes[l].obb, &tree.nodes[r].obb);
-                        let obb =
-                            parent_box(tris, points, children, &node.obb, (rule, search), nesting);
+                        let obb = parent_box(
+                            tris,
+                            points.clone(),
+                            children,
+                            &node.obb,
+                            (rule, search),
+                            nesting,
+                        );
                         (obb, sum)
-                    }
+                    };
+                    (obb, sum, slabs.then(|| NodeSlabs::fit(&obb, points)))
                 })
                 .collect_into_vec(&mut scratch.level);
-            for (&i, &(obb, sum)) in level.iter().zip(&scratch.level) {
+            for (&i, &(obb, sum, slabs)) in level.iter().zip(&scratch.level) {
+                if let Some(s) = slabs {
+                    self.slabs[i as usize] = s;
+                }
                 let node = &mut self.nodes[i as usize];
                 node.obb = obb;
                 node.eqn = equivalent_normal_from_sums(sum.0, sum.1);

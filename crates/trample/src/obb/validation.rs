@@ -25,7 +25,8 @@ impl ObbTree {
     ///   padding the fit put in the half extents ([`crate::obb::fit::padding`]).
     ///   Since a node's range is inside each ancestor's range (next point),
     ///   this checks each triangle against its leaf's box and every
-    ///   ancestor's box.
+    ///   ancestor's box. The same for the node's tilted boxes
+    ///   ([`ObbTree::slabs`]: one per node, or none; none for a nested tree).
     /// - Children: both [`NO_CHILD`] (leaf) or both valid indices after
     ///   the parent, each node the child of exactly one parent; depth =
     ///   parent depth + 1; the two ranges are non-empty and partition the
@@ -48,6 +49,13 @@ impl ObbTree {
                 root.first_tri,
                 root.tri_count,
                 self.triangles.len()
+            ));
+        }
+        if !(self.slabs.is_empty() || self.slabs.len() == self.nodes.len() && !self.nested) {
+            return Err(format!(
+                "{} nodes but {} tilted boxes (expected as many, or none for a nested tree)",
+                self.nodes.len(),
+                self.slabs.len()
             ));
         }
         let mut parents = vec![0u32; self.nodes.len()];
@@ -73,6 +81,7 @@ impl ObbTree {
                     self.triangles.len()
                 ));
             };
+            let slabs = self.slabs.get(i);
             for (t, tri) in tris.iter().enumerate() {
                 for corner in tri {
                     let q = obb.to_box(*corner);
@@ -82,6 +91,13 @@ impl ObbTree {
                              (box coordinates {q}, half extents {})",
                             first + t,
                             obb.half
+                        ));
+                    }
+                    if let Some(s) = slabs.filter(|s| !s.holds(q.to_array(), 0.0)) {
+                        return Err(format!(
+                            "node {i}: corner {corner} of triangle {} is outside its tilted \
+                             boxes (box coordinates {q}, {s:?})",
+                            first + t
                         ));
                     }
                 }
