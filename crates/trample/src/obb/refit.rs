@@ -50,7 +50,7 @@ use super::build::{equivalent_normal_from_sums, equivalent_normal_sums};
 use super::fit::{fit_obb_searched, padding};
 use super::node::{Obb, ObbTree};
 use super::pseudo_normals::NormalScratch;
-use super::slabs::{EXTRA_BOXES, NodeSlabs};
+use super::slabs::NodeSlabs;
 use crate::object::TriMesh;
 
 /// How node orientations follow a deformation; see the module documentation.
@@ -264,7 +264,10 @@ impl ObbTree {
     /// depths and `closed` are unchanged; the reach boxes
     /// ([`super::reach`]) are recomputed from the new boxes, and a
     /// [`ObbTree::nested`] tree has its boxes grown again
-    /// ([`ObbTree::nest_boxes`]).
+    /// ([`ObbTree::nest_boxes`]). The tilted boxes ([`super::slabs`]) are
+    /// refitted where the tree has them (about as much again as the boxes:
+    /// measured on the walker, BENCHMARKS.md "Session 18"); a tree without
+    /// them stays without ([`ObbTree::fit_slabs`] fits them).
     ///
     /// The inside grid is dropped (`inside = None`): rebuilding it casts one
     /// ray per empty voxel (≈ 14 k rays, milliseconds: a whole step's
@@ -334,18 +337,15 @@ impl ObbTree {
         // before it is refitted; the nodes of one level are independent and
         // refitted in parallel (each writes only itself: the same bits on
         // any thread count).
-        if !self.nested {
-            // Every node is written below, level by level.
-            let unset = NodeSlabs {
-                thin: 0,
-                faces: [[0.0; 4]; EXTRA_BOXES],
-            };
-            self.slabs.resize(n, unset);
+        // The tilted boxes are refitted where the tree has them (every
+        // node is written below, level by level).
+        if self.nested || self.slabs.len() != n {
+            self.slabs.clear();
         }
         for level in map.levels.iter().rev() {
             let tree = &*self;
             let sums = &scratch.sums;
-            let slabs = !tree.nested;
+            let slabs = !tree.slabs.is_empty();
             level
                 .par_iter()
                 .map(|&i| {

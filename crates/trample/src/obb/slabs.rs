@@ -153,6 +153,20 @@ pub fn fit_slabs(nodes: &[super::ObbNode], triangles: &[[Vec3; 3]]) -> Vec<NodeS
         .collect()
 }
 
+impl super::ObbTree {
+    /// Fits every node's tilted boxes ([`ObbTree::slabs`](super::ObbTree::slabs))
+    /// around its triangles as they are now; none for a nested tree. What
+    /// [`super::ObbTree::build`] does, for a tree whose tilted boxes were
+    /// dropped (a refit keeps only those a tree has).
+    pub fn fit_slabs(&mut self) {
+        self.slabs = if self.nested {
+            Vec::new()
+        } else {
+            fit_slabs(&self.nodes, &self.triangles)
+        };
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -68,7 +68,8 @@ impl Simulation {
     }
 
     /// Copies of the bodies posed at time `t` ([`Body::set_time`]: skinned
-    /// meshes posed and their trees refitted, parts posed), the simulation
+    /// meshes posed and their trees refitted, with their tilted boxes
+    /// ([`crate::obb::slabs`]) fitted again, parts posed), the simulation
     /// left as it is.
     #[must_use]
     pub fn bodies_at(&self, t: f32) -> Vec<Body> {
@@ -77,6 +78,11 @@ impl Simulation {
             .map(|b| {
                 let mut b = b.clone();
                 b.set_time(t);
+                // A posed skin's tree comes without its tilted boxes
+                // (`rig::skin_and_refit`): the yes/no walk wants them.
+                if b.tree.slabs.is_empty() && !b.tree.nested {
+                    std::sync::Arc::make_mut(&mut b.tree).fit_slabs();
+                }
                 b
             })
             .collect()

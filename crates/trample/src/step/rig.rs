@@ -154,7 +154,14 @@ fn skin_and_refit(body: &mut Body, t: f32) {
     animated.pose_at_clock(clock, skin_scratch, positions);
     centres.clear();
     centres.extend(body.tree.nodes.iter().map(|n| n.obb.center));
-    let refitted = std::sync::Arc::make_mut(&mut body.tree).refit(
+    let tree = std::sync::Arc::make_mut(&mut body.tree);
+    // The simulation's contact walk decides with the boxes alone: refitting
+    // the tilted boxes (`obb::slabs`) at every pose would double the refit
+    // (measured on the walker: BENCHMARKS.md, "Session 18"), so a posed
+    // tree has none; the queries that use them fit them again
+    // (`Simulation::bodies_at`).
+    tree.slabs.clear();
+    let refitted = tree.refit(
         map,
         positions,
         AxisRule::Fixed,
