@@ -31,8 +31,10 @@ fn v(p: Vec3) -> Vector {
 /// An OBB tree whose boxes are tested by parry3d.
 pub struct ParryObbTree<'a> {
     tree: &'a ObbTree,
-    /// Per node: segment frame (object) → box frame, and the box.
-    boxes: Vec<(Pose, Cuboid)>,
+    /// Per node: segment frame (object) → box frame, and the box; then its
+    /// tilted boxes (`trample::obb::slabs`), which the yes/no walk also
+    /// tests.
+    boxes: Vec<Vec<(Pose, Cuboid)>>,
     /// The contact walk's boxes ([`ParryObbTree::contact_hit`]), grown by
     /// `shell`: per node its own box and its reach box.
     grown: Vec<[(Pose, Cuboid); 2]>,
@@ -54,7 +56,20 @@ fn parry_box(obb: &trample::obb::Obb, grow: f32) -> (Pose, Cuboid) {
 impl<'a> ParryObbTree<'a> {
     /// Converts every node's box; the contact walk's boxes grown by `shell`.
     pub fn new(tree: &'a ObbTree, shell: f32) -> Self {
-        let boxes = tree.nodes.iter().map(|n| parry_box(&n.obb, 0.0)).collect();
+        let boxes = tree
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(i, n)| {
+                let tilted = tree.slabs.get(i).into_iter().flat_map(|s| {
+                    (0..trample::obb::slabs::EXTRA_BOXES)
+                        .map(|j| parry_box(&s.tilted_obb(&n.obb, j), 0.0))
+                });
+                std::iter::once(parry_box(&n.obb, 0.0))
+                    .chain(tilted)
+                    .collect()
+            })
+            .collect();
         let grown = tree
             .nodes
             .iter()
@@ -114,8 +129,9 @@ impl<'a> ParryObbTree<'a> {
     }
 
     fn hits(&self, node: usize, seg: &Segment) -> bool {
-        let (pose, cuboid) = &self.boxes[node];
-        intersection_test_cuboid_segment(pose, cuboid, seg)
+        self.boxes[node]
+            .iter()
+            .all(|(pose, cuboid)| intersection_test_cuboid_segment(pose, cuboid, seg))
     }
 
     /// `trample::collision::collide_segment` with parry3d's box test:

@@ -124,6 +124,32 @@ impl NodeSlabs {
         }
     }
 
+    /// Extra box `j` of the node whose box is `obb`, as a box of its own
+    /// (object frame, right-handed axes: the two turned ones, then the kept
+    /// one): for drawing, and for peers that test boxes (the parry3d
+    /// benchmarks).
+    #[must_use]
+    pub fn tilted_obb(&self, obb: &Obb, j: usize) -> Obb {
+        let (p, q, s, c) = TURNS[j % EXTRA_BOXES];
+        let thin = self.thin as usize % 3;
+        let (p, q) = ((thin + p) % 3, (thin + q) % 3);
+        let r = 3 - p - q;
+        let a = obb.axes[p] * c + obb.axes[q] * s;
+        let b = obb.axes[q] * c - obb.axes[p] * s;
+        // a × b = axes[p] × axes[q]: axes[r] when q follows p, else −axes[r].
+        let kept = if (q + 3 - p) % 3 == 1 {
+            obb.axes[r]
+        } else {
+            -obb.axes[r]
+        };
+        let [ma, ha, mb, hb] = self.faces[j % EXTRA_BOXES];
+        Obb {
+            center: obb.center + a * ma + b * mb,
+            axes: [a, b, kept],
+            half: Vec3::new(ha, hb, obb.half[r]),
+        }
+    }
+
     /// True when box-frame point `x` lies in every extra box (their kept
     /// axes are the node box's, not checked here), with `slack` metres of
     /// tolerance: what [`super::ObbTree::validate`] checks the corners with.
@@ -221,6 +247,44 @@ mod tests {
             kept < 0.9,
             "the extra boxes keep {kept} of the depth-7 boxes"
         );
+    }
+
+    /// The tilted boxes as boxes of their own: right-handed, and a point is
+    /// in one exactly when [`NodeSlabs::holds`]'s test of that box says so
+    /// (away from its faces).
+    #[test]
+    fn tilted_boxes_as_boxes_agree_with_the_intervals() {
+        let tree = ObbTree::build(&crate::object::shapes::knot(2.0), 8);
+        let mut rng = crate::test_rng::XorShift(0x5eed_0123_4567_89ab);
+        for (i, node) in tree.nodes.iter().enumerate().step_by(7) {
+            let s = &tree.slabs[i];
+            for j in 0..EXTRA_BOXES {
+                let t = s.tilted_obb(&node.obb, j);
+                assert!(
+                    (t.axes[0].cross(t.axes[1]) - t.axes[2]).length() < 1e-5,
+                    "node {i} box {j}"
+                );
+                for _ in 0..20 {
+                    let x = node.obb.center
+                        + Vec3::new(
+                            rng.range(-1.5, 1.5),
+                            rng.range(-1.5, 1.5),
+                            rng.range(-1.5, 1.5),
+                        ) * node.obb.half.length();
+                    let q = t.to_box(x);
+                    let margin = (t.half - q.abs()).min_element();
+                    if margin.abs() < 1e-4 {
+                        continue;
+                    }
+                    let (a, b, r) = turned(node.obb.to_box(x).to_array(), s.thin as usize, j);
+                    let [ma, ha, mb, hb] = s.faces[j];
+                    let inside = (a - ma).abs() <= ha
+                        && (b - mb).abs() <= hb
+                        && node.obb.to_box(x)[r].abs() <= node.obb.half[r];
+                    assert_eq!(margin > 0.0, inside, "node {i} box {j}");
+                }
+            }
+        }
     }
 
     /// No point: boxes that hold the whole box.
