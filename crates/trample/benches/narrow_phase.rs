@@ -81,6 +81,29 @@ fn bench(c: &mut Criterion) -> Vec<(String, String)> {
                         .count()
                 });
             });
+            // What the tilted boxes (`obb::slabs`) cost or save: the same
+            // walk on the boxes alone (more hits: the boxes' false ones).
+            let mut boxes_only = trample::obb::ObbTree::clone(tree);
+            boxes_only.slabs.clear();
+            group.bench_with_input(
+                BenchmarkId::new("ours_boxes_only", &input),
+                segments,
+                |b, segs| {
+                    b.iter(|| {
+                        segs.iter()
+                            .filter(|&&(p0, p1)| {
+                                collide_segment(
+                                    black_box(p0),
+                                    black_box(p1),
+                                    &boxes_only,
+                                    PRECISION,
+                                )
+                                .is_some()
+                            })
+                            .count()
+                    });
+                },
+            );
             group.bench_with_input(BenchmarkId::new("parry3d", &input), segments, |b, segs| {
                 b.iter(|| {
                     segs.iter()
