@@ -7,8 +7,8 @@
 //! then an axis-aligned box there, tested with the same separating-axis
 //! test. A segment meets a node when it meets its box and each tilted box,
 //! each on its own (what the prototype measured: BENCHMARKS.md, "Session
-//! 17"). The GPU twin is `node_hits` in `narrow_phase.wgsl`, in the same
-//! order.
+//! 17"). The GPU twin is `hits_node` (with `hits_tilted`) in
+//! `object.wgsl`, in the same order.
 //!
 //! Used by the yes/no walk of the narrow phase (`collide_segment`, the
 //! paper's hit at a precision). The simulation's weighted contact walk
@@ -21,30 +21,30 @@ use glam::{Vec3, Vec3A};
 
 use super::segment_obb::{hits_centred_local, to_box_frame};
 use crate::obb::Obb;
-use crate::obb::slabs::{EXTRA_BOXES, NodeSlabs, TURNS};
+use crate::obb::slabs::{EXTRA_BOXES, NodeSlabs, turned};
 
-/// Segment `c ± h` (node box frame) in the frame of tilted box `j` of
-/// `s`, and that box's half extents grown by `shell` (the node box's half
-/// extents are `e`, ungrown).
+/// Segment `c ± h` (node box frame) in the frame of tilted box `j` of `s`
+/// ([`turned`]'s coordinates, less the box's centre), and that box's half
+/// extents (the node box's are `e`).
 #[inline]
-fn in_tilted(c: Vec3A, h: Vec3A, e: Vec3A, s: &NodeSlabs, j: usize, shell: f32) -> [Vec3A; 3] {
-    let (p, q, sn, cs) = TURNS[j];
-    let thin = s.thin as usize % 3;
-    let (p, q) = ((thin + p) % 3, (thin + q) % 3);
-    let r = 3 - p - q;
-    let [ma, ha, mb, hb] = s.faces[j];
-    let c = Vec3A::new(cs * c[p] + sn * c[q] - ma, cs * c[q] - sn * c[p] - mb, c[r]);
-    let h = Vec3A::new(cs * h[p] + sn * h[q], cs * h[q] - sn * h[p], h[r]);
-    (c, h, Vec3A::new(ha, hb, e[r]) + shell).into()
+fn in_tilted(c: Vec3A, h: Vec3A, e: Vec3A, s: &NodeSlabs, j: usize) -> [Vec3A; 3] {
+    let thin = s.thin as usize;
+    let (ca, cb, r) = turned(c.to_array(), thin, j);
+    let (ha, hb, _) = turned(h.to_array(), thin, j);
+    let [mid_a, half_a, mid_b, half_b] = s.faces[j];
+    [
+        Vec3A::new(ca - mid_a, cb - mid_b, c[r]),
+        Vec3A::new(ha, hb, h[r]),
+        Vec3A::new(half_a, half_b, e[r]),
+    ]
 }
 
 /// True when segment `c ± h` (node box frame) meets every tilted box of
-/// `s`, each grown by `shell`; touching counts; NaN gives `false`.
-#[must_use]
+/// `s`; touching counts; NaN gives `false`.
 #[inline]
-pub(crate) fn hits_tilted_local(c: Vec3A, h: Vec3A, e: Vec3A, s: &NodeSlabs, shell: f32) -> bool {
+fn hits_tilted_local(c: Vec3A, h: Vec3A, e: Vec3A, s: &NodeSlabs) -> bool {
     (0..EXTRA_BOXES).all(|j| {
-        let [c, h, e] = in_tilted(c, h, e, s, j, shell);
+        let [c, h, e] = in_tilted(c, h, e, s, j);
         hits_centred_local(c, h, e)
     })
 }
@@ -61,7 +61,7 @@ pub(crate) fn hits_tilted_local(c: Vec3A, h: Vec3A, e: Vec3A, s: &NodeSlabs, she
 pub fn segment_hits_node(centre: Vec3A, half: Vec3A, obb: &Obb, slabs: Option<&NodeSlabs>) -> bool {
     let (c, h) = to_box_frame(centre, half, obb);
     let e = Vec3A::from(obb.half);
-    hits_centred_local(c, h, e) && slabs.is_none_or(|s| hits_tilted_local(c, h, e, s, 0.0))
+    hits_centred_local(c, h, e) && slabs.is_none_or(|s| hits_tilted_local(c, h, e, s))
 }
 
 /// [`segment_hits_node`] for segment `p0–p1`.
@@ -75,8 +75,18 @@ pub fn segment_hits_node_ends(p0: Vec3, p1: Vec3, obb: &Obb, slabs: Option<&Node
 mod tests {
     use super::*;
     use crate::obb::ObbTree;
-    use crate::obb::slabs::turned;
     use crate::test_rng::XorShift;
+
+    /// A segment with both ends drawn in the box `o` scaled by `spread`
+    /// about its centre (in units of its half diagonal).
+    fn segment_near(rng: &mut XorShift, o: &Obb, spread: f32) -> (Vec3, Vec3) {
+        let size = o.half.length();
+        let mut pick = || {
+            let mut r = || rng.range(-spread, spread);
+            o.center + Vec3::new(r(), r(), r()) * size
+        };
+        (pick(), pick())
+    }
 
     /// How deep box-frame point `x` lies in the node's box (entry 0) and in
     /// each tilted box (entries 1..), each grown by `shell` (the reference,
@@ -112,15 +122,7 @@ mod tests {
             let o = &node.obb;
             let size = o.half.length();
             for _ in 0..6 {
-                let mut pick = || {
-                    o.center
-                        + Vec3::new(
-                            rng.range(-1.5, 1.5),
-                            rng.range(-1.5, 1.5),
-                            rng.range(-1.5, 1.5),
-                        ) * size
-                };
-                let (p0, p1) = (pick(), pick());
+                let (p0, p1) = segment_near(&mut rng, o, 1.5);
                 let steps = 2000;
                 // The least over the boxes of the segment's deepest reach
                 // into each: positive when it meets every box.
@@ -155,17 +157,8 @@ mod tests {
         let mut cut = 0;
         for (i, node) in tree.nodes.iter().enumerate().filter(|(_, n)| n.depth == 7) {
             let o = &node.obb;
-            let size = o.half.length();
             for _ in 0..20 {
-                let mut pick = || {
-                    o.center
-                        + Vec3::new(
-                            rng.range(-1.2, 1.2),
-                            rng.range(-1.2, 1.2),
-                            rng.range(-1.2, 1.2),
-                        ) * size
-                };
-                let (p0, p1) = (pick(), pick());
+                let (p0, p1) = segment_near(&mut rng, o, 1.2);
                 let in_box = segment_hits_node_ends(p0, p1, o, None);
                 let in_volume = segment_hits_node_ends(p0, p1, o, Some(&tree.slabs[i]));
                 assert!(in_box || !in_volume, "the volume is inside the box");

@@ -81,14 +81,26 @@ pub fn thin_axis(half: Vec3) -> usize {
     }
 }
 
+/// Extra box `j`'s turn ([`TURNS`]) for a node whose thin axis is `thin`:
+/// the box axes it turns `p`, `q`, the one it keeps `r`, and the sine and
+/// cosine of the turn. `thin` and `j` are taken modulo 3 and
+/// [`EXTRA_BOXES`].
+#[must_use]
+#[inline]
+pub fn turn(thin: usize, j: usize) -> (usize, usize, usize, f32, f32) {
+    let (p, q, s, c) = TURNS[j % EXTRA_BOXES];
+    let thin = thin % 3;
+    let (p, q) = ((thin + p) % 3, (thin + q) % 3);
+    (p, q, 3 - p - q, s, c)
+}
+
 /// The turned coordinates `(a, b)` of box-frame point `x` for extra box `j`
 /// of a node whose thin axis is `thin`, and the index of the kept axis.
 #[must_use]
 #[inline]
 pub fn turned(x: [f32; 3], thin: usize, j: usize) -> (f32, f32, usize) {
-    let (p, q, s, c) = TURNS[j];
-    let (p, q) = ((thin + p) % 3, (thin + q) % 3);
-    (c * x[p] + s * x[q], c * x[q] - s * x[p], 3 - p - q)
+    let (p, q, r, s, c) = turn(thin, j);
+    (c * x[p] + s * x[q], c * x[q] - s * x[p], r)
 }
 
 impl NodeSlabs {
@@ -130,10 +142,7 @@ impl NodeSlabs {
     /// benchmarks).
     #[must_use]
     pub fn tilted_obb(&self, obb: &Obb, j: usize) -> Obb {
-        let (p, q, s, c) = TURNS[j % EXTRA_BOXES];
-        let thin = self.thin as usize % 3;
-        let (p, q) = ((thin + p) % 3, (thin + q) % 3);
-        let r = 3 - p - q;
+        let (p, q, r, s, c) = turn(self.thin as usize, j);
         let a = obb.axes[p] * c + obb.axes[q] * s;
         let b = obb.axes[q] * c - obb.axes[p] * s;
         // a × b = axes[p] × axes[q]: axes[r] when q follows p, else −axes[r].
