@@ -3,7 +3,7 @@
 //!
 //! The segment is moved into the node box's frame once (as the box test of
 //! [`super::segment_obb`] does); each tilted box turns two of its
-//! coordinates ([`turned`](crate::obb::slabs::turned)'s rotation) and is
+//! coordinates ([`turned`]'s rotation) and is
 //! then an axis-aligned box there, tested with the same separating-axis
 //! test. A segment meets a node when it meets its box and each tilted box,
 //! each on its own (what the prototype measured: BENCHMARKS.md, "Session
