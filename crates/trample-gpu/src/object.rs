@@ -12,7 +12,7 @@
 //! ([`GpuNode`], 15 words each), triangles (3 words each, one a corner),
 //! an open mesh's pseudo-normals (6 words a triangle: edges `ab`, `bc`, `ca`,
 //! corners `a`, `b`, `c`; `trample::obb::pseudo_normals`) and a closed
-//! mesh's voxels (4 to a word) start at the words its `base` names. Only the
+//! mesh's voxels (two bits each, 16 to a `u32`, 64 to a word) start at the words its `base` names. Only the
 //! parameters change during a run (one write of `16 · 16` bytes an object
 //! per sub-step).
 
@@ -184,10 +184,13 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
     params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 0];
     params.local_velocity[3] = 2.0 * tree.nodes.first().map_or(0.0, |n| n.obb.half.min_element());
     if let Some(g) = tree.inside.as_ref().filter(|_| tree.closed) {
-        out.extend(g.voxels.chunks(4).map(|c| {
+        // Two bits a voxel (its class is 0, 1 or 2), 16 to a `u32`: a
+        // 64³ grid takes 64 KiB, so a herd of differently sized balls
+        // stays within the binding limits.
+        out.extend(g.voxels.chunks(64).map(|c| {
             let mut w = [0u32; 4];
-            for (w, &v) in w.iter_mut().zip(c) {
-                *w = u32::from(v);
+            for (j, &v) in c.iter().enumerate() {
+                w[j / 16] |= u32::from(v & 3) << ((j % 16) * 2);
             }
             w
         }));

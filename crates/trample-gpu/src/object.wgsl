@@ -130,9 +130,11 @@ fn feature_normal(t: u32, k: u32) -> vec3<f32> {
     return word_f(obj.base.w + 6u * t + k).xyz;
 }
 
-// The object's inside-grid voxel j.
+// The object's inside-grid voxel j (two bits each, 16 to a u32:
+// `object.rs`).
 fn voxel_at(j: u32) -> u32 {
-    return objects[obj.base.z + j / 4u][j % 4u];
+    let w = objects[obj.base.z + j / 64u][(j / 16u) % 4u];
+    return (w >> ((j % 16u) * 2u)) & 3u;
 }
 
 const NO_CHILD: u32 = 0xffffffffu;
