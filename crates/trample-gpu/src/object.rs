@@ -184,14 +184,12 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
     params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 0];
     params.local_velocity[3] = 2.0 * tree.nodes.first().map_or(0.0, |n| n.obb.half.min_element());
     if let Some(g) = tree.inside.as_ref().filter(|_| tree.closed) {
-        // Two bits a voxel (its class is 0, 1 or 2), 16 to a `u32`: a
-        // 64³ grid takes 64 KiB, so a herd of differently sized balls
-        // stays within the binding limits.
-        out.extend(g.voxels.chunks(64).map(|c| {
+        // Two bits a voxel, 16 to a `u32`, as the grid keeps them: a 64³
+        // grid takes 64 KiB, so a herd of differently sized balls stays
+        // within the binding limits.
+        out.extend(g.words.chunks(4).map(|c| {
             let mut w = [0u32; 4];
-            for (j, &v) in c.iter().enumerate() {
-                w[j / 16] |= u32::from(v & 3) << ((j % 16) * 2);
-            }
+            w[..c.len()].copy_from_slice(c);
             w
         }));
         params.grid_center = v4(g.obb.center);

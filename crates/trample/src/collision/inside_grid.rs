@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use crate::obb::{Obb, ObbTree};
 
-/// Voxels per side. 64³ ≈ 262 k voxels (a byte each): a 2 m sphere gets
+/// Voxels per side. 64³ ≈ 262 k voxels (two bits each): a 2 m sphere gets
 /// 3 cm voxels, a third of a blade segment, so most blade vertices near an
 /// object but a few centimetres out of it are answered here; classified
 /// in a few milliseconds per mesh (one flood fill, a few rays).
@@ -35,9 +35,9 @@ const OUTSIDE: u8 = 0;
 const INSIDE: u8 = 1;
 const BOUNDARY: u8 = 2;
 
-/// A voxel not yet reached by the flood fill ([`InsideGrid::labels`]).
+/// A voxel not yet reached by the flood fill ([`labels`]).
 const UNLABELLED: u32 = u32::MAX;
-/// A boundary voxel's label ([`InsideGrid::labels`]).
+/// A boundary voxel's label ([`labels`]).
 const BOUNDARY_LABEL: u32 = u32::MAX - 1;
 
 /// Inside/outside/boundary per voxel of the root box.
@@ -47,8 +47,11 @@ pub struct InsideGrid {
     pub obb: Obb,
     /// Voxels per side.
     pub side: u32,
-    /// Voxel class, x fastest, then y, then z (box axes u, v, w).
-    pub voxels: Vec<u8>,
+    /// Voxel classes, two bits each, 16 to a word (voxel `i` in bits
+    /// `2 (i % 16)` of word `i / 16`; x fastest, then y, then z: box axes
+    /// u, v, w): 64 KiB a mesh, so that the lookups of many meshes stay
+    /// in the caches (and the GPU takes the words as they are).
+    pub words: Vec<u32>,
 }
 
 impl InsideGrid {
@@ -73,12 +76,13 @@ impl InsideGrid {
         let mut grid = Self {
             obb: root.obb,
             side,
-            voxels: vec![OUTSIDE; (side * side * side) as usize],
+            words: Vec::new(),
         };
+        let mut classes = vec![OUTSIDE; (side * side * side) as usize];
         for tri in &tree.triangles {
-            grid.mark_boundary(tri.map(|p| grid.to_grid(p)));
+            mark_boundary(&mut classes, side, tri.map(|p| grid.to_grid(p)));
         }
-        let labels = grid.labels();
+        let labels = labels(&classes, side);
         let regions = regions(&labels);
         let inside: Vec<bool> = regions
             .par_iter()
@@ -90,85 +94,35 @@ impl InsideGrid {
                 votes * 2 > voxels.len()
             })
             .collect();
-        for (v, label) in grid.voxels.iter_mut().zip(labels) {
+        for (v, label) in classes.iter_mut().zip(labels) {
             if label != BOUNDARY_LABEL && inside[label as usize] {
                 *v = INSIDE;
             }
         }
+        grid.words = classes
+            .chunks(16)
+            .map(|c| {
+                c.iter()
+                    .enumerate()
+                    .fold(0, |w, (j, &v)| w | (u32::from(v) << (2 * j)))
+            })
+            .collect();
         Some(grid)
     }
 
-    /// Marks boundary the voxels that the triangle with grid coordinates
-    /// `q` may meet: those of its bounding box that its plane passes
-    /// through, both grown by [`ROUNDING_MARGIN`] (a degenerate triangle
-    /// marks its whole box).
-    fn mark_boundary(&mut self, q: [Vec3; 3]) {
-        let side = self.side;
-        let lo = (q[0].min(q[1]).min(q[2]) - ROUNDING_MARGIN).floor();
-        let hi = (q[0].max(q[1]).max(q[2]) + ROUNDING_MARGIN).floor();
-        if !(lo.is_finite() && hi.is_finite()) {
-            return;
-        }
-        let clamp = |v: Vec3| {
-            v.clamp(Vec3::ZERO, Vec3::splat((side - 1) as f32))
-                .as_uvec3()
-        };
-        let (lo, hi) = (clamp(lo), clamp(hi));
-        let n = (q[1] - q[0]).cross(q[2] - q[0]);
-        // Half the voxel's extent across the plane, grown by the margin.
-        let reach = n.abs().element_sum() * (0.5 + ROUNDING_MARGIN);
-        for z in lo.z..=hi.z {
-            for y in lo.y..=hi.y {
-                for x in lo.x..=hi.x {
-                    let v = UVec3::new(x, y, z);
-                    let centre = v.as_vec3() + 0.5;
-                    if n.dot(centre - q[0]).abs() <= reach {
-                        let i = self.index(v);
-                        self.voxels[i] = BOUNDARY;
-                    }
-                }
-            }
-        }
+    /// How many voxels the grid has (`side³`).
+    #[must_use]
+    pub fn voxel_count(&self) -> usize {
+        (self.side as usize).pow(3)
     }
 
-    /// Per voxel, the region it belongs to ([`BOUNDARY_LABEL`] for a
-    /// boundary voxel): regions numbered in the order of their first voxel
-    /// (x fastest, then y, then z), found by a flood fill over faces.
-    fn labels(&self) -> Vec<u32> {
-        let s = self.side as usize;
-        let mut labels = vec![UNLABELLED; self.voxels.len()];
-        let mut next = 0;
-        let mut stack = Vec::new();
-        for start in 0..self.voxels.len() {
-            if self.voxels[start] == BOUNDARY {
-                labels[start] = BOUNDARY_LABEL;
-                continue;
-            }
-            if labels[start] != UNLABELLED {
-                continue;
-            }
-            labels[start] = next;
-            stack.push(start);
-            while let Some(i) = stack.pop() {
-                let (x, y, z) = (i % s, (i / s) % s, i / (s * s));
-                let neighbours = [
-                    (x > 0).then(|| i - 1),
-                    (x + 1 < s).then(|| i + 1),
-                    (y > 0).then(|| i - s),
-                    (y + 1 < s).then(|| i + s),
-                    (z > 0).then(|| i - s * s),
-                    (z + 1 < s).then(|| i + s * s),
-                ];
-                for j in neighbours.into_iter().flatten() {
-                    if labels[j] == UNLABELLED && self.voxels[j] != BOUNDARY {
-                        labels[j] = next;
-                        stack.push(j);
-                    }
-                }
-            }
-            next += 1;
-        }
-        labels
+    /// The class of voxel `i` (0 outside, 1 inside, 2 boundary; 2 past
+    /// the grid).
+    #[must_use]
+    pub fn voxel(&self, i: usize) -> u8 {
+        self.words
+            .get(i / 16)
+            .map_or(BOUNDARY, |w| ((w >> (2 * (i % 16))) & 3) as u8)
     }
 
     /// `Some(inside)` when `p` (object-local) is in a voxel that meets no
@@ -184,7 +138,7 @@ impl InsideGrid {
         if g.cmplt(Vec3::ZERO).any() || g.cmpge(Vec3::splat(n)).any() {
             return Some(false);
         }
-        match self.voxels[self.index(g.as_uvec3())] {
+        match self.voxel(index(self.side, g.as_uvec3())) {
             INSIDE => Some(true),
             OUTSIDE => Some(false),
             _ => None,
@@ -196,10 +150,6 @@ impl InsideGrid {
         (self.obb.to_box(p) + self.obb.half) / (2.0 * self.obb.half) * self.side as f32
     }
 
-    fn index(&self, v: UVec3) -> usize {
-        ((v.z * self.side + v.y) * self.side + v.x) as usize
-    }
-
     /// Object-local centre of voxel `i`.
     fn centre(&self, i: usize) -> Vec3 {
         let s = self.side as usize;
@@ -209,8 +159,84 @@ impl InsideGrid {
     }
 }
 
+/// Index of voxel `v` in a grid of `side³` (x fastest, then y, then z).
+fn index(side: u32, v: UVec3) -> usize {
+    ((v.z * side + v.y) * side + v.x) as usize
+}
+
+/// Marks boundary (in `classes`, a grid of `side³`) the voxels that the
+/// triangle with grid coordinates `q` may meet: those of its bounding box that its plane passes
+/// through, both grown by [`ROUNDING_MARGIN`] (a degenerate triangle
+/// marks its whole box).
+fn mark_boundary(classes: &mut [u8], side: u32, q: [Vec3; 3]) {
+    let lo = (q[0].min(q[1]).min(q[2]) - ROUNDING_MARGIN).floor();
+    let hi = (q[0].max(q[1]).max(q[2]) + ROUNDING_MARGIN).floor();
+    if !(lo.is_finite() && hi.is_finite()) {
+        return;
+    }
+    let clamp = |v: Vec3| {
+        v.clamp(Vec3::ZERO, Vec3::splat((side - 1) as f32))
+            .as_uvec3()
+    };
+    let (lo, hi) = (clamp(lo), clamp(hi));
+    let n = (q[1] - q[0]).cross(q[2] - q[0]);
+    // Half the voxel's extent across the plane, grown by the margin.
+    let reach = n.abs().element_sum() * (0.5 + ROUNDING_MARGIN);
+    for z in lo.z..=hi.z {
+        for y in lo.y..=hi.y {
+            for x in lo.x..=hi.x {
+                let v = UVec3::new(x, y, z);
+                let centre = v.as_vec3() + 0.5;
+                if n.dot(centre - q[0]).abs() <= reach {
+                    classes[index(side, v)] = BOUNDARY;
+                }
+            }
+        }
+    }
+}
+
+/// Per voxel of `classes` (a grid of `side³`), the region it belongs to ([`BOUNDARY_LABEL`] for a
+/// boundary voxel): regions numbered in the order of their first voxel
+/// (x fastest, then y, then z), found by a flood fill over faces.
+fn labels(classes: &[u8], side: u32) -> Vec<u32> {
+    let s = side as usize;
+    let mut labels = vec![UNLABELLED; classes.len()];
+    let mut next = 0;
+    let mut stack = Vec::new();
+    for start in 0..classes.len() {
+        if classes[start] == BOUNDARY {
+            labels[start] = BOUNDARY_LABEL;
+            continue;
+        }
+        if labels[start] != UNLABELLED {
+            continue;
+        }
+        labels[start] = next;
+        stack.push(start);
+        while let Some(i) = stack.pop() {
+            let (x, y, z) = (i % s, (i / s) % s, i / (s * s));
+            let neighbours = [
+                (x > 0).then(|| i - 1),
+                (x + 1 < s).then(|| i + 1),
+                (y > 0).then(|| i - s),
+                (y + 1 < s).then(|| i + s),
+                (z > 0).then(|| i - s * s),
+                (z + 1 < s).then(|| i + s * s),
+            ];
+            for j in neighbours.into_iter().flatten() {
+                if labels[j] == UNLABELLED && classes[j] != BOUNDARY {
+                    labels[j] = next;
+                    stack.push(j);
+                }
+            }
+        }
+        next += 1;
+    }
+    labels
+}
+
 /// The connected regions of non-boundary voxels given their `labels`
-/// ([`InsideGrid::labels`]), each as up to [`SAMPLES_PER_REGION`] of its
+/// ([`labels`]), each as up to [`SAMPLES_PER_REGION`] of its
 /// voxels spread over it, in label order.
 fn regions(labels: &[u32]) -> Vec<Vec<u32>> {
     let mut members: Vec<Vec<u32>> = Vec::new();
@@ -291,9 +317,9 @@ mod tests {
             let grid = tree.inside.as_ref().expect("closed mesh has a grid");
             let (mut inside, mut outside, mut boundary) = (0, 0, 0);
             // Every 7th voxel: all of them take a few seconds in debug.
-            for i in (0..grid.voxels.len()).step_by(7) {
+            for i in (0..grid.voxel_count()).step_by(7) {
                 let c = grid.centre(i);
-                match grid.voxels[i] {
+                match grid.voxel(i) {
                     BOUNDARY => boundary += 1,
                     class => {
                         assert_eq!(
@@ -328,7 +354,11 @@ mod tests {
             for t in &tree.triangles {
                 for _ in 0..4 {
                     let (a, b) = (rng.unit(), rng.unit());
-                    let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+                    let (a, b) = if a + b > 1.0 {
+                        (1.0 - a, 1.0 - b)
+                    } else {
+                        (a, b)
+                    };
                     let p = t[0] + (t[1] - t[0]) * a + (t[2] - t[0]) * b;
                     assert_eq!(grid.classify(p), None, "{p} on a triangle");
                 }
