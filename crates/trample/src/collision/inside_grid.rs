@@ -59,7 +59,7 @@ impl InsideGrid {
     /// exact test). `None` for an open or empty mesh.
     ///
     /// A voxel is boundary when a triangle's plane passes through it
-    /// (grown by [`ROUNDING_MARGIN`]) within the triangle's bounding box.
+    /// (grown a little for rounding) within the triangle's bounding box.
     /// The other voxels fall into connected regions (voxels sharing a face
     /// — their union meets no triangle either), each wholly inside or wholly
     /// outside the mesh: one flood fill finds them, and the ray-parity test
