@@ -35,8 +35,6 @@ const OUTSIDE: u8 = 0;
 const INSIDE: u8 = 1;
 const BOUNDARY: u8 = 2;
 
-/// A voxel not yet reached by the flood fill ([`labels`]).
-const UNLABELLED: u32 = u32::MAX;
 /// A boundary voxel's label ([`labels`]).
 const BOUNDARY_LABEL: u32 = u32::MAX - 1;
 
@@ -197,40 +195,58 @@ fn mark_boundary(classes: &mut [u8], side: u32, q: [Vec3; 3]) {
 
 /// Per voxel of `classes` (a grid of `side³`), the region it belongs to ([`BOUNDARY_LABEL`] for a
 /// boundary voxel): regions numbered in the order of their first voxel
-/// (x fastest, then y, then z), found by a flood fill over faces.
+/// (x fastest, then y, then z), voxels sharing a face joined.
 fn labels(classes: &[u8], side: u32) -> Vec<u32> {
     let s = side as usize;
-    let mut labels = vec![UNLABELLED; classes.len()];
-    let mut next = 0;
-    let mut stack = Vec::new();
-    for start in 0..classes.len() {
-        if classes[start] == BOUNDARY {
-            labels[start] = BOUNDARY_LABEL;
-            continue;
+    // One pass in scan order joining each free voxel to its free
+    // neighbours at -x, -y and -z (union–find, each set kept by the root
+    // with the lowest index), then each set numbered in the order of its
+    // first voxel.
+    let mut parent: Vec<u32> = (0..classes.len() as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            let up = parent[parent[i as usize] as usize];
+            parent[i as usize] = up;
+            i = up;
         }
-        if labels[start] != UNLABELLED {
-            continue;
-        }
-        labels[start] = next;
-        stack.push(start);
-        while let Some(i) = stack.pop() {
-            let (x, y, z) = (i % s, (i / s) % s, i / (s * s));
-            let neighbours = [
-                (x > 0).then(|| i - 1),
-                (x + 1 < s).then(|| i + 1),
-                (y > 0).then(|| i - s),
-                (y + 1 < s).then(|| i + s),
-                (z > 0).then(|| i - s * s),
-                (z + 1 < s).then(|| i + s * s),
-            ];
-            for j in neighbours.into_iter().flatten() {
-                if labels[j] == UNLABELLED && classes[j] != BOUNDARY {
-                    labels[j] = next;
-                    stack.push(j);
+        i
+    }
+    let mut i = 0;
+    for z in 0..s {
+        for y in 0..s {
+            for x in 0..s {
+                if classes[i] != BOUNDARY {
+                    let before = [
+                        (x > 0).then(|| i - 1),
+                        (y > 0).then(|| i - s),
+                        (z > 0).then(|| i - s * s),
+                    ];
+                    for j in before.into_iter().flatten() {
+                        if classes[j] != BOUNDARY {
+                            let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j as u32));
+                            let (lo, hi) = (a.min(b), a.max(b));
+                            parent[hi as usize] = lo;
+                        }
+                    }
                 }
+                i += 1;
             }
         }
-        next += 1;
+    }
+    let mut labels = vec![BOUNDARY_LABEL; classes.len()];
+    let mut next = 0;
+    for i in 0..classes.len() {
+        if classes[i] == BOUNDARY {
+            continue;
+        }
+        let r = root(&mut parent, i as u32) as usize;
+        // A root has the set's lowest index: it is labelled first.
+        if r == i {
+            labels[i] = next;
+            next += 1;
+        } else {
+            labels[i] = labels[r];
+        }
     }
     labels
 }
