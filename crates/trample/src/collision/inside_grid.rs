@@ -225,11 +225,16 @@ fn labels(classes: &[u8], side: u32) -> Vec<u32> {
                         (y > 0).then(|| i - s),
                         (z > 0).then(|| i - s * s),
                     ];
+                    // The root of voxel i's set so far (itself at first).
+                    let mut r = i as u32;
                     for j in before.into_iter().flatten() {
                         if classes[j] != BOUNDARY {
-                            let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j as u32));
-                            let (lo, hi) = (a.min(b), a.max(b));
-                            parent[hi as usize] = lo;
+                            let rj = root(&mut parent, j as u32);
+                            if rj != r {
+                                let (lo, hi) = (r.min(rj), r.max(rj));
+                                parent[hi as usize] = lo;
+                                r = lo;
+                            }
                         }
                     }
                 }
