@@ -12,9 +12,9 @@
 //! ([`GpuNode`], 15 words each), triangles (3 words each, one a corner),
 //! an open mesh's pseudo-normals (6 words a triangle: edges `ab`, `bc`, `ca`,
 //! corners `a`, `b`, `c`; `trample::obb::pseudo_normals`) and a closed
-//! mesh's voxels (two bits each, 16 to a `u32`, 64 to a word) start at the words its `base` names. Only the
-//! parameters change during a run (one write of `16 · 16` bytes an object
-//! per sub-step).
+//! mesh's voxels (two bits each, 16 to a `u32`, 64 to a word) start at the
+//! words its `base` names. Only the parameters change during a run (one
+//! write of `16 · 16` bytes an object per sub-step).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;

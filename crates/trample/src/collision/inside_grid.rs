@@ -18,7 +18,7 @@ use crate::obb::{Obb, ObbTree};
 /// Voxels per side. 64³ ≈ 262 k voxels (two bits each): a 2 m sphere gets
 /// 3 cm voxels, a third of a blade segment, so most blade vertices near an
 /// object but a few centimetres out of it are answered here; classified
-/// in a few milliseconds per mesh (one flood fill, a few rays).
+/// in a few milliseconds per mesh (one labelling pass, a few rays).
 pub const GRID_SIDE: u32 = 64;
 
 /// Voxel centres of one region whose ray-parity tests vote on the region
@@ -36,7 +36,7 @@ const INSIDE: u8 = 1;
 const BOUNDARY: u8 = 2;
 
 /// A boundary voxel's label ([`labels`]).
-const BOUNDARY_LABEL: u32 = u32::MAX - 1;
+const BOUNDARY_LABEL: u32 = u32::MAX;
 
 /// Inside/outside/boundary per voxel of the root box.
 #[derive(Clone, Debug, PartialEq)]
@@ -63,7 +63,7 @@ impl InsideGrid {
     /// (grown a little for rounding) within the triangle's bounding box.
     /// The other voxels fall into connected regions (voxels sharing a face
     /// — their union meets no triangle either), each wholly inside or wholly
-    /// outside the mesh: one flood fill finds them, and the ray-parity test
+    /// outside the mesh: one labelling pass finds them, and the ray-parity test
     /// at a few of each region's voxel centres (the majority of up to
     /// [`SAMPLES_PER_REGION`]) decides each region — a few rays per mesh
     /// instead of one per voxel.
@@ -197,9 +197,10 @@ fn mark_boundary(classes: &mut [u8], side: u32, q: [Vec3; 3]) {
     }
 }
 
-/// Per voxel of `classes` (a grid of `side³`), the region it belongs to ([`BOUNDARY_LABEL`] for a
-/// boundary voxel): regions numbered in the order of their first voxel
-/// (x fastest, then y, then z), voxels sharing a face joined.
+/// Per voxel of `classes` (a grid of `side³`), the region it belongs to
+/// ([`BOUNDARY_LABEL`] for a boundary voxel): voxels sharing a face
+/// joined, regions numbered in the order of their first voxel (x fastest,
+/// then y, then z).
 fn labels(classes: &[u8], side: u32) -> Vec<u32> {
     let s = side as usize;
     // One pass in scan order joining each free voxel to its free
@@ -323,7 +324,7 @@ mod tests {
         }
     }
 
-    /// Every voxel the flood fill classified gets the class the ray-parity
+    /// Every voxel the regions classified gets the class the ray-parity
     /// test gives at its own centre (what the grid did before regions: one
     /// ray per voxel), on the built-in shapes and the cow; both sides are
     /// reached where the mesh leaves room outside it in its box.
