@@ -6,7 +6,7 @@
 use super::at_rest::{ColliderMemo, RestKey};
 use super::contact_hints::ContactHints;
 use super::simulation::Simulation;
-use super::stages::{mark_displaced, reach_rect, sort_displaced};
+use super::stages::{mark_displaced, reach_rect, sort_appended};
 use crate::collision::contact::NO_HINT;
 use crate::collision::segment_obb::segment_hits_obb;
 use crate::deform::bend::{bend_blade, weights};
@@ -236,7 +236,7 @@ pub(crate) fn bend_billboards(
             }
         }
     }
-    sim.scratch.bent_cells.sort_unstable();
+    sort_appended(&mut sim.scratch.bent_cells);
     deflected
 }
 
@@ -291,9 +291,9 @@ pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
             _ => {}
         }
     }
-    sim.scratch.bent_cells.sort_unstable();
+    sort_appended(&mut sim.scratch.bent_cells);
     sim.scratch.bent_cells.dedup();
-    sort_displaced(&mut sim.scratch.displaced);
+    sort_appended(&mut sim.scratch.displaced);
 }
 
 /// Track everywhere (ours, DESIGN §2): every cell holding a blade of
@@ -325,7 +325,8 @@ pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 
             }
         }
     }
+    // Order kept by the retain: the sorted set, then the cells just bent.
     s.bent_cells.retain(|&c| s.bent_flag[c as usize]);
-    s.bent_cells.sort_unstable();
+    sort_appended(&mut s.bent_cells);
     cells.len() as u32
 }

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 /// billboards recover too, with `[sim]`'s settings. Returns the blades that
 /// moved (ascending); blades back at rest leave the displaced set.
 pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
-    super::stages::sort_displaced(&mut sim.scratch.displaced);
+    super::stages::sort_appended(&mut sim.scratch.displaced);
     let owners = 1 + sim.bodies.len().min(usize::from(u8::MAX));
     let params: Vec<_> = (0..owners).map(|o| sim.recovery_params(o as u8)).collect();
     if params.iter().all(|p| p.recovery_s.is_infinite()) {
