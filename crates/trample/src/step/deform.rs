@@ -6,7 +6,7 @@
 use super::at_rest::{ColliderMemo, RestKey};
 use super::contact_hints::ContactHints;
 use super::simulation::Simulation;
-use super::stages::{mark_displaced, reach_rect, sort_appended};
+use super::stages::{mark_displaced, merge_appended, reach_rect, sort_appended};
 use crate::collision::contact::NO_HINT;
 use crate::collision::segment_obb::segment_hits_obb;
 use crate::deform::bend::{bend_blade, weights};
@@ -313,6 +313,10 @@ pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 
         .collect();
     let f = &mut sim.field.cells;
     let s = &mut sim.scratch;
+    // The set is ascending; cells newly bent are appended, and dropped only
+    // when one came back to rest: no pass over the whole set otherwise (it
+    // holds the whole lasting track).
+    let (kept, mut unbent) = (s.bent_cells.len(), false);
     for (&c, &(off, flat)) in cells.iter().zip(&state) {
         let c = c as usize;
         f.set_slope(c, slope_from_offset(f.slope_origin[c], off));
@@ -322,11 +326,17 @@ pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 
             s.bent_flag[c] = bent;
             if bent {
                 s.bent_cells.push(c as u32);
+            } else {
+                unbent = true;
             }
         }
     }
-    // Order kept by the retain: the sorted set, then the cells just bent.
-    s.bent_cells.retain(|&c| s.bent_flag[c as usize]);
-    sort_appended(&mut s.bent_cells);
+    if unbent {
+        // Order kept by the retain: the sorted set, then the cells just bent.
+        s.bent_cells.retain(|&c| s.bent_flag[c as usize]);
+        sort_appended(&mut s.bent_cells);
+    } else {
+        merge_appended(&mut s.bent_cells, kept);
+    }
     cells.len() as u32
 }

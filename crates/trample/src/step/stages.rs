@@ -354,7 +354,7 @@ pub(crate) fn mark_displaced(sim: &mut Simulation, b: u32) {
 /// displaced blades ([`mark_displaced`]; ascending, as
 /// [`Simulation::rescan_displaced`] rebuilds them), the bent cells
 /// (`deform.rs`): its sorted prefix stays, the rest is sorted alone and
-/// merged in from the back. The same result as sorting the whole set
+/// merged in ([`merge_appended`]). The same result as sorting the whole set
 /// (for any input), in time linear in the set plus `t log t` for a tail of
 /// `t` values. Both sets hold the whole lasting track: sorting them whole
 /// cost ~0.3–1 ms a call for ~100 k blades, and 1.7 ms a sub-step for the
@@ -364,7 +364,15 @@ pub(crate) fn sort_appended(v: &mut Vec<u32>) {
         .windows(2)
         .position(|w| w[0] > w[1])
         .map_or(v.len(), |i| i + 1);
-    if sorted == v.len() {
+    merge_appended(v, sorted);
+}
+
+/// Sorts `v` whose first `sorted` values are ascending (the caller knows
+/// where it appended): the rest is sorted alone and merged in from the
+/// back, moving only the values of the prefix above the smallest appended
+/// one — no pass over the whole set. The same result as sorting all of it.
+pub(crate) fn merge_appended(v: &mut Vec<u32>, sorted: usize) {
+    if sorted >= v.len() {
         return;
     }
     let mut tail = v.split_off(sorted);
@@ -386,7 +394,7 @@ pub(crate) fn sort_appended(v: &mut Vec<u32>) {
 
 #[cfg(test)]
 mod tests {
-    use super::sort_appended;
+    use super::{merge_appended, sort_appended};
     use crate::test_rng::XorShift;
 
     /// Whatever was appended to a sorted set (nothing, one, many, smaller,
@@ -407,8 +415,11 @@ mod tests {
             v.extend((0..tail).map(|_| (rng.unit() * range) as u32));
             let mut want = v.clone();
             want.sort_unstable();
+            let mut merged = v.clone();
             sort_appended(&mut v);
             assert_eq!(v, want, "case {case}");
+            merge_appended(&mut merged, prefix);
+            assert_eq!(merged, want, "case {case}: merged after {prefix}");
         }
     }
 }
