@@ -197,6 +197,8 @@ pub(crate) fn bend_billboards(
     patch_hits: &[Vec<u32>],
 ) -> u32 {
     let mut deflected = 0;
+    // Cells bent here are appended to the ascending set (each once).
+    let kept = sim.scratch.bent_cells.len();
     let reach = sim.field.max_blade_length;
     for (&(i, k), patches) in colliders.iter().zip(patch_hits) {
         let obb = *sim.bodies[i].collider(k).world_root;
@@ -236,7 +238,7 @@ pub(crate) fn bend_billboards(
             }
         }
     }
-    sort_appended(&mut sim.scratch.bent_cells);
+    merge_appended(&mut sim.scratch.bent_cells, kept);
     deflected
 }
 
@@ -246,6 +248,9 @@ pub(crate) fn bend_billboards(
 /// not already show acts on their last segment through Eq. 5 — nothing
 /// when the billboard follows its blades (`sim.track_everywhere`).
 pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
+    // Cells bent here are appended to the ascending set (each once: the
+    // flag says whether a cell is in it).
+    let kept = sim.scratch.bent_cells.len();
     let bpc = sim.field.layout.blades_per_cell as usize;
     let n = sim.field.blades.segments;
     for ch in changes {
@@ -291,9 +296,7 @@ pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
             _ => {}
         }
     }
-    sort_appended(&mut sim.scratch.bent_cells);
-    sim.scratch.bent_cells.dedup();
-    sort_appended(&mut sim.scratch.displaced);
+    merge_appended(&mut sim.scratch.bent_cells, kept);
 }
 
 /// Track everywhere (ours, DESIGN §2): every cell holding a blade of

@@ -16,12 +16,13 @@ use rayon::prelude::*;
 /// billboards recover too, with `[sim]`'s settings. Returns the blades that
 /// moved (ascending); blades back at rest leave the displaced set.
 pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
-    super::stages::sort_appended(&mut sim.scratch.displaced);
     let owners = 1 + sim.bodies.len().min(usize::from(u8::MAX));
     let params: Vec<_> = (0..owners).map(|o| sim.recovery_params(o as u8)).collect();
     if params.iter().all(|p| p.recovery_s.is_infinite()) {
         return Vec::new();
     }
+    // Only here is the set walked: put in order the blades appended since.
+    sim.scratch.sort_displaced();
     let blades = &sim.field.blades;
     let n = blades.segments;
     let terrain = &sim.field.terrain;
@@ -66,6 +67,8 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
             still.push(b);
         }
     }
+    // In the order of the set: still in order.
+    sim.scratch.displaced_sorted = still.len();
     sim.scratch.displaced = still;
     if !sim.params.track_everywhere {
         let cells = &mut sim.field.cells;

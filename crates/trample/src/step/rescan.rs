@@ -44,6 +44,7 @@ impl Simulation {
                 .filter(|(_, d)| **d)
                 .map(|(b, _)| b as u32),
         );
+        s.displaced_sorted = s.displaced.len();
         let cells = &self.field.cells;
         s.bent_flag.clear();
         s.bent_flag
@@ -93,6 +94,7 @@ path = { kind = "line", from = [-1.5, 1.0, 1.5], to = [1.5, 1.0, 1.5], duration_
         let mut stale = a.clone();
         let s = &mut stale.scratch;
         s.displaced.clear();
+        s.displaced_sorted = 0;
         s.displaced_flag.iter_mut().for_each(|d| *d = false);
         s.bent_cells.clear();
         s.bent_flag.iter_mut().for_each(|d| *d = false);

@@ -30,14 +30,31 @@ pub(crate) struct Scratch {
     pub mask: Vec<u32>,
     /// Blades whose `force`/`weight`/`generation` were set in the latest sub-step.
     pub touched: Vec<u32>,
-    /// Blades away from rest, ascending (recovered each step).
+    /// Blades away from rest (recovered each step): ascending up to
+    /// `displaced_sorted`, then the blades appended since
+    /// ([`super::stages::mark_displaced`]). Recovery, which walks the set,
+    /// puts it in order first ([`Scratch::sort_displaced`]); with tracks
+    /// that last (no recovery) nothing walks it, and nothing sorts it.
     pub displaced: Vec<u32>,
+    /// How many of `displaced`'s first blades are in order (the rest were
+    /// appended since): what [`Scratch::sort_displaced`] merges into.
+    pub displaced_sorted: usize,
     /// `displaced` as a flag per blade.
     pub displaced_flag: Vec<bool>,
     /// Cells whose billboard slope is away from rest, ascending.
     pub bent_cells: Vec<u32>,
     /// `bent_cells` as a flag per cell.
     pub bent_flag: Vec<bool>,
+}
+
+impl Scratch {
+    /// Puts the displaced blades in order: those appended since the last
+    /// time merged into the ordered ones ([`super::stages::merge_appended`]),
+    /// without a pass over the whole set (it holds the lasting track).
+    pub(crate) fn sort_displaced(&mut self) {
+        super::stages::merge_appended(&mut self.displaced, self.displaced_sorted);
+        self.displaced_sorted = self.displaced.len();
+    }
 }
 
 /// A grass field, the objects moving through it, and the camera whose eye

@@ -350,15 +350,11 @@ pub(crate) fn mark_displaced(sim: &mut Simulation, b: u32) {
     }
 }
 
-/// Sorts a set kept ascending after values were appended to it — the
-/// displaced blades ([`mark_displaced`]; ascending, as
-/// [`Simulation::rescan_displaced`] rebuilds them), the bent cells
-/// (`deform.rs`): its sorted prefix stays, the rest is sorted alone and
-/// merged in ([`merge_appended`]). The same result as sorting the whole set
-/// (for any input), in time linear in the set plus `t log t` for a tail of
-/// `t` values. Both sets hold the whole lasting track: sorting them whole
-/// cost ~0.3–1 ms a call for ~100 k blades, and 1.7 ms a sub-step for the
-/// herd's 139 k bent cells after two seconds (single-threaded).
+/// Sorts a set kept ascending after values were appended to it (the bent
+/// cells, `deform.rs`, after some were dropped): its sorted prefix stays,
+/// the rest is sorted alone and merged in ([`merge_appended`]). The same
+/// result as sorting the whole set (for any input), in time linear in the
+/// set plus `t log t` for a tail of `t` values.
 pub(crate) fn sort_appended(v: &mut Vec<u32>) {
     let sorted = v
         .windows(2)
@@ -370,8 +366,13 @@ pub(crate) fn sort_appended(v: &mut Vec<u32>) {
 /// Sorts `v` whose first `sorted` values are ascending (the caller knows
 /// where it appended): the rest is sorted alone and merged in from the
 /// back, moving only the values of the prefix above the smallest appended
-/// one — no pass over the whole set. The same result as sorting all of it.
+/// one — no pass over the whole set to find its order. The same result as
+/// sorting all of it. The displaced blades and the bent cells hold the
+/// whole lasting track (the herd: ~320 k of each after 5 s); sorting them
+/// whole every sub-step cost 1.7 ms for the cells alone, and the passes to
+/// find their sorted prefixes ~0.7 ms (BENCHMARKS.md, session 20).
 pub(crate) fn merge_appended(v: &mut Vec<u32>, sorted: usize) {
+    debug_assert!(v[..sorted.min(v.len())].is_sorted(), "merge_appended: prefix not in order");
     if sorted >= v.len() {
         return;
     }
