@@ -6,7 +6,7 @@
 use super::at_rest::{ColliderMemo, RestKey};
 use super::contact_hints::ContactHints;
 use super::simulation::Simulation;
-use super::stages::{mark_displaced, merge_appended, reach_rect, sort_appended};
+use super::stages::{mark_displaced, reach_rect};
 use crate::collision::contact::NO_HINT;
 use crate::collision::segment_obb::segment_hits_obb;
 use crate::deform::bend::{bend_blade, weights};
@@ -197,8 +197,6 @@ pub(crate) fn bend_billboards(
     patch_hits: &[Vec<u32>],
 ) -> u32 {
     let mut deflected = 0;
-    // Cells bent here are appended to the ascending set (each once).
-    let kept = sim.scratch.bent_cells.len();
     let reach = sim.field.max_blade_length;
     for (&(i, k), patches) in colliders.iter().zip(patch_hits) {
         let obb = *sim.bodies[i].collider(k).world_root;
@@ -238,7 +236,6 @@ pub(crate) fn bend_billboards(
             }
         }
     }
-    merge_appended(&mut sim.scratch.bent_cells, kept);
     deflected
 }
 
@@ -248,9 +245,6 @@ pub(crate) fn bend_billboards(
 /// not already show acts on their last segment through Eq. 5 — nothing
 /// when the billboard follows its blades (`sim.track_everywhere`).
 pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
-    // Cells bent here are appended to the ascending set (each once: the
-    // flag says whether a cell is in it).
-    let kept = sim.scratch.bent_cells.len();
     let bpc = sim.field.layout.blades_per_cell as usize;
     let n = sim.field.blades.segments;
     for ch in changes {
@@ -296,7 +290,6 @@ pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
             _ => {}
         }
     }
-    merge_appended(&mut sim.scratch.bent_cells, kept);
 }
 
 /// Track everywhere (ours, DESIGN §2): every cell holding a blade of
@@ -316,10 +309,10 @@ pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 
         .collect();
     let f = &mut sim.field.cells;
     let s = &mut sim.scratch;
-    // The set is ascending; cells newly bent are appended, and dropped only
-    // when one came back to rest: no pass over the whole set otherwise (it
-    // holds the whole lasting track).
-    let (kept, mut unbent) = (s.bent_cells.len(), false);
+    // Cells newly bent are appended (`Scratch::bent_cells`), and the set
+    // filtered only when one came back to rest: no pass over the whole set
+    // otherwise (it holds the whole lasting track).
+    let mut unbent = false;
     for (&c, &(off, flat)) in cells.iter().zip(&state) {
         let c = c as usize;
         f.set_slope(c, slope_from_offset(f.slope_origin[c], off));
@@ -335,11 +328,9 @@ pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 
         }
     }
     if unbent {
-        // Order kept by the retain: the sorted set, then the cells just bent.
+        s.sort_bent();
         s.bent_cells.retain(|&c| s.bent_flag[c as usize]);
-        sort_appended(&mut s.bent_cells);
-    } else {
-        merge_appended(&mut s.bent_cells, kept);
+        s.bent_sorted = s.bent_cells.len();
     }
     cells.len() as u32
 }

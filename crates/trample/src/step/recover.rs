@@ -72,6 +72,7 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     sim.scratch.displaced = still;
     if !sim.params.track_everywhere {
         let cells = &mut sim.field.cells;
+        sim.scratch.sort_bent();
         let flags = &mut sim.scratch.bent_flag;
         sim.scratch.bent_cells.retain(|&c| {
             let c = c as usize;
@@ -83,6 +84,7 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
             }
             !done
         });
+        sim.scratch.bent_sorted = sim.scratch.bent_cells.len();
     }
     moved
 }

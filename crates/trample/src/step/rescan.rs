@@ -57,6 +57,7 @@ impl Simulation {
                 .filter(|(_, b)| **b)
                 .map(|(c, _)| c as u32),
         );
+        s.bent_sorted = s.bent_cells.len();
     }
 }
 
@@ -97,9 +98,14 @@ path = { kind = "line", from = [-1.5, 1.0, 1.5], to = [1.5, 1.0, 1.5], duration_
         s.displaced_sorted = 0;
         s.displaced_flag.iter_mut().for_each(|d| *d = false);
         s.bent_cells.clear();
+        s.bent_sorted = 0;
         s.bent_flag.iter_mut().for_each(|d| *d = false);
         let mut b = stale.clone();
         b.rescan_displaced();
+        // The same sets, in order (a's as its recovery left them, the
+        // cells bent since merged in).
+        a.scratch.sort_displaced();
+        a.scratch.sort_bent();
         assert_eq!(b.scratch.displaced, a.scratch.displaced);
         assert_eq!(b.scratch.displaced_flag, a.scratch.displaced_flag);
         assert_eq!(b.scratch.bent_cells, a.scratch.bent_cells);

@@ -41,8 +41,13 @@ pub(crate) struct Scratch {
     pub displaced_sorted: usize,
     /// `displaced` as a flag per blade.
     pub displaced_flag: Vec<bool>,
-    /// Cells whose billboard slope is away from rest, ascending.
+    /// Cells whose billboard slope is away from rest: ascending up to
+    /// `bent_sorted`, then the cells bent since. Put in order
+    /// ([`Scratch::sort_bent`]) where the set is filtered: in the paper's
+    /// mode's recovery, and when a cell came back to rest.
     pub bent_cells: Vec<u32>,
+    /// How many of `bent_cells`' first cells are in order.
+    pub bent_sorted: usize,
     /// `bent_cells` as a flag per cell.
     pub bent_flag: Vec<bool>,
 }
@@ -54,6 +59,13 @@ impl Scratch {
     pub(crate) fn sort_displaced(&mut self) {
         super::stages::merge_appended(&mut self.displaced, self.displaced_sorted);
         self.displaced_sorted = self.displaced.len();
+    }
+
+    /// Puts the bent cells in order, as [`Scratch::sort_displaced`] the
+    /// displaced blades.
+    pub(crate) fn sort_bent(&mut self) {
+        super::stages::merge_appended(&mut self.bent_cells, self.bent_sorted);
+        self.bent_sorted = self.bent_cells.len();
     }
 }
 

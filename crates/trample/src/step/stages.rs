@@ -350,27 +350,16 @@ pub(crate) fn mark_displaced(sim: &mut Simulation, b: u32) {
     }
 }
 
-/// Sorts a set kept ascending after values were appended to it (the bent
-/// cells, `deform.rs`, after some were dropped): its sorted prefix stays,
-/// the rest is sorted alone and merged in ([`merge_appended`]). The same
-/// result as sorting the whole set (for any input), in time linear in the
-/// set plus `t log t` for a tail of `t` values.
-pub(crate) fn sort_appended(v: &mut Vec<u32>) {
-    let sorted = v
-        .windows(2)
-        .position(|w| w[0] > w[1])
-        .map_or(v.len(), |i| i + 1);
-    merge_appended(v, sorted);
-}
-
 /// Sorts `v` whose first `sorted` values are ascending (the caller knows
 /// where it appended): the rest is sorted alone and merged in from the
 /// back, moving only the values of the prefix above the smallest appended
 /// one — no pass over the whole set to find its order. The same result as
 /// sorting all of it. The displaced blades and the bent cells hold the
-/// whole lasting track (the herd: ~320 k of each after 5 s); sorting them
-/// whole every sub-step cost 1.7 ms for the cells alone, and the passes to
-/// find their sorted prefixes ~0.7 ms (BENCHMARKS.md, session 20).
+/// whole lasting track (the herd: ~320 k of each after 5 s): sorted whole
+/// every sub-step they cost 1.7 ms for the cells alone, found in order by a
+/// pass and merged ~1 ms; so they are put in order only where they are
+/// walked or filtered (`Scratch::sort_displaced`, `Scratch::sort_bent`;
+/// BENCHMARKS.md, session 20).
 pub(crate) fn merge_appended(v: &mut Vec<u32>, sorted: usize) {
     debug_assert!(v[..sorted.min(v.len())].is_sorted(), "merge_appended: prefix not in order");
     if sorted >= v.len() {
@@ -395,7 +384,7 @@ pub(crate) fn merge_appended(v: &mut Vec<u32>, sorted: usize) {
 
 #[cfg(test)]
 mod tests {
-    use super::{merge_appended, sort_appended};
+    use super::merge_appended;
     use crate::test_rng::XorShift;
 
     /// Whatever was appended to a sorted set (nothing, one, many, smaller,
@@ -416,11 +405,8 @@ mod tests {
             v.extend((0..tail).map(|_| (rng.unit() * range) as u32));
             let mut want = v.clone();
             want.sort_unstable();
-            let mut merged = v.clone();
-            sort_appended(&mut v);
-            assert_eq!(v, want, "case {case}");
-            merge_appended(&mut merged, prefix);
-            assert_eq!(merged, want, "case {case}: merged after {prefix}");
+            merge_appended(&mut v, prefix);
+            assert_eq!(v, want, "case {case}: merged after {prefix}");
         }
     }
 }
