@@ -361,7 +361,10 @@ pub(crate) fn mark_displaced(sim: &mut Simulation, b: u32) {
 /// walked or filtered (`Scratch::sort_displaced`, `Scratch::sort_bent`;
 /// BENCHMARKS.md, session 20).
 pub(crate) fn merge_appended(v: &mut Vec<u32>, sorted: usize) {
-    debug_assert!(v[..sorted.min(v.len())].is_sorted(), "merge_appended: prefix not in order");
+    debug_assert!(
+        v[..sorted.min(v.len())].is_sorted(),
+        "merge_appended: prefix not in order"
+    );
     if sorted >= v.len() {
         return;
     }
