@@ -328,9 +328,7 @@ pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 
         }
     }
     if unbent {
-        s.sort_bent();
-        s.bent_cells.retain(|&c| s.bent_flag[c as usize]);
-        s.bent_sorted = s.bent_cells.len();
+        s.retain_bent(|_, bent| bent);
     }
     cells.len() as u32
 }

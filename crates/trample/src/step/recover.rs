@@ -72,19 +72,12 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     sim.scratch.displaced = still;
     if !sim.params.track_everywhere {
         let cells = &mut sim.field.cells;
-        sim.scratch.sort_bent();
-        let flags = &mut sim.scratch.bent_flag;
-        sim.scratch.bent_cells.retain(|&c| {
-            let c = c as usize;
+        sim.scratch.retain_bent(|c, _| {
             let mut slope = cells.slope[c];
             let done = recover_slope(&mut slope, cells.slope_origin[c], h, &params[0]);
             cells.set_slope(c, slope);
-            if done {
-                flags[c] = false;
-            }
             !done
         });
-        sim.scratch.bent_sorted = sim.scratch.bent_cells.len();
     }
     moved
 }

@@ -67,6 +67,21 @@ impl Scratch {
         super::stages::merge_appended(&mut self.bent_cells, self.bent_sorted);
         self.bent_sorted = self.bent_cells.len();
     }
+
+    /// Keeps the bent cells for which `keep(cell, its flag)` is true, in
+    /// order (put in order first), and clears the flags of the others: the
+    /// one way cells leave the set.
+    pub(crate) fn retain_bent(&mut self, mut keep: impl FnMut(usize, bool) -> bool) {
+        self.sort_bent();
+        let flags = &mut self.bent_flag;
+        self.bent_cells.retain(|&c| {
+            let c = c as usize;
+            let kept = keep(c, flags[c]);
+            flags[c] &= kept;
+            kept
+        });
+        self.bent_sorted = self.bent_cells.len();
+    }
 }
 
 /// A grass field, the objects moving through it, and the camera whose eye
