@@ -12,7 +12,10 @@
 //!
 //! Default: 100 frames of the embedded default scene (the paper's field,
 //! one ball). Prints the median and quartiles of the recording time from
-//! the third frame on.
+//! the third frame on, the medians of the submission and of the wait for
+//! the GPU, then the time a step takes when FRAMES steps are recorded and
+//! submitted back to back and waited for once (the host and the GPU
+//! overlapping, as in an engine that does not wait for the simulation).
 
 use trample::scene::Scene;
 use trample_gpu::GpuSimulation;
@@ -20,6 +23,11 @@ use trample_gpu::GpuSimulation;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let frames: usize = args.next().map_or(Ok(100), |s| s.parse())?;
+    if frames < 3 {
+        return Err(
+            format!("FRAMES is {frames}: give 3 or more (the first two are not counted)").into(),
+        );
+    }
     let sim = match args.next() {
         Some(path) => {
             let text = std::fs::read_to_string(&path)?;
@@ -37,24 +45,47 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dt = sim.params.dt_s;
     let blades = sim.field.blades.count;
     let mut g = GpuSimulation::new(device, queue, sim)?;
-    let mut times = Vec::with_capacity(frames);
+    // Each step recorded, submitted and waited for: the three times apart.
+    let (mut record, mut submit, mut wait) = (Vec::new(), Vec::new(), Vec::new());
+    let ms = |t: std::time::Instant| t.elapsed().as_secs_f64() * 1e3;
     for _ in 0..frames {
         let mut encoder = device.create_command_encoder(&Default::default());
         let start = std::time::Instant::now();
         g.record_step(device, queue, &mut encoder, dt)?;
         let buffer = encoder.finish();
-        times.push(start.elapsed().as_secs_f64() * 1e3);
+        record.push(ms(start));
+        let start = std::time::Instant::now();
         queue.submit([buffer]);
+        submit.push(ms(start));
+        let start = std::time::Instant::now();
         device.poll(trample_gpu::wgpu::PollType::wait_indefinitely())?;
+        wait.push(ms(start));
     }
-    let mut t: Vec<f64> = times.iter().skip(2).copied().collect();
-    t.sort_by(f64::total_cmp);
-    let at = |q: f64| t[((t.len() - 1) as f64 * q).round() as usize];
+    // Then the same number of steps recorded and submitted back to back,
+    // waited for once at the end (a host that does not wait for the
+    // simulation): the time a step costs when the GPU's work and the
+    // host's recording overlap.
+    let start = std::time::Instant::now();
+    for _ in 0..frames {
+        let mut encoder = device.create_command_encoder(&Default::default());
+        g.record_step(device, queue, &mut encoder, dt)?;
+        queue.submit([encoder.finish()]);
+    }
+    device.poll(trample_gpu::wgpu::PollType::wait_indefinitely())?;
+    let pipelined = ms(start) / frames as f64;
+    let quartiles = |times: &[f64]| {
+        let mut t: Vec<f64> = times.iter().skip(2).copied().collect();
+        t.sort_by(f64::total_cmp);
+        let at = |q: f64| t[((t.len() - 1) as f64 * q).round() as usize];
+        (at(0.25), at(0.5), at(0.75))
+    };
+    let (q1, median, q3) = quartiles(&record);
     println!(
-        "{blades} blades, {frames} frames: record_step {:.3} ms median (quartiles {:.3} / {:.3})",
-        at(0.5),
-        at(0.25),
-        at(0.75)
+        "{blades} blades, {frames} frames: record_step {median:.3} ms median (quartiles {q1:.3} / {q3:.3})"
     );
+    let (_, s, _) = quartiles(&submit);
+    let (_, w, _) = quartiles(&wait);
+    println!("  submit {s:.3} ms median, wait for the GPU {w:.3} ms median");
+    println!("  {frames} steps submitted back to back, one wait: {pipelined:.3} ms a step");
     Ok(())
 }

@@ -4,7 +4,9 @@
 //
 // `cell_state` bits 0–1: level (0 geometry, 1 billboard, 2 texture); bits
 // 2–3: the level before this sub-step's change (3: unchanged); bit 4: the
-// billboard is bent (away from its rest slope).
+// billboard is bent (away from its rest slope); bit 5 (track everywhere):
+// `follow.wgsl` last computed the cell from blades all at rest, so while
+// they stay there it has nothing to compute.
 //
 // `cell_rest`, per cell two entries: (base xyz, billboard height),
 // (slope_origin_b xyz, global cell coordinates gx | gz << 16 as the bits
@@ -14,6 +16,7 @@ const GEOMETRY: u32 = 0u;
 const BILLBOARD: u32 = 1u;
 const UNCHANGED: u32 = 3u;
 const BENT: u32 = 16u;
+const AT_REST: u32 = 32u;
 
 fn level(s: u32) -> u32 {
     return s & 3u;

@@ -183,7 +183,7 @@ impl Cells {
                 Stage::Follow,
                 "trample-gpu follow",
                 &[
-                    Uniform, ReadWrite, Read, ReadWrite, ReadWrite, Read, Read, Uniform,
+                    Uniform, ReadWrite, Read, ReadWrite, ReadWrite, Read, Read, Uniform, Read,
                 ],
                 "follow",
             ),
@@ -262,6 +262,7 @@ impl Cells {
                             &chunk.pos,
                             &chunk.rest,
                             &chunk.uniform,
+                            &field.displaced,
                         ],
                     ),
                     size: chunk.cell_groups,

@@ -36,5 +36,5 @@ fn classify(@builtin(global_invocation_id) gid: vec3<u32>) {
         atomicAdd(&state.transitions, 1u);
     }
     atomicAdd(&state.lod[new_level], 1u);
-    cell_state[c] = (s & BENT) | (from_level << 2u) | new_level;
+    cell_state[c] = (s & (BENT | AT_REST)) | (from_level << 2u) | new_level;
 }

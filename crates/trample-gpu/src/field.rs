@@ -49,7 +49,8 @@ pub struct GpuField {
     /// Cells.
     pub cell_count: u32,
     /// Per cell: bits 0–1 level of detail, 2–3 level before this sub-step's
-    /// change (3: none), bit 4 billboard bent (see `cells.wgsl`).
+    /// change (3: none), bit 4 billboard bent, bit 5 cell computed at rest
+    /// (track everywhere; see `cell.wgsl`).
     pub cell_state: wgpu::Buffer,
     /// Per cell: (base, billboard height), (slope_origin_b, 0).
     pub(crate) cell_rest: wgpu::Buffer,

@@ -3,7 +3,13 @@
 // (`transition::cell_offset_and_flatness`, as `step::deform::
 // cells_from_blades` keeps them), at the end of a sub-step. The CPU updates
 // only the cells whose blades moved; a cell whose blades did not keeps
-// exactly these values, so computing every cell here gives the same.
+// exactly these values. Here a cell whose blades are all at rest (not
+// displaced: a blade leaves the displaced set only at its rest position,
+// bit for bit) and were at rest when it was last computed (`AT_REST`) is
+// not computed again: it would get the same values. Every other cell is
+// computed, so the result is the same as computing every cell; where the
+// field is at rest the pass reads a few bytes a cell, not its blades'
+// vertices.
 
 @group(0) @binding(0) var<uniform> params: StepParams;
 @group(0) @binding(1) var<storage, read_write> cell_state: array<u32>;
@@ -13,6 +19,7 @@
 @group(0) @binding(5) var<storage, read> pos: array<vec4<f32>>;
 @group(0) @binding(6) var<storage, read> rest: array<vec4<f32>>;
 @group(0) @binding(7) var<uniform> chunk: Chunk;
+@group(0) @binding(8) var<storage, read> displaced: array<u32>;
 
 @compute @workgroup_size(64)
 fn follow(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -21,6 +28,14 @@ fn follow(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let bpc = params.cells.y;
+    let s = cell_state[c];
+    var at_rest = true;
+    for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
+        at_rest = at_rest && displaced[b] == 0u;
+    }
+    if at_rest && (s & AT_REST) != 0u {
+        return;
+    }
     let n = min(params.counts.y, MAX_VERTS - 1u);
     // `transition::mean_offset` of `blade_offset`s and the mean flatness.
     var sum = vec3<f32>(0.0);
@@ -51,10 +66,6 @@ fn follow(@builtin(global_invocation_id) gid: vec3<u32>) {
     let sl = origin + mean;
     slope[c] = vec4<f32>(sl, 0.0);
     flatness_of[c] = select(0.0, flat / f32(kf), kf > 0u);
-    let s = cell_state[c];
-    if all(sl == origin) {
-        cell_state[c] = s & ~BENT;
-    } else {
-        cell_state[c] = s | BENT;
-    }
+    let kept = s & ~(BENT | AT_REST);
+    cell_state[c] = kept | select(BENT, 0u, all(sl == origin)) | select(0u, AT_REST, at_rest);
 }
