@@ -56,6 +56,7 @@ pub mod error;
 pub mod field;
 mod kernel;
 pub mod limits;
+mod lod_settle;
 pub mod narrow_phase;
 pub mod object;
 pub mod profile;

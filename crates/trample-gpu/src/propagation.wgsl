@@ -95,9 +95,12 @@ fn begin() {
     atomicStore(&state.pbg, 0u);
     atomicStore(&state.displaced, 0u);
     atomicStore(&state.transitions, 0u);
-    atomicStore(&state.lod[0], 0u);
-    atomicStore(&state.lod[1], 0u);
-    atomicStore(&state.lod[2], 0u);
+    // Not classified this sub-step (lod_settle.rs): the last counts stand.
+    if params.lod.w == 0.0 {
+        atomicStore(&state.lod[0], 0u);
+        atomicStore(&state.lod[1], 0u);
+        atomicStore(&state.lod[2], 0u);
+    }
     atomicStore(&state.contact, 0u);
     atomicStore(&frontier[0], 0u);
     atomicStore(&frontier[1], 0u);

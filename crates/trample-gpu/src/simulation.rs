@@ -122,6 +122,8 @@ pub struct GpuSimulation {
     ground: f32,
     /// Profiling mode (see [`GpuSimulation::set_profiling`]).
     profiling: bool,
+    /// Whether a main sub-step's viewpoint asks for the cells' levels again.
+    lod_settle: crate::lod_settle::LodSettle,
     /// Made by the first [`GpuSimulation::record_draw_lists`].
     draw_lists: Option<DrawLists>,
     timer: StageTimer,
@@ -292,6 +294,7 @@ impl GpuSimulation {
             state,
             ground,
             profiling: false,
+            lod_settle: crate::lod_settle::LodSettle::default(),
             draw_lists: None,
             timer: StageTimer::new(device),
         })
@@ -490,7 +493,13 @@ impl GpuSimulation {
             if pass.main {
                 self.sim.update_view(t);
             }
-            let params = self.step_params(h, groups.0, recovery_on);
+            let mut params = self.step_params(h, groups.0, recovery_on);
+            // Levels of detail (and the transitions they start) only where
+            // the viewpoint or the distances changed (`lod_settle.rs`).
+            let classify = pass.main && self.lod_settle.needs_classify(&params);
+            if !classify {
+                params.lod[3] = 1.0;
+            }
             let mut own = None;
             let encoder = match &mut target {
                 Target::Submit => own.insert(new_encoder(device)),
@@ -527,7 +536,7 @@ impl GpuSimulation {
             let mut laps = self.timer.laps(device, queue, encoder, self.profiling)?;
             self.propagation
                 .record_reset(device, encoder, &self.field, &self.params, &self.state);
-            if pass.main {
+            if classify {
                 self.cells.record_classify(encoder, &cell_groups);
             }
             laps.lap(device, queue, encoder, Stage::Lod);
@@ -581,7 +590,7 @@ impl GpuSimulation {
                 self.cells.record_billboards(encoder, &cell_groups);
             }
             laps.lap(device, queue, encoder, Stage::Deformation);
-            if pass.main {
+            if classify {
                 self.cells.record_transitions(encoder, &cell_groups);
             }
             laps.lap(device, queue, encoder, Stage::Transitions);

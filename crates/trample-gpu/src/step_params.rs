@@ -21,7 +21,9 @@ pub struct GpuStepParams {
     pub eye: [f32; 4],
     /// `billboard_m`; propagation's `threshold_fade` and `hold_weight`
     /// (`trample::force::propagation::PropagationParams`; the simulation's
-    /// are `THRESHOLD_FADE` and `stages::HOLD_WEIGHT`); unused.
+    /// are `THRESHOLD_FADE` and `stages::HOLD_WEIGHT`); 1 when the cells
+    /// are not classified this sub-step (the counts per level of the last
+    /// classification are kept; `lod_settle.rs`), else 0.
     pub lod: [f32; 4],
     /// Cell count, blades per cell, object count, track everywhere (1) or
     /// the paper's geometric cells only (0) (per-chunk cell dispatches take

@@ -64,18 +64,16 @@ fn check_cells_follow_their_blades(blades_per_cell: u32, frames: u32) {
     let bpc = sim.field.layout.blades_per_cell as usize;
     let mut recovered_cells = 0;
     let (mut rest_diff, mut worst) = (0, 0.0f32);
-    for c in 0..cells.lod.len() {
+    for (c, &s) in state.iter().enumerate().take(cells.lod.len()) {
         let range = c * bpc..(c + 1) * bpc;
         let (off, flat) = cell_offset_and_flatness(blades, range.clone());
         let slope = cells.slope_origin[c] + off;
         if range.clone().all(|b| blades.is_at_rest(b)) {
             // Exactly the rest values, the bent flag clear.
             rest_diff += usize::from(
-                cells.slope[c] != cells.slope_origin[c]
-                    || cells.flatness[c] != flat
-                    || state[c] & 16 != 0,
+                cells.slope[c] != cells.slope_origin[c] || cells.flatness[c] != flat || s & 16 != 0,
             );
-            recovered_cells += usize::from(state[c] & 32 != 0);
+            recovered_cells += usize::from(s & 32 != 0);
         } else {
             let d = cells.slope[c]
                 .distance(slope)

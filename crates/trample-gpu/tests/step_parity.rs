@@ -60,12 +60,17 @@ fn check_parity(scene: &Scene, frames: u32) {
     let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
     let dt = cpu.params.dt_s;
     let (mut dbg_frames, mut pbg_frames, mut touched) = (0, 0, 0u64);
+    let mut lod_frames = 0;
     for _ in 0..frames {
         cpu.step(dt).unwrap();
         g.step(device, queue, dt).unwrap();
         let c = g.read_counters(device, queue).unwrap();
         dbg_frames += u32::from(c.dbg != cpu.timings.dbg_blades);
         pbg_frames += u32::from(c.pbg != cpu.timings.pbg_blades);
+        // Cells per level: the GPU's counts whether it classified this
+        // sub-step or kept the last ones (a still viewpoint, lod_settle.rs).
+        let l = cpu.timings.lod;
+        lod_frames += u32::from(c.lod != [l.geometry, l.billboard, l.texture]);
         touched += u64::from(cpu.timings.dbg_blades);
     }
     assert!(
@@ -113,11 +118,16 @@ fn check_parity(scene: &Scene, frames: u32) {
         "{frames} frames, {} blades ({moved} away from rest on the CPU), {} cells ({bent} bent billboards): \
          worst vertex difference {worst:e} m, worst slope difference {worst_slope:e}, \
          {class_diff} class differences, {lod_diff} LOD differences, \
-         DBG count differs in {dbg_frames} frames, PBG in {pbg_frames}",
+         DBG count differs in {dbg_frames} frames, PBG in {pbg_frames}, cells per level in \
+         {lod_frames}",
         bl.count,
         cells.lod.len()
     );
     assert_eq!(lod_diff, 0, "levels of detail differ");
+    assert_eq!(
+        lod_frames, 0,
+        "cells per level differ in {lod_frames} frames"
+    );
     assert!(
         worst_slope <= SLOPE_TOLERANCE,
         "worst slope difference {worst_slope}"
@@ -177,6 +187,20 @@ fn busy_scene_200_frames_matches_the_cpu() {
 #[test]
 fn moving_camera_with_billboards_and_transitions_300_frames_matches_the_cpu() {
     check_parity(&scenes::scene(scenes::LOD), 300);
+}
+
+/// The LOD scene's camera moving for 2 s, then standing still for 1 s: the
+/// GPU classifies the cells once from the still viewpoint, then leaves the
+/// levels and the transitions out (`lod_settle.rs`) — same levels, same
+/// cells per level every frame, same blades and billboards as the CPU.
+#[test]
+fn camera_that_stops_180_frames_matches_the_cpu() {
+    let text = scenes::LOD.replace(
+        "to = [5.0, 1.5, 1.0], duration_s = 5.0",
+        "to = [5.0, 1.5, 1.0], duration_s = 2.0",
+    );
+    assert_ne!(text, scenes::LOD);
+    check_parity(&scenes::scene(&text), 180);
 }
 
 /// The rolling ball's scene with `terrain` under the field (relative paths
