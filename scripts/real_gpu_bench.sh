@@ -44,6 +44,14 @@ if [ "${1:-}" = "--prepare" ]; then
     [ -x "$bin" ] || { echo "no $bin: run cargo build --release -p trample-cli first" >&2; exit 1; }
     mkdir -p .carry .gl
     strip -o .carry/trample "$bin"
+    # The GPU examples, where built (`cargo build --release -p trample-gpu
+    # --example stage_times --example record_time`): real_gpu_stages.sh
+    # runs stage_times; record_time is run by hand.
+    for e in stage_times record_time; do
+        if [ -x "target/release/examples/$e" ]; then
+            strip -o ".carry/$e" "target/release/examples/$e"
+        fi
+    done
     o='-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64'
     mkdir -p /tmp/amd64/partial
     # shellcheck disable=SC2086

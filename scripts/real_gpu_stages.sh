@@ -7,7 +7,8 @@
 # default scene and the herd with the first binary (not with BENCH=0).
 #
 # Here, once per build to compare: `bash scripts/real_gpu_bench.sh
-# --prepare` (the loaders in .gl/, a stripped build in .carry/trample);
+# --prepare` (the loaders in .gl/, a stripped build in .carry/trample, and
+# the `stage_times` and `record_time` examples where they were built);
 # copy an older build to .carry/NAME to compare with it. Then, with the
 # device tool, from the repo root:
 #
@@ -50,6 +51,20 @@ for bin in $BINS; do
         [ -f "$f" ] && cp "$f" "$OUT/${s}_$bin.json"
     done
 done
+# The herd's stages timed both ways, where `--prepare` carried the
+# `stage_times` example: timestamps (as above) and wall time (each stage
+# submitted and waited for) — on NVIDIA (session 21) a timestamp lap with
+# no work in it read 0.21 ms on the herd, so the two are compared.
+if [ -x "$DIR/stage_times" ]; then
+    for mode in timestamp wall; do
+        echo "== stage_times $mode: $HERD ($(date -u +%T))" >>"$log"
+        TRAMPLE_STAGE_TIMING=$mode timeout 60 "$DIR/stage_times" "$(frames 12 3)" "$HERD" \
+            >"$work/stage_times_$mode.txt" 2>&1
+        echo "== stage_times $mode: exit $?" >>"$log"
+        grep -E "^adapter|^stage timing" "$work/stage_times_$mode.txt" >>"$log"
+        tail -n 4 "$work/stage_times_$mode.txt" >>"$log"
+    done
+fi
 first=${BINS%% *}
 [ "${BENCH:-1}" = 0 ] || {
 run 40 bench_default "$DIR/$first" bench --backend gpu --precisions 3,7 \

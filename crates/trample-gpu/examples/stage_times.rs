@@ -23,9 +23,20 @@ use trample_testkit::scenes;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let frames: u32 = args.next().map_or(Ok(100), |s| s.parse())?;
-    let text = match args.next() {
-        Some(path) => std::fs::read_to_string(path)?,
-        None => scenes::ROLLING_BALL.to_string(),
+    // A scene file's meshes are found beside it.
+    let (text, source, dir) = match args.next() {
+        Some(path) => {
+            let dir = std::path::Path::new(&path)
+                .parent()
+                .unwrap_or(std::path::Path::new("."))
+                .to_path_buf();
+            (std::fs::read_to_string(&path)?, path, dir)
+        }
+        None => (
+            scenes::ROLLING_BALL.to_string(),
+            "rolling_ball.toml".to_string(),
+            std::path::PathBuf::from("."),
+        ),
     };
     // Timestamp queries where the adapter has them, unless told otherwise.
     let wall = std::env::var("TRAMPLE_STAGE_TIMING").is_ok_and(|v| v == "wall");
@@ -47,7 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         gpu.adapter.features() & ts,
         queue.get_timestamp_period()
     );
-    let sim = Scene::parse(&text, "scene.toml", std::path::Path::new("."))?.build()?;
+    let sim = Scene::parse(&text, &source, &dir)?.build()?;
     let dt = sim.params.dt_s;
     let mut g = GpuSimulation::new(device, queue, sim)?;
     g.set_profiling(true);
@@ -60,11 +71,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let wall = start.elapsed().as_secs_f64() * 1e3;
         let t = &g.sim.timings;
         println!(
-            "frame {f}: {wall:.1} ms wall; lod {:.2} narrow {:.2} propagation {:.2} deformation {:.2} transitions {:.2} recovery {:.2} ms; DBG {}",
+            "frame {f}: {wall:.1} ms wall; lod {:.2} narrow {:.2} propagation {:.2} deformation {:.2} contact {:.2} transitions {:.2} recovery {:.2} ms; DBG {}",
             t.lod_ms,
             t.narrow_ms,
             t.propagation_ms,
             t.deformation_ms,
+            t.contact_ms,
             t.transitions_ms,
             t.recovery_ms,
             c.dbg

@@ -4,14 +4,17 @@
 //! blades. One WGSL file per stage (`classify.wgsl`, `billboards.wgsl`,
 //! `slopes.wgsl`, `transitions.wgsl`, `follow.wgsl`), each with the
 //! bindings it uses (at most 8 storage buffers). `classify` runs first in a
-//! sub-step (the narrow phase needs the levels); the others after the
-//! blades bend, as in `trample::step::stages::substep`.
+//! sub-step (the narrow phase needs the levels), and, with the transitions,
+//! only when the viewpoint or the distances changed (`lod_settle.rs`, as
+//! the CPU); the others after the blades bend, as in
+//! `trample::step::stages::substep`.
 //!
 //! Differences from the CPU path, by design: every cell is classified (the
 //! CPU skips patches whose cells all keep one level: same result); every
 //! billboard cell tests every object's root box (the CPU first keeps the
 //! patches under the box: a conservative filter, same result); `follow`
-//! computes every cell (the CPU only those whose blades moved: the others
+//! computes every cell whose blades are away from rest or were when it
+//! last computed it (the CPU only those whose blades moved: the others
 //! already hold these values).
 
 use bytemuck::{Pod, Zeroable};
