@@ -99,30 +99,45 @@ impl Kernel {
         group: &wgpu::BindGroup,
         groups: (u32, u32),
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: None,
-            timestamp_writes: None,
-        });
+        self.dispatch_in(&mut begin_pass(encoder), entry, group, groups);
+    }
+
+    /// As [`Kernel::dispatch`], into `pass` (one pass for a run of
+    /// dispatches: a compute pass synchronises each dispatch with the ones
+    /// before it as separate passes do — in WebGPU each dispatch is a usage
+    /// scope of its own — and costs the host one pass to record).
+    pub(crate) fn dispatch_in(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        entry: usize,
+        group: &wgpu::BindGroup,
+        groups: (u32, u32),
+    ) {
         pass.set_pipeline(&self.pipelines[entry]);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
 }
 
+/// A compute pass for [`Kernel::dispatch_in`] and
+/// [`Kernel::dispatch_indirect_in`].
+pub(crate) fn begin_pass(encoder: &mut wgpu::CommandEncoder) -> wgpu::ComputePass<'_> {
+    encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: None,
+        timestamp_writes: None,
+    })
+}
+
 impl Kernel {
-    /// As [`Kernel::dispatch`], with the workgroup counts read from
-    /// `args` (three `u32`, written by an earlier pass).
-    pub(crate) fn dispatch_indirect(
+    /// As [`Kernel::dispatch_in`], with the workgroup counts read from
+    /// `args` (three `u32`, written by an earlier dispatch).
+    pub(crate) fn dispatch_indirect_in(
         &self,
-        encoder: &mut wgpu::CommandEncoder,
+        pass: &mut wgpu::ComputePass<'_>,
         entry: usize,
         group: &wgpu::BindGroup,
         args: &wgpu::Buffer,
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: None,
-            timestamp_writes: None,
-        });
         pass.set_pipeline(&self.pipelines[entry]);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups_indirect(args, 0);

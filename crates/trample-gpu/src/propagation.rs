@@ -16,7 +16,7 @@
 //! the next pass by that list (`GpuField::frontier`).
 
 use crate::field::GpuField;
-use crate::kernel::{Kernel, Slot};
+use crate::kernel::{Kernel, Slot, begin_pass};
 
 /// The WGSL source as compiled (`blade.wgsl` prepended).
 #[must_use]
@@ -143,24 +143,20 @@ impl Propagation {
         passes: u32,
     ) {
         let group = self.bind(device, field, params, state, &self.next_gather);
-        self.kernel.dispatch(encoder, SEED, &group, groups);
-        self.kernel.dispatch(encoder, PRIME, &group, (1, 1));
         let gather_group = self.bind(device, field, params, state, &self.unused_args);
+        // One compute pass for the stage's 2 + 2 × passes + 1 dispatches.
+        let mut cpass = begin_pass(encoder);
+        let k = &self.kernel;
+        k.dispatch_in(&mut cpass, SEED, &group, groups);
+        k.dispatch_in(&mut cpass, PRIME, &group, (1, 1));
         for pass in 0..passes {
             if pass == 0 {
-                self.kernel
-                    .dispatch_indirect(encoder, GATHER, &gather_group, &self.next_gather);
-                self.kernel
-                    .dispatch_indirect(encoder, COMMIT, &gather_group, &self.next_gather);
+                k.dispatch_indirect_in(&mut cpass, GATHER, &gather_group, &self.next_gather);
+                k.dispatch_indirect_in(&mut cpass, COMMIT, &gather_group, &self.next_gather);
             } else {
-                self.kernel.dispatch_indirect(
-                    encoder,
-                    GATHER_COMMIT,
-                    &gather_group,
-                    &self.next_gather,
-                );
+                k.dispatch_indirect_in(&mut cpass, GATHER_COMMIT, &gather_group, &self.next_gather);
             }
-            self.kernel.dispatch(encoder, ADVANCE, &group, (1, 1));
+            k.dispatch_in(&mut cpass, ADVANCE, &group, (1, 1));
         }
     }
 }
