@@ -15,7 +15,14 @@ pub(crate) enum Slot {
 pub(crate) struct Kernel {
     layout: wgpu::BindGroupLayout,
     pipelines: Vec<wgpu::ComputePipeline>,
+    /// The last bind groups made, by their buffers ([`Kernel::bind`]).
+    groups: std::sync::Mutex<Vec<(Vec<wgpu::Buffer>, wgpu::BindGroup)>>,
 }
+
+/// Bind groups a kernel keeps for reuse: a stage binds the same buffers
+/// step after step (a few per chunk); one that binds others (a table made
+/// again) pushes the oldest out, and with it the hold on their buffers.
+const KEPT_GROUPS: usize = 8;
 
 impl Kernel {
     /// Compiles `entries` of `source`; binding `i` of group 0 is `slots[i]`.
@@ -70,11 +77,37 @@ impl Kernel {
                 })
             })
             .collect();
-        Self { layout, pipelines }
+        Self {
+            layout,
+            pipelines,
+            groups: std::sync::Mutex::new(Vec::new()),
+        }
     }
 
-    /// A bind group of `buffers`, binding `i` = `buffers[i]`.
+    /// A bind group of `buffers`, binding `i` = `buffers[i]`: the one made
+    /// for these buffers before, if the kernel still keeps it (the host
+    /// records a step without making the same groups again).
     pub(crate) fn bind(&self, device: &wgpu::Device, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+        let mut kept = self
+            .groups
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let same = |b: &[wgpu::Buffer]| {
+            b.len() == buffers.len() && b.iter().zip(buffers).all(|(a, b)| a == *b)
+        };
+        if let Some((_, group)) = kept.iter().find(|(b, _)| same(b)) {
+            return group.clone();
+        }
+        let group = self.make_group(device, buffers);
+        if kept.len() == KEPT_GROUPS {
+            kept.remove(0);
+        }
+        kept.push((buffers.iter().map(|&b| b.clone()).collect(), group.clone()));
+        group
+    }
+
+    /// A new bind group of `buffers`.
+    fn make_group(&self, device: &wgpu::Device, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
         let entries: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
             .enumerate()
