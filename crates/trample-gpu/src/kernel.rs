@@ -106,8 +106,13 @@ impl Kernel {
         group
     }
 
-    /// A new bind group of `buffers`.
-    fn make_group(&self, device: &wgpu::Device, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+    /// A new bind group of `buffers`, not kept: for a buffer made for one
+    /// dispatch, which [`Kernel::bind`] would keep alive for nothing.
+    pub(crate) fn make_group(
+        &self,
+        device: &wgpu::Device,
+        buffers: &[&wgpu::Buffer],
+    ) -> wgpu::BindGroup {
         let entries: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
             .enumerate()

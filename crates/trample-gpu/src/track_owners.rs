@@ -71,7 +71,8 @@ impl TrackOwners {
             }),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let group = self.kernel.bind(device, &[&uniform, &field.class]);
+        // A uniform of its own each time: a group not kept.
+        let group = self.kernel.make_group(device, &[&uniform, &field.class]);
         self.kernel.dispatch(encoder, 0, &group, groups);
     }
 }
