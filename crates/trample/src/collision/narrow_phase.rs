@@ -43,7 +43,7 @@
 //! push direction and the contact point are weighted by the nodes' weights
 //! too, so a node that starts being touched enters them smoothly.
 
-use glam::{Vec3, Vec3A};
+use glam::{Vec3, Vec3A, Vec4};
 
 use super::broad_phase::AabbFaces;
 use super::contact::penetration;
@@ -55,7 +55,7 @@ use super::segment_obb_wide::Segments4;
 use super::segment_slabs::segment_hits_node;
 use crate::field::MAX_SEGMENTS;
 use crate::obb::build::closest_point_on_segment;
-use crate::obb::{MAX_TREE_DEPTH, ObbTree};
+use crate::obb::{MAX_TREE_DEPTH, Obb, ObbTree};
 
 /// Where and in which direction one blade segment touches the object,
 /// object-local frame.
@@ -417,16 +417,22 @@ pub fn contact_blade(
 /// bit: a final node a segment meets lies in every ancestor's grown reach
 /// box, so the walk reaches it, and `near` holds every final node whose box
 /// a segment in the box can meet, in the walk's depth-first, left-first
-/// order (tested against [`contact_blade`]).
+/// order (tested against [`contact_blade`]). `bounds`, when it holds one
+/// entry per node of `near` ([`near_bounds`]), lets a segment skip the
+/// nodes whose bounds its own box misses (same contacts; any other length:
+/// every node is tested).
+#[allow(clippy::too_many_arguments)]
 pub fn contact_blade_near(
     verts_local: &[Vec3],
     tree: &ObbTree,
     near: &[u32],
+    bounds: &[NearBounds],
     precision: u32,
     shell: f32,
     motion: &LocalMotion,
     out: &mut BladeContacts,
 ) {
+    let bounded = bounds.len() == near.len();
     contact_blade_by(
         verts_local,
         tree,
@@ -435,11 +441,22 @@ pub fn contact_blade_near(
         motion,
         out,
         |segments, mask, final_node| {
-            for &i in near {
+            // Each segment's own box: a node whose bounds it misses is not
+            // tested against that segment (see `NearBounds`).
+            let (lo, hi) = segments.boxes();
+            for (k, &i) in near.iter().enumerate() {
+                let lanes = if bounded {
+                    mask & bounds[k].overlap_mask(&lo, &hi)
+                } else {
+                    mask
+                };
+                if lanes == 0 {
+                    continue;
+                }
                 let Some(node) = tree.nodes.get(i as usize) else {
                     continue;
                 };
-                let hit = segments.hit_mask_grown_in(&node.obb, shell, mask);
+                let hit = segments.hit_mask_grown_in(&node.obb, shell, lanes);
                 for lane in 0..LANES {
                     if hit & (1 << lane) != 0 {
                         final_node(lane, i);
@@ -576,6 +593,70 @@ pub fn final_nodes_near(
         out.push(i);
         true
     })
+}
+
+/// An axis-aligned box (object frame) around a final node's box grown by
+/// the contact shell, grown again by a margin far above the rounding of
+/// the segment test ([`Segments4::hit_mask_grown_in`]): a blade whose
+/// vertices' box misses it lies, with all its segments, farther than that
+/// margin from the grown box, which the test then misses whatever its
+/// rounding, so [`contact_blade_near`] skips the node without testing it
+/// (the same contacts bit for bit; tested against [`contact_blade`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NearBounds {
+    lo: Vec3A,
+    hi: Vec3A,
+}
+
+impl NearBounds {
+    /// The bounds of `obb` grown by `shell` (see the type's docs).
+    #[must_use]
+    pub fn of(obb: &Obb, shell: f32) -> Self {
+        let half = Vec3A::from(obb.half) + shell;
+        let [u, v, w] = obb.axes.map(|a| Vec3A::from(a).abs());
+        let extent = u * half.x + v * half.y + w * half.z;
+        let centre = Vec3A::from(obb.center);
+        let scale = centre.abs().max_element() + extent.max_element();
+        let reach = extent + (NEAR_BOUNDS_MARGIN_M + NEAR_BOUNDS_MARGIN_REL * scale);
+        Self {
+            lo: centre - reach,
+            hi: centre + reach,
+        }
+    }
+
+    /// Bit `i` set when box `i` of the four `lo[·][i] ..= hi[·][i]` (x, y,
+    /// z, one lane a box, as [`Segments4::boxes`] gives them) meets these
+    /// bounds; a NaN lane is clear.
+    #[must_use]
+    #[inline]
+    pub fn overlap_mask(&self, lo: &[Vec4; 3], hi: &[Vec4; 3]) -> u32 {
+        let (a, b) = (self.lo.to_array(), self.hi.to_array());
+        let mut m = lo[0].cmple(Vec4::splat(b[0])) & hi[0].cmpge(Vec4::splat(a[0]));
+        for k in 1..3 {
+            m &= lo[k].cmple(Vec4::splat(b[k])) & hi[k].cmpge(Vec4::splat(a[k]));
+        }
+        m.bitmask()
+    }
+}
+
+/// The absolute part of [`NearBounds`]' margin, metres.
+const NEAR_BOUNDS_MARGIN_M: f32 = 1e-4;
+/// The part of [`NearBounds`]' margin relative to the coordinates' size.
+const NEAR_BOUNDS_MARGIN_REL: f32 = 1e-5;
+
+/// [`NearBounds`] of each of the nodes `near` (as [`final_nodes_near`]
+/// lists them) grown by `shell`, into `out` (cleared first).
+pub fn near_bounds(tree: &ObbTree, near: &[u32], shell: f32, out: &mut Vec<NearBounds>) {
+    out.clear();
+    out.extend(near.iter().map(|&i| {
+        tree.nodes.get(i as usize).map_or(
+            NearBounds {
+                lo: Vec3A::NEG_INFINITY,
+                hi: Vec3A::INFINITY,
+            },
+            |n| NearBounds::of(&n.obb, shell),
+        )
+    }));
 }
 
 /// The walk of [`final_nodes_near`] and [`box_clear_of`]: calls `found`
@@ -1094,7 +1175,7 @@ mod tests {
         let meshes = test_meshes();
         let mut rng = Rng(XorShift(0x5851_f42d_4c95_7f2d));
         let (mut compared, mut with_contact, mut several) = (0, 0, 0);
-        let mut near = Vec::new();
+        let (mut near, mut bounds) = (Vec::new(), Vec::new());
         for mesh in &meshes {
             let tree = ObbTree::build(mesh, 10);
             for precision in 1..=9 {
@@ -1114,6 +1195,7 @@ mod tests {
                     let half = rng.vec(0.3).abs() + Vec3::splat(0.025);
                     let (lo, hi) = (centre - half, centre + half);
                     assert!(final_nodes_near(&tree, lo, hi, precision, shell, &mut near));
+                    near_bounds(&tree, &near, shell, &mut bounds);
                     for k in 0..8 {
                         let n = 1 + (b + k) % 9;
                         let verts: Vec<Vec3> = (0..=n)
@@ -1133,6 +1215,7 @@ mod tests {
                             &verts,
                             &tree,
                             &near,
+                            &bounds,
                             precision,
                             shell,
                             &motion,

@@ -60,6 +60,18 @@ impl Segments4 {
         }
     }
 
+    /// Each segment's axis-aligned box, `(lo, hi)` per axis, one lane a
+    /// segment: `centre ∓ |half|` (NaN lanes stay NaN).
+    #[must_use]
+    #[inline]
+    pub fn boxes(&self) -> ([Vec4; 3], [Vec4; 3]) {
+        let reach = self.half.map(Vec4::abs);
+        (
+            [0, 1, 2].map(|k| self.centre[k] - reach[k]),
+            [0, 1, 2].map(|k| self.centre[k] + reach[k]),
+        )
+    }
+
     /// Bit `i` set when segment `i` meets `obb` (same frame); touching
     /// counts, a non-finite segment misses. The same answers as
     /// [`super::segment_obb::segment_hits_obb`] on each segment.

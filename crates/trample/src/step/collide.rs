@@ -7,8 +7,8 @@ use super::simulation::Simulation;
 use super::stages::{DBG_WEIGHT, reach_rect};
 use super::timings::StepTimings;
 use crate::collision::narrow_phase::{
-    BladeContacts, LocalMotion, box_clear_of, box_outside, contact_blade, contact_blade_near,
-    final_nodes_near,
+    BladeContacts, LocalMotion, NearBounds, box_clear_of, box_outside, contact_blade,
+    contact_blade_near, final_nodes_near, near_bounds,
 };
 use crate::field::{Blades, Lod};
 use crate::force::eqf::eqf;
@@ -124,7 +124,11 @@ impl<'a> ColliderNarrow<'a> {
         contacts: &mut BladeContacts,
         scratch: &mut TileScratch,
     ) -> Vec<BladeHit> {
-        let TileScratch { local, near } = scratch;
+        let TileScratch {
+            local,
+            near,
+            bounds,
+        } = scratch;
         let blades = &sim.field.blades;
         let n = blades.segments;
         let (precision, shell) = (sim.params.precision, sim.params.contact_shell_m);
@@ -149,10 +153,22 @@ impl<'a> ColliderNarrow<'a> {
         if listed && near.is_empty() && box_outside(self.tree, lo, hi) {
             return Vec::new();
         }
+        if listed {
+            near_bounds(self.tree, near, shell, bounds);
+        }
         let mut hits = Vec::new();
         for (&b, v) in tile.iter().zip(local.chunks_exact(n + 1)) {
             if listed {
-                contact_blade_near(v, self.tree, near, precision, shell, &self.motion, contacts);
+                contact_blade_near(
+                    v,
+                    self.tree,
+                    near,
+                    bounds,
+                    precision,
+                    shell,
+                    &self.motion,
+                    contacts,
+                );
             } else {
                 contact_blade(v, self.tree, precision, shell, &self.motion, contacts);
             }
@@ -189,6 +205,8 @@ struct TileScratch {
     local: Vec<Vec3>,
     /// The final nodes the tile's box may meet ([`final_nodes_near`]).
     near: Vec<u32>,
+    /// Their bounds ([`near_bounds`]).
+    bounds: Vec<NearBounds>,
 }
 
 /// Narrow phase of every collider (`colliders`, as (body, collider) pairs:
