@@ -1250,6 +1250,73 @@ mod tests {
         );
     }
 
+    /// Wherever the wide segment test says a segment meets a box grown by
+    /// the shell, the segment's own box overlaps the box's `NearBounds`:
+    /// random segments around random boxes, and segments that graze the
+    /// grown box (ending on a face, along an edge, at a corner, a few ulp
+    /// in or out), far and near the origin. And the bounds are not loose
+    /// for nothing: most segments well clear of them are skipped.
+    #[test]
+    fn near_bounds_never_skip_a_segment_the_test_would_hit() {
+        let mut rng = Rng(XorShift(0x2545_f491_4f6c_dd1d));
+        let (mut hits, mut skipped) = (0, 0);
+        for b in 0..4000 {
+            let offset = [Vec3::ZERO, Vec3::new(180.0, -3.0, 240.0)][b % 2];
+            let u = rng.vec(1.0).normalize_or(Vec3::X);
+            let v = u.any_orthonormal_vector();
+            let obb = Obb {
+                center: offset + rng.vec(1.0),
+                axes: [u, v, u.cross(v)],
+                half: rng.vec(0.4).abs() + Vec3::splat(1e-4 * (b % 3) as f32),
+            };
+            let shell = [0.0, 0.005, 0.02][b % 3];
+            let bounds = NearBounds::of(&obb, shell);
+            let grown = obb.half + shell;
+            // A point of the grown box's surface: a face, an edge or a corner.
+            let surface = |rng: &mut Rng, k: usize| {
+                let mut q = Vec3::new(rng.next(), rng.next(), rng.next()) * grown;
+                for axis in 0..=(k % 3) {
+                    q[axis] = grown[axis].copysign(rng.next());
+                }
+                obb.center + u * q.x + v * q.y + obb.axes[2] * q.z
+            };
+            let mut p0 = [Vec3::ZERO; 4];
+            let mut p1 = [Vec3::ZERO; 4];
+            for l in 0..4 {
+                let at = surface(&mut rng, b + l);
+                let nudge = |x: f32, rng: &mut Rng| {
+                    let ulps = (rng.next() * 4.0) as i32;
+                    f32::from_bits(x.to_bits().wrapping_add_signed(ulps))
+                };
+                let end = at.to_array().map(|x| nudge(x, &mut rng));
+                p0[l] = match l {
+                    0 => Vec3::from(end),
+                    _ => obb.center + rng.vec(1.5),
+                };
+                p1[l] = match l {
+                    0 => p0[l] + rng.vec(0.3),
+                    1 => Vec3::from(end),
+                    _ => p0[l] + rng.vec(0.6),
+                };
+            }
+            let segments = Segments4::new(p0, p1);
+            let hit = segments.hit_mask_grown(&obb, shell);
+            let (lo, hi) = segments.boxes();
+            let overlap = bounds.overlap_mask(&lo, &hi);
+            assert_eq!(
+                hit & !overlap,
+                0,
+                "box {b}: hit {hit:04b}, bounds {overlap:04b}"
+            );
+            hits += hit.count_ones();
+            skipped += (!overlap & 0b1111).count_ones();
+        }
+        assert!(
+            hits > 4000 && skipped > 2000,
+            "{hits} hits, {skipped} skipped"
+        );
+    }
+
     /// A box `box_clear_of` calls clear holds no segment with a contact:
     /// random boxes around and inside closed and open meshes at every
     /// precision, four-segment blades inside each box; boxes wholly inside
