@@ -120,10 +120,22 @@ fn contact_blade(b: u32) {
     let open_depth = seg_len;
     var first = max(countTrailingZeros(mask), 1u);
     var moved = false;
+    // Per vertex, the triangle of its last closest point, tried first by a
+    // later round (`push_out_hinted`: the same answers), and the last point
+    // `pinned` was asked at and its answer (the CPU's `pins`).
+    var hints: array<u32, MAX_VERTS>;
+    var pin_at: array<vec3<u32>, MAX_VERTS>;
+    var pin_was: array<f32, MAX_VERTS>;
+    for (var k = 0u; k <= n; k++) {
+        hints[k] = NONE;
+        pin_was[k] = -1.0;
+    }
     for (var iter = 0u; iter < CONTACT_ITERATIONS; iter++) {
         var lowest = NONE;
         for (var k = first; k <= n; k++) {
-            let out = push_out(to_local(v[k]), open_depth);
+            let pushed = push_out_hinted(to_local(v[k]), open_depth, hints[k]);
+            hints[k] = pushed.hint;
+            let out = pushed.to;
             if out.w == 0.0 {
                 continue;
             }
@@ -133,7 +145,12 @@ fn contact_blade(b: u32) {
             let push = to_world(out.xyz) - v[k];
             let turned = turn_towards(v[k] - start, push, lean, seg_len);
             let flat = flat_direction(v[k] - start, v[k] - v[0], start - obj.position.xyz, seg_len, turned);
-            let pin = pinned(start);
+            let at = bitcast<vec3<u32>>(start);
+            if pin_was[k - 1u] < 0.0 || any(pin_at[k - 1u] != at) {
+                pin_at[k - 1u] = at;
+                pin_was[k - 1u] = pinned(start);
+            }
+            let pin = pin_was[k - 1u];
             let dir = normalize_or(turned * (1.0 - pin) + flat * pin, turned);
             v[k] = start + dir * seg_len;
             preserve_from(&v, k, n, seg_len);

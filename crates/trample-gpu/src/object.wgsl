@@ -4,7 +4,7 @@
 // every other object's: `object.rs`), its pose, and the mesh
 // queries of `trample::collision` — the inside test (`exact.rs`,
 // `inside_grid.rs`), the closest point of the mesh (`closest_point.rs`) and
-// the contact test (`contact.rs`: `penetration`, `push_out`). Float op for
+// the contact test (`contact.rs`: `penetration`, `push_out_hinted`). Float op for
 // float op as the CPU where it can be (glam's operation order).
 
 // Layout-compatible with `GpuNode` in object.rs.
@@ -466,22 +466,35 @@ fn distance_sq_to_box(p: vec3<f32>, i: u32) -> f32 {
     return dot3(d, d);
 }
 
-// `closest_point::closest_point_on_mesh`: branch and bound, nearer child
-// first; ties keep the first found.
-fn closest_point_on_mesh(p: vec3<f32>, max_distance: f32) -> SurfacePoint {
+// The stack of `closest_point_within_sq`: (node, bits of its box's squared
+// distance, measured once when it is pushed, as the CPU's walk keeps it).
+// Module scope, as narrow_phase.wgsl's `walk_stack` (WGSL zeroes a
+// function's variables at every call); a narrow-phase walk that asks a
+// depth uses this one, not its own.
+var<private> cp_stack: array<vec2<u32>, STACK_SIZE>;
+
+// x · x at run time (3e38 squared is infinity; a constant would not compile).
+fn squared(x: f32) -> f32 {
+    return x * x;
+}
+
+// `closest_point::closest_point_within_sq`: branch and bound, nearer child
+// first, each box's distance measured once (when it is pushed); ties keep
+// the first found. `max_sq`: only points within its square root count.
+fn closest_point_within_sq(p: vec3<f32>, max_sq: f32) -> SurfacePoint {
     var best = SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u);
-    var best_sq = max_distance * max_distance;
-    var stack: array<u32, STACK_SIZE>;
-    stack[0] = 0u;
-    var len = 1u;
+    var best_sq = max_sq;
     let count = tree.x;
+    if count == 0u {
+        return best;
+    }
+    cp_stack[0] = vec2<u32>(0u, bitcast<u32>(distance_sq_to_box(p, 0u)));
+    var len = 1u;
     while len > 0u {
         len -= 1u;
-        let i = stack[len];
-        if i >= count {
-            continue;
-        }
-        if distance_sq_to_box(p, i) > best_sq {
+        let i = cp_stack[len].x;
+        // The bound may have shrunk since the node was pushed.
+        if i >= count || bitcast<f32>(cp_stack[len].y) > best_sq {
             continue;
         }
         let n = node_at(i);
@@ -513,64 +526,103 @@ fn closest_point_on_mesh(p: vec3<f32>, max_distance: f32) -> SurfacePoint {
             if r < count {
                 dr = distance_sq_to_box(p, r);
             }
-            var near = l;
-            var far = r;
+            var near = vec2<u32>(l, bitcast<u32>(dl));
+            var far = vec2<u32>(r, bitcast<u32>(dr));
             if dr < dl {
-                near = r;
-                far = l;
+                near = vec2<u32>(r, bitcast<u32>(dr));
+                far = vec2<u32>(l, bitcast<u32>(dl));
             }
-            stack[len] = far;
-            stack[len + 1u] = near;
+            cp_stack[len] = far;
+            cp_stack[len + 1u] = near;
             len += 2u;
         }
     }
     return best;
 }
 
-// `contact::penetration`: (surface point, depth) in xyz and w when p is
-// inside the object, w < 0 when it is outside. `open_depth`: how far
-// behind an open mesh a point still counts as inside.
-fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
-    let outside = vec4<f32>(0.0, 0.0, 0.0, -1.0);
+// `contact::surface_and_side`: the closest surface point measured (found
+// false when none was needed: a voxel known outside, nothing within the
+// open depth or the bound) and whether p is inside. `bound_sq`: a squared
+// distance from p to some point of the mesh, or infinity (the same answer).
+struct Side {
+    s: SurfacePoint,
+    inside: bool,
+}
+
+fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
+    var out = Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), false);
     if tree.x == 0u {
-        return outside;
+        return out;
     }
     if tree.y != 0u {
         let known = grid_classify(p);
         if known == 0u {
-            return outside;
+            return out;
         }
-        let s = closest_point_on_mesh(p, 3.0e38);
-        if !s.found {
-            return outside;
+        out.s = closest_point_within_sq(p, bound_sq);
+        if !out.s.found {
+            return out;
         }
         var inside = known == 1u;
         if !inside {
-            if s.face {
-                inside = dot3(p - s.point, s.normal) < 0.0;
+            if out.s.face {
+                inside = dot3(p - out.s.point, out.s.normal) < 0.0;
             } else {
                 inside = inside_by_ray(p);
             }
         }
-        if !inside {
-            return outside;
-        }
-        return vec4<f32>(s.point, sqrt(s.distance_sq));
+        out.inside = inside;
+        return out;
     }
-    let s = closest_point_on_mesh(p, open_depth);
-    if !s.found || dot3(p - s.point, side_normal(s)) >= 0.0 {
-        return outside;
+    if !(open_depth >= 0.0) {
+        return out;
     }
-    return vec4<f32>(s.point, sqrt(s.distance_sq));
+    out.s = closest_point_within_sq(p, min(open_depth * open_depth, bound_sq));
+    out.inside = out.s.found && dot3(p - out.s.point, side_normal(out.s)) < 0.0;
+    return out;
 }
 
-// `contact::push_out`: where p must go to lie no deeper than the contact
-// tolerance; w = 1 when it must move, 0 when it stays.
-fn push_out(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
-    let pen = penetration(p, open_depth);
-    if pen.w > CONTACT_TOLERANCE_M {
-        let s = pen.xyz;
-        return vec4<f32>(s + (p - s) * (CONTACT_TOLERANCE_M / pen.w), 1.0);
+// `contact::penetration`: (surface point, depth) in xyz and w when p is
+// inside the object, w < 0 when it is outside. `open_depth`: how far
+// behind an open mesh a point still counts as inside.
+fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
+    let side = surface_and_side(p, open_depth, squared(3.0e38));
+    if !side.s.found || !side.inside {
+        return vec4<f32>(0.0, 0.0, 0.0, -1.0);
     }
-    return vec4<f32>(p, 0.0);
+    return vec4<f32>(side.s.point, sqrt(side.s.distance_sq));
+}
+
+// `contact::push_out_hinted`: where p must go to lie no deeper than the
+// contact tolerance (`to`, w = 1 when it must move, 0 when it stays),
+// trying triangle `hint` first (NONE: none): within the tolerance of it, p
+// stays without a walk; else the walk looks no farther than it. `hint`
+// comes back as the triangle of the closest point measured (kept when none
+// was). The same answers as without a hint.
+struct Pushed {
+    to: vec4<f32>,
+    hint: u32,
+}
+
+fn push_out_hinted(p: vec3<f32>, open_depth: f32, hint: u32) -> Pushed {
+    var bound_sq = squared(3.0e38);
+    if hint != NONE {
+        let c = closest_on_triangle(p, hint);
+        let dv = c.point - p;
+        let d = dot3(dv, dv);
+        if sqrt(d) <= CONTACT_TOLERANCE_M {
+            return Pushed(vec4<f32>(p, 0.0), hint);
+        }
+        bound_sq = d;
+    }
+    let side = surface_and_side(p, open_depth, bound_sq);
+    if !side.s.found {
+        return Pushed(vec4<f32>(p, 0.0), hint);
+    }
+    let depth = sqrt(side.s.distance_sq);
+    if side.inside && depth > CONTACT_TOLERANCE_M {
+        let s = side.s.point;
+        return Pushed(vec4<f32>(s + (p - s) * (CONTACT_TOLERANCE_M / depth), 1.0), side.s.triangle);
+    }
+    return Pushed(vec4<f32>(p, 0.0), side.s.triangle);
 }
