@@ -254,20 +254,25 @@ fn weighted_add(acc: ptr<function, Weighted>, w: f32, dir: vec3<f32>, at: vec3<f
     }
 }
 
-// The true depth of one end of the segment inside the mesh, asked at most
-// once each (`pen` in `contact_segment`); < 0 outside.
-var<private> pen_known: vec2<f32>;
-var<private> pen_asked: vec2<u32>;
+// The true depth of each vertex of the blade inside the mesh, asked at most
+// once a blade and object (`known` in `contact_blade_by`: a vertex ends
+// one segment and starts the next); < 0 outside. `pen_asked`: bit v set
+// once vertex v was asked; `pen_segment`: the segment being tested (its
+// ends are vertices `pen_segment` and `pen_segment + 1`).
+var<private> pen_known: array<f32, 16>;
+var<private> pen_asked: u32;
+var<private> pen_segment: u32;
 
 fn pen_of(k: u32, q: vec3<f32>) -> f32 {
     if tree.y == 0u {
         return -1.0;
     }
-    if pen_asked[k] == 0u {
-        pen_asked[k] = 1u;
-        pen_known[k] = penetration(q, 0.0).w;
+    let v = pen_segment + k;
+    if (pen_asked & (1u << v)) == 0u {
+        pen_asked |= 1u << v;
+        pen_known[v] = penetration(q, 0.0).w;
     }
-    return pen_known[k];
+    return pen_known[v];
 }
 
 // `narrow_phase::below_patch`.
@@ -303,7 +308,6 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     if !hits_local(framed(centre, half, 0u, true, shell)) {
         return none;
     }
-    pen_asked = vec2<u32>(0u);
     var acc = Weighted(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0));
     var deepest = 0u;
     walk_stack[0] = vec2<u32>(0u, 1u);
@@ -554,8 +558,10 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
             list_near(lo - vec3<f32>(1.0e-4), hi + vec3<f32>(1.0e-4), shell);
         }
         var prev = blade_local[0];
+        pen_asked = 0u;
         for (var k = 0u; k < segments; k++) {
             let next = blade_local[k + 1u];
+            pen_segment = k;
             var c = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0));
             if weighted {
                 c = contact_segment(prev, next, shell);
