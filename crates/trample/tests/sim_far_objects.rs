@@ -150,6 +150,45 @@ fn far_bodies_take_turns_and_catch_up_on_the_time_since_their_last() {
     assert_eq!(turns, vec![3, 3, 3], "each body every third step");
 }
 
+/// After every step with far passes, each cell whose blades moved shows
+/// them: its billboard slope and flatness are those its blades give
+/// (Eq. 9–12). The far passes' cells follow their blades once, after the
+/// step's last pass, not at each of their sub-steps; nothing may be left
+/// out.
+#[test]
+fn cells_follow_the_blades_far_bodies_moved() {
+    use trample::deform::transition::{cell_offset_and_flatness, slope_from_offset};
+    let mut sim = field_watched_from(400.0, 4);
+    let dt = sim.params.dt_s;
+    let bpc = sim.field.layout.blades_per_cell as usize;
+    let mut checked = 0;
+    for step in 0..40 {
+        let far = plan_passes(&sim, dt).len() - 1;
+        sim.step(dt).unwrap();
+        let bl = &sim.field.blades;
+        let cells = &sim.field.cells;
+        for c in 0..cells.slope.len() {
+            let blades = c * bpc..(c + 1) * bpc;
+            let moved = blades
+                .clone()
+                .any(|b| (0..=bl.segments).any(|k| bl.vertex(b, k) != bl.rest_vertex(b, k)));
+            if !moved {
+                continue;
+            }
+            let (off, flat) = cell_offset_and_flatness(bl, blades);
+            let slope = slope_from_offset(cells.slope_origin[c], off);
+            assert!(
+                cells.slope[c] == slope && cells.flatness[c] == flat,
+                "step {step} ({far} far passes), cell {c}: slope {} flatness {}, its blades give {slope} {flat}",
+                cells.slope[c],
+                cells.flatness[c]
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 1000, "{checked} cells checked");
+}
+
 /// Contact holds for far bodies at their turns: the standing box and the
 /// ball that stopped have no blade inside them, and the rolling ball none
 /// after its own turn (between turns it moves into grass it has not pushed

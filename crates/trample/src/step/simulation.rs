@@ -50,6 +50,9 @@ pub(crate) struct Scratch {
     pub bent_sorted: usize,
     /// `bent_cells` as a flag per cell.
     pub bent_flag: Vec<bool>,
+    /// Blades the step's far passes moved, whose cells follow them after
+    /// the step's last pass ([`super::stages::far_cells`]).
+    pub far_changed: Vec<u32>,
 }
 
 impl Scratch {
@@ -213,6 +216,7 @@ impl Simulation {
                 mask: vec![0; blades],
                 displaced_flag: vec![false; blades],
                 bent_flag: vec![false; cells],
+                far_changed: Vec::new(),
                 ..Scratch::default()
             },
             host_view: None,
@@ -251,6 +255,7 @@ impl Simulation {
                     stages::substep(self, pass, pass.substep_time(i), h, &mut tm);
                 }
             }
+            stages::far_cells(self, &mut tm);
         });
         let t_cull = Instant::now();
         tm.visible_patches = self.end_step(dt);

@@ -327,9 +327,32 @@ pub(crate) fn substep(sim: &mut Simulation, pass: &Pass, t: f32, h: f32, tm: &mu
     tm.recovery_ms += ms(clock);
     if sim.params.track_everywhere {
         let clock = Instant::now();
-        tm.bbg_cells += cells_from_blades(sim, changed);
+        if pass.main {
+            tm.bbg_cells += cells_from_blades(sim, changed);
+        } else {
+            // Nothing reads a cell's billboard or flatness in a far pass
+            // (no transitions, no recovery there): its cells follow their
+            // blades once, after the step's last pass (`far_cells`), not
+            // again at every sub-step of every pass over the same cells.
+            sim.scratch.far_changed.extend(changed);
+        }
         tm.deformation_ms += ms(clock);
     }
+}
+
+/// After a step's far passes: the cells of the blades they moved follow
+/// their blades (Eq. 9–12, [`cells_from_blades`]) — once for the step, as
+/// the main pass does at each of its sub-steps; the same cells, from the
+/// same blades, as at the far passes' sub-steps (nothing reads a cell in
+/// between).
+pub(crate) fn far_cells(sim: &mut Simulation, tm: &mut StepTimings) {
+    if sim.scratch.far_changed.is_empty() {
+        return;
+    }
+    let clock = Instant::now();
+    let changed = std::mem::take(&mut sim.scratch.far_changed);
+    tm.bbg_cells += cells_from_blades(sim, changed);
+    tm.deformation_ms += ms(clock);
 }
 
 /// The (x, z) rectangle a world box covers, grown by `reach` metres: only
