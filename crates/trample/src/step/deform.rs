@@ -55,13 +55,15 @@ pub(crate) fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) -> Vec<u
             );
             *moved = v != &before[..=n];
         });
-    let mut out = Vec::new();
-    for ((v, &b), &m) in work.chunks_exact(n + 1).zip(forced).zip(&moved) {
-        if m {
-            sim.field.blades.store(b as usize, v);
-            mark_displaced(sim, b);
-            out.push(b);
-        }
+    let stored: Vec<(u32, u32)> = (0..forced.len() as u32)
+        .filter(|&i| moved[i as usize])
+        .map(|i| (forced[i as usize], i))
+        .collect();
+    sim.field.blades.store_slots(&stored, &work);
+    let mut out = Vec::with_capacity(stored.len());
+    for &(b, _) in &stored {
+        mark_displaced(sim, b);
+        out.push(b);
     }
     out
 }
@@ -164,10 +166,13 @@ pub(crate) fn resolve_contacts(
                 *moved = (m, fixed, false);
             });
         let mut resting = Vec::new();
-        for ((v, &b), &(m, fixed, skipped)) in work.chunks_exact(n + 1).zip(&list).zip(&moved) {
+        let mut stored = Vec::new();
+        for (i, ((v, &b), &(m, fixed, skipped))) in
+            work.chunks_exact(n + 1).zip(&list).zip(&moved).enumerate()
+        {
             *reused += u32::from(skipped);
             if m {
-                sim.field.blades.store(b as usize, v);
+                stored.push((b, i as u32));
                 out.push(b);
             }
             if fixed {
@@ -176,6 +181,7 @@ pub(crate) fn resolve_contacts(
                 resting.push((b, ColliderMemo::resting(first, seg_len, m, v)));
             }
         }
+        sim.field.blades.store_slots(&stored, &work);
         memo.keep_blades(key, resting);
         memo.hints = ContactHints::keep(list, &hints, n + 1);
     }

@@ -56,9 +56,10 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
         });
     let mut still = Vec::with_capacity(displaced.len());
     let mut moved = Vec::new();
-    for ((v, &(done, changed)), &b) in work.chunks_exact(n + 1).zip(&state).zip(displaced) {
+    let mut stored = Vec::new();
+    for (i, (&(done, changed), &b)) in state.iter().zip(displaced).enumerate() {
         if changed {
-            sim.field.blades.store(b as usize, v);
+            stored.push((b, i as u32));
             moved.push(b);
         }
         if done {
@@ -67,6 +68,7 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
             still.push(b);
         }
     }
+    sim.field.blades.store_slots(&stored, &work);
     // In the order of the set: still in order.
     sim.scratch.displaced_sorted = still.len();
     sim.scratch.displaced = still;
