@@ -93,7 +93,8 @@ pub struct Blades {
     /// Segments per blade (`n`); each blade has `n + 1` vertices.
     pub segments: usize,
     /// Current vertices, vertex-major: `pos[k * count + b]`. Write them
-    /// with [`Blades::store`], which records what changed.
+    /// with [`Blades::store`] (or [`Blades::store_slots`]), which records
+    /// what changed.
     pub pos: Vec<BladeVertex>,
     /// Rest vertices, same layout as `pos`.
     pub rest: Vec<BladeVertex>,

@@ -216,7 +216,6 @@ impl Simulation {
                 mask: vec![0; blades],
                 displaced_flag: vec![false; blades],
                 bent_flag: vec![false; cells],
-                far_changed: Vec::new(),
                 ..Scratch::default()
             },
             host_view: None,
