@@ -5,15 +5,21 @@
 //! relation is mutual (every field layout's is).
 //!
 //! Without a read-back the host does not know when propagation ends, so it
-//! records `max_generations` gather passes as indirect dispatches whose
-//! size `advance` writes: zero workgroups once a generation reached no
-//! blade (or at the cap). Generation 1 takes a gather and a commit pass;
-//! each later one a single pass (`gather_commit`): every pass, empty or
-//! not, costs a barrier, and the cap is 32 generations. The passes run over
-//! a generation's candidates only, not the field: `seed` lists the blades
-//! next to generation 0, each blade that joins a generation lists its
-//! neighbours for the next (once each: a bit a blade), and `advance` sizes
-//! the next pass by that list (`GpuField::frontier`).
+//! records the first [`WIDE_GENERATIONS`] generations as indirect
+//! dispatches whose size `advance` writes (zero workgroups once a
+//! generation reached no blade, or at the cap) — generation 1 a gather and
+//! a commit pass, generation 2 a single pass (`gather_commit`) — and the
+//! rest up to the cap (32) as one dispatch of one workgroup, `finish`,
+//! which loops over the generations with a barrier where the wide passes
+//! take a dispatch. Every dispatch, empty or not, costs a barrier (and an
+//! indirect one wgpu's validation pass): the default scene's push ends
+//! after two generations, and the 60 dispatches it recorded for the other
+//! 30 were most of the stage's time on a real GPU (session 21: 0.75 ms of
+//! 1.76 on an H200). The passes run over a generation's candidates only,
+//! not the field: `seed` lists the blades next to generation 0, each blade
+//! that joins a generation lists its neighbours for the next (once each: a
+//! bit a blade), and `advance` sizes the next pass by that list
+//! (`GpuField::frontier`).
 
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot, begin_pass};
@@ -35,7 +41,13 @@ const COMMIT: usize = 3;
 const ADVANCE: usize = 4;
 const GATHER_COMMIT: usize = 5;
 const PRIME: usize = 6;
+const FINISH: usize = 7;
 
+/// Generations recorded as wide (indirect) passes before `finish` takes
+/// the rest in one workgroup: the first generations' candidate lists are
+/// the push's whole rim (thousands of blades on the herd), the later ones
+/// its faint edges.
+pub const WIDE_GENERATIONS: u32 = 2;
 /// The compiled propagation kernels and the indirect arguments of the
 /// gather passes.
 pub struct Propagation {
@@ -68,6 +80,7 @@ impl Propagation {
                     "advance",
                     "gather_commit",
                     "prime",
+                    "finish",
                 ],
             ),
             unused_args: device.create_buffer(&wgpu::BufferDescriptor {
@@ -129,9 +142,10 @@ impl Propagation {
 
     /// Records generation 0 (every blade touched, DBG from `DBG_WEIGHT`)
     /// from the narrow phase's contacts and the list of its neighbours,
-    /// then `passes` generation passes (Eq. 4) over the candidates: gather
-    /// and commit for the first, `gather_commit` for the others. [`Propagation::record_reset`] must come first in the
-    /// sub-step.
+    /// then at most `passes` generations (Eq. 4) over the candidates: gather
+    /// and commit for the first, `gather_commit` for the second, `finish`
+    /// for the others. [`Propagation::record_reset`] must come first in
+    /// the sub-step.
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -144,12 +158,12 @@ impl Propagation {
     ) {
         let group = self.bind(device, field, params, state, &self.next_gather);
         let gather_group = self.bind(device, field, params, state, &self.unused_args);
-        // One compute pass for the stage's 2 + 2 × passes + 1 dispatches.
+        // One compute pass for the stage's dispatches.
         let mut cpass = begin_pass(encoder);
         let k = &self.kernel;
         k.dispatch_in(&mut cpass, SEED, &group, groups);
         k.dispatch_in(&mut cpass, PRIME, &group, (1, 1));
-        for pass in 0..passes {
+        for pass in 0..passes.min(WIDE_GENERATIONS) {
             if pass == 0 {
                 k.dispatch_indirect_in(&mut cpass, GATHER, &gather_group, &self.next_gather);
                 k.dispatch_indirect_in(&mut cpass, COMMIT, &gather_group, &self.next_gather);
@@ -157,6 +171,9 @@ impl Propagation {
                 k.dispatch_indirect_in(&mut cpass, GATHER_COMMIT, &gather_group, &self.next_gather);
             }
             k.dispatch_in(&mut cpass, ADVANCE, &group, (1, 1));
+        }
+        if passes > WIDE_GENERATIONS {
+            k.dispatch_in(&mut cpass, FINISH, &group, (1, 1));
         }
     }
 }

@@ -1,7 +1,8 @@
 // Force propagation from DBG to PBG (paper §5.2, Definitions 1–7, Eq. 4;
 // DESIGN §5) as generation passes: `begin`, `seed` and `prime` once, then
 // `gather` + `commit` + `advance` for generation 1 and `gather_commit` +
-// `advance` for each later one, up to the cap, each over the generation's
+// `advance` for generation 2 as wide passes, then `finish`, one workgroup
+// that loops over the generations left, up to the cap, each over the generation's
 // candidates (`frontier`: the blades next to the last generation, listed
 // by `seed` and by each blade as it joins), not the field. Each blade of generation
 // G+1 gathers, in the fixed order −x, +x, −z, +z, the contributions of the
@@ -316,27 +317,73 @@ fn join(c: u32, nx: vec4<u32>) {
     }
 }
 
-// After a commit pass: stop when no blade was reached (termination status,
-// Definition 3) or at the cap, else on to the next generation.
-@compute @workgroup_size(1)
-fn advance() {
-    if state.stop != 0u {
-        return;
-    }
+// Ends generation G after its commit (termination status, Definition 3):
+// whether another follows — a blade was reached and the cap is not met.
+fn next_generation() -> bool {
     // The list just gone through is empty for the generation after next.
     atomicStore(&frontier[state.g % 2u], 0u);
     if atomicLoad(&state.any) == 0u {
         state.stop = 1u;
-        next_gather[0] = 0u;
-        return;
+        return false;
     }
     state.generations += 1u;
     state.g += 1u;
     atomicStore(&state.any, 0u);
     if state.generations >= params.counts.z {
         state.stop = 1u;
-        next_gather[0] = 0u;
+        return false;
+    }
+    return true;
+}
+
+// After a wide commit pass: stop when no blade was reached or at the cap,
+// else size the next wide pass.
+@compute @workgroup_size(1)
+fn advance() {
+    if state.stop != 0u {
         return;
     }
-    set_args(atomicLoad(&frontier[state.g % 2u]));
+    if next_generation() {
+        set_args(atomicLoad(&frontier[state.g % 2u]));
+    } else {
+        next_gather[0] = 0u;
+    }
+}
+
+// Threads of the `finish` workgroup.
+const FINISH_THREADS: u32 = 256u;
+// `state.stop` as the `finish` workgroup last read it (uniform).
+var<workgroup> finish_stop: u32;
+
+// The generations after the wide passes, in one workgroup: each turn of the
+// loop is `gather_commit` over the candidate list (the workgroup's threads
+// striding through it) and then `advance`, with a barrier between them in
+// place of a dispatch. The generations that reach past the wide passes are
+// the faint edges of the push, a short list each, and the passes an
+// earlier end leaves over cost this one dispatch, not two a generation.
+@compute @workgroup_size(256)
+fn finish(@builtin(local_invocation_index) lid: u32) {
+    loop {
+        if lid == 0u {
+            finish_stop = state.stop;
+        }
+        if workgroupUniformLoad(&finish_stop) != 0u {
+            break;
+        }
+        let p = state.g % 2u;
+        let n = atomicLoad(&frontier[p]);
+        for (var i = lid; i < n; i += FINISH_THREADS) {
+            let c = atomicLoad(&frontier[list_base(p) + i]);
+            atomicAnd(&frontier[FRONTIER_HEAD + c], ~(1u << p));
+            let nx = reach(c);
+            if nx.w != 0u {
+                join(c, nx);
+            }
+        }
+        storageBarrier();
+        if lid == 0u {
+            _ = next_generation();
+        }
+        storageBarrier();
+    }
 }
