@@ -15,7 +15,9 @@
 //! the third frame on, the medians of the submission and of the wait for
 //! the GPU, then the time a step takes when FRAMES steps are recorded and
 //! submitted back to back and waited for once (the host and the GPU
-//! overlapping, as in an engine that does not wait for the simulation).
+//! overlapping, as in an engine that does not wait for the simulation),
+//! and last the round trip of an empty submission (the driver's share of
+//! the wait).
 
 use trample::scene::Scene;
 use trample_gpu::GpuSimulation;
@@ -87,5 +89,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (_, w, _) = quartiles(&wait);
     println!("  submit {s:.3} ms median, wait for the GPU {w:.3} ms median");
     println!("  {frames} steps submitted back to back, one wait: {pipelined:.3} ms a step");
+    // What a submission and its wait cost with no work in it: the part of
+    // "wait for the GPU" that is the driver's round trip, not the step.
+    let mut empty = Vec::new();
+    for _ in 0..frames {
+        let encoder = device.create_command_encoder(&Default::default());
+        let start = std::time::Instant::now();
+        queue.submit([encoder.finish()]);
+        device.poll(trample_gpu::wgpu::PollType::wait_indefinitely())?;
+        empty.push(ms(start));
+    }
+    let (_, e, _) = quartiles(&empty);
+    println!("  an empty submission and its wait: {e:.3} ms median");
     Ok(())
 }

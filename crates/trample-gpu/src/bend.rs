@@ -61,7 +61,8 @@ impl Bend {
                     &field.ground,
                 ],
             );
-            self.kernel.dispatch(encoder, 0, &group, chunk.groups);
+            self.kernel
+                .dispatch(encoder, 0, &group, crate::kernel::run_grid(chunk.groups));
         }
     }
 }

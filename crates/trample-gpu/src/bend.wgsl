@@ -28,11 +28,13 @@ fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: f32) -> vec3<f32> {
 
 @compute @workgroup_size(64)
 fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let b = chunk_blade(gid);
-    if b == NOT_IN_CHUNK || generation[b] == NO_GENERATION {
-        return;
+    let first = run_start(gid, chunk.groups.x);
+    for (var l = first; l < min(first + RUN, chunk.range.y); l++) {
+        let b = chunk.range.x + l;
+        if generation[b] != NO_GENERATION {
+            bend_blade(b);
+        }
     }
-    bend_blade(b);
 }
 
 // Eq. 6 on blade b (reached by propagation). A function of its own: its

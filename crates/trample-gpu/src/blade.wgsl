@@ -49,6 +49,22 @@ fn blade_index(gid: vec3<u32>) -> u32 {
     return gid.x + gid.y * params.counts.w * 64u;
 }
 
+// Blades a thread takes, one after the other, in the passes over the whole
+// field that do little for most blades (`seed`, `bend`, `recover`;
+// `kernel::RUN`): a real GPU pays for every workgroup it starts, and a
+// workgroup of 64 threads that mostly return at once costs more than the
+// loads it makes (session 24: the herd's bend pass, 262,144 workgroups,
+// took 0.42 ms on an H200 for 67 MB of reads).
+const RUN: u32 = 8u;
+
+// The first of this thread's RUN blades (an index below the pass's count
+// of blades, or past it) in a dispatch of `kernel::run_grid` over a grid
+// of `groups_x` workgroups in x (64 threads each, one blade a thread).
+fn run_start(gid: vec3<u32>, groups_x: u32) -> u32 {
+    let gx = (groups_x + RUN - 1u) / RUN;
+    return (gid.x + gid.y * gx * 64u) * RUN;
+}
+
 fn weight(i: u32) -> f32 {
     return params.weights[i / 4u][i % 4u];
 }

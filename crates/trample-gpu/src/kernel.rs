@@ -189,3 +189,54 @@ pub(crate) fn grid(count: u32, max_per_dimension: u32) -> (u32, u32) {
     let max = max_per_dimension.max(1);
     (groups.min(max), groups.div_ceil(max))
 }
+
+/// Blades a thread takes in the passes over the whole field that do little
+/// for most blades (`seed`, `bend`, `recover`; `RUN` in `blade.wgsl`).
+pub(crate) const RUN: u32 = 8;
+
+/// The workgroups of such a pass, from the grid of one blade a thread: as
+/// many rows, `RUN` times fewer columns (rounded up). `run_start` in
+/// `blade.wgsl` numbers the threads of this grid.
+pub(crate) fn run_grid(groups: (u32, u32)) -> (u32, u32) {
+    (groups.0.div_ceil(RUN), groups.1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{RUN, grid, run_grid};
+
+    /// `run_start` in `blade.wgsl`, on the host.
+    fn run_start(gid: (u32, u32), groups_x: u32) -> u32 {
+        let gx = groups_x.div_ceil(RUN);
+        (gid.0 + gid.1 * gx * 64) * RUN
+    }
+
+    #[test]
+    fn a_run_grid_takes_every_blade_once() {
+        for (count, max) in [
+            (1, 65_535),
+            (63, 65_535),
+            (200, 2),
+            (262_144, 65_535),
+            (1_000_003, 1_000),
+            (16_777_216, 65_535),
+            (5_000, 3),
+        ] {
+            let (gx, gy) = run_grid(grid(count, max));
+            let mut seen = vec![0u8; count as usize];
+            for y in 0..gy {
+                for x in 0..gx * 64 {
+                    let first = run_start((x, y), grid(count, max).0);
+                    for b in first..(first + RUN).min(count) {
+                        seen[b as usize] += 1;
+                    }
+                }
+            }
+            assert!(
+                seen.iter().all(|&n| n == 1),
+                "{count} blades, {max} groups at most: {} blades not taken once",
+                seen.iter().filter(|&&n| n != 1).count()
+            );
+        }
+    }
+}

@@ -109,7 +109,8 @@ impl Recovery {
                     &self.owners,
                 ],
             );
-            self.kernel.dispatch(encoder, 0, &group, chunk.groups);
+            self.kernel
+                .dispatch(encoder, 0, &group, crate::kernel::run_grid(chunk.groups));
         }
     }
 }
