@@ -49,12 +49,16 @@ fn blade_index(gid: vec3<u32>) -> u32 {
     return gid.x + gid.y * params.counts.w * 64u;
 }
 
-// Blades a thread takes, one after the other, in the passes over the whole
-// field that do little for most blades (`seed`, `bend`, `recover`;
-// `kernel::RUN`): a real GPU pays for every workgroup it starts, and a
-// workgroup of 64 threads that mostly return at once costs more than the
-// loads it makes (session 24: the herd's bend pass, 262,144 workgroups,
-// took 0.42 ms on an H200 for 67 MB of reads).
+// Blades a thread takes, one after the other, in `bend`, the pass over the
+// whole field that does nothing for most blades (`kernel::RUN`): a real
+// GPU pays for every workgroup it starts, and a workgroup of 64 threads
+// that mostly return at once costs more than the loads it makes (session
+// 24, H200: the herd's bend pass, 262,144 workgroups for 67 MB of reads,
+// 0.42 ms; in runs of 8, 0.29 ms; the default scene's 0.028 → 0.047 ms).
+// Not for the passes that write every blade: `seed` in runs of 8 took the
+// herd's propagation from 0.68 to 2.78 ms (presumably a warp's stores 8
+// blades apart, 32 cache lines where one blade a thread writes 4), and
+// `recover` went from 0.21 to 0.23 ms.
 const RUN: u32 = 8u;
 
 // The first of this thread's RUN blades (an index below the pass's count

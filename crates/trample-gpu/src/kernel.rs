@@ -190,8 +190,8 @@ pub(crate) fn grid(count: u32, max_per_dimension: u32) -> (u32, u32) {
     (groups.min(max), groups.div_ceil(max))
 }
 
-/// Blades a thread takes in the passes over the whole field that do little
-/// for most blades (`seed`, `bend`, `recover`; `RUN` in `blade.wgsl`).
+/// Blades a thread takes in `bend`, the pass over the whole field that does
+/// nothing for most blades (`RUN` in `blade.wgsl`, which says why).
 pub(crate) const RUN: u32 = 8;
 
 /// The workgroups of such a pass, from the grid of one blade a thread: as

@@ -161,7 +161,7 @@ impl Propagation {
         // One compute pass for the stage's dispatches.
         let mut cpass = begin_pass(encoder);
         let k = &self.kernel;
-        k.dispatch_in(&mut cpass, SEED, &group, crate::kernel::run_grid(groups));
+        k.dispatch_in(&mut cpass, SEED, &group, groups);
         k.dispatch_in(&mut cpass, PRIME, &group, (1, 1));
         for pass in 0..passes.min(WIDE_GENERATIONS) {
             if pass == 0 {

@@ -118,14 +118,10 @@ fn begin() {
 // DBG_WEIGHT on; the track owner of the firmest contact.
 @compute @workgroup_size(64)
 fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let first = run_start(gid, params.counts.w);
-    for (var b = first; b < min(first + RUN, params.counts.x); b++) {
-        seed_blade(b);
+    let b = blade_index(gid);
+    if b >= params.counts.x {
+        return;
     }
-}
-
-// Blade b's part of `seed`.
-fn seed_blade(b: u32) {
     let t = touch[b];
     next[b] = vec4<u32>(0u);
     // The blade's listed bits start clear every sub-step (a list left over

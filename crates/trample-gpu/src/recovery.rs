@@ -109,8 +109,7 @@ impl Recovery {
                     &self.owners,
                 ],
             );
-            self.kernel
-                .dispatch(encoder, 0, &group, crate::kernel::run_grid(chunk.groups));
+            self.kernel.dispatch(encoder, 0, &group, chunk.groups);
         }
     }
 }

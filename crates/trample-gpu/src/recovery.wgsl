@@ -27,15 +27,10 @@
 
 @compute @workgroup_size(64)
 fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let first = run_start(gid, chunk.groups.x);
-    for (var l = first; l < min(first + RUN, chunk.range.y); l++) {
-        recover_or_count(chunk.range.x + l);
+    let b = chunk_blade(gid);
+    if b == NOT_IN_CHUNK {
+        return;
     }
-}
-
-// Blade b's part of the pass: counted if in contact, recovered (or
-// counted) if displaced.
-fn recover_or_count(b: u32) {
     if touch[b].w != 0u {
         atomicAdd(&state.contact, 1u);
     }
