@@ -31,7 +31,10 @@
 // bits, its owner (see narrow_phase.wgsl).
 @group(0) @binding(7) var<storage, read> touch: array<vec4<u32>>;
 // Per blade, written by `gather`, applied by `commit`: the new force in
-// xyz, and in w 1 + the owner of the first pusher (0: not reached).
+// xyz, and in w 1 + the owner of the first pusher (0: not reached). Zero
+// between the two passes' runs (zero when made; `gather` writes only the
+// blades it reaches, and `commit`, which always follows it over the same
+// list, clears what it applies), so `seed` need not clear it.
 @group(0) @binding(8) var<storage, read_write> next: array<vec4<u32>>;
 // The candidates of a generation (the blades next to the last one), in
 // two lists used in turn: words 0 and 1 the lists' lengths, then per blade
@@ -122,8 +125,6 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
     if b >= params.counts.x {
         return;
     }
-    let t = touch[b];
-    next[b] = vec4<u32>(0u);
     // The blade's listed bits start clear every sub-step (a list left over
     // at the cap, or by a caller recording fewer passes, is forgotten); no
     // other thread writes them in this pass.
@@ -152,8 +153,10 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
             kind = (kind & ~3u) | CLASS_DIRECT;
             atomicAdd(&state.dbg, 1u);
         }
-        if t.z != 0u {
-            kind = (kind & ~0xff00u) | (t.z << 8u);
+        // Read for the touched blades only: 16 bytes a blade of the field.
+        let owner = touch[b].z;
+        if owner != 0u {
+            kind = (kind & ~0xff00u) | (owner << 8u);
         }
         blade_class[b] = kind;
     } else {
