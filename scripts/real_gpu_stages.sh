@@ -12,11 +12,13 @@
 # copy an older build to .carry/NAME to compare with it. Then, with the
 # device tool, from the repo root:
 #
-#   run(command = "BINS='trample trample_old' bash scripts/real_gpu_stages.sh",
+#   run(command = "ROUNDS=2 BINS='trample trample_old' bash scripts/real_gpu_stages.sh",
 #       carry = [".carry", ".gl"], timeout_s = 400)
 #
-# Writes into $OUT: log.txt and SCENE_BIN.json (each run's summary.json;
-# three scenes and two builds fill the tool's eight files with the log).
+# (ROUNDS=2: the builds once in order, once reversed; see below.) Writes
+# into $OUT: log.txt and SCENE_BIN.json (each run's summary.json; NAME_r2
+# for the second round), or, past seven of them (the tool brings back
+# eight files), summaries.tar.gz holding them.
 # QUICK=1 runs a few frames (to check the script on a software driver:
 # WGPU_BACKEND=gl QUICK=1 HERD=scenes/herd_small.toml PARKED=... OUT=...).
 set -u
@@ -38,17 +40,33 @@ run() {
     echo "== $name: exit $?" >>"$log"
 }
 
-for bin in $BINS; do
-    t=$DIR/$bin
-    run 40 "default_$bin" "$t" simulate --backend gpu --precision 7 \
-        --frames "$(frames 300 3)" --out "$work/default_$bin"
-    run 60 "herd_$bin" "$t" simulate "$HERD" --backend gpu --frames "$(frames 100 2)" \
-        --out "$work/herd_$bin"
-    run 60 "parked_$bin" "$t" simulate "$PARKED" --backend gpu --frames "$(frames 100 2)" \
-        --out "$work/parked_$bin"
-    for s in default herd parked; do
-        f=$work/${s}_$bin/summary.json
-        [ -f "$f" ] && cp "$f" "$OUT/${s}_$bin.json"
+# ROUNDS=2 runs the builds again in the reverse order (named NAME_r2):
+# on an H200 one build run twice a minute apart gave the default scene's
+# step as 1.6 and 2.5 ms (session 24), so compare builds within a round
+# and across both orders, never one run against another's.
+json=$work/json
+mkdir -p "$json"
+reversed=$(echo "$BINS" | tr ' ' '\n' | tac | tr '\n' ' ')
+for round in $(seq 1 "${ROUNDS:-1}"); do
+    order=$BINS
+    suffix=
+    if [ "$round" -gt 1 ]; then
+        suffix=_r$round
+        [ $((round % 2)) = 0 ] && order=$reversed
+    fi
+    for bin in $order; do
+        t=$DIR/$bin
+        name=$bin$suffix
+        run 40 "default_$name" "$t" simulate --backend gpu --precision 7 \
+            --frames "$(frames 300 3)" --out "$work/default_$name"
+        run 60 "herd_$name" "$t" simulate "$HERD" --backend gpu --frames "$(frames 100 2)" \
+            --out "$work/herd_$name"
+        run 60 "parked_$name" "$t" simulate "$PARKED" --backend gpu --frames "$(frames 100 2)" \
+            --out "$work/parked_$name"
+        for s in default herd parked; do
+            f=$work/${s}_$name/summary.json
+            [ -f "$f" ] && cp "$f" "$json/${s}_$name.json"
+        done
     done
 done
 # The herd's stages timed both ways, where `--prepare` carried the
@@ -73,7 +91,7 @@ run 60 bench_herd "$DIR/$first" bench "$HERD" --backend gpu --precisions 7 \
     --frames "$(frames 300 2)" --out "$work/bench_herd"
 }
 grep -E "^== |step median|^ +gpu +[0-9]" "$log"
-python3 - "$OUT" <<'EOF' || true
+python3 - "$json" <<'EOF' || true
 import json, pathlib, sys
 for f in sorted(pathlib.Path(sys.argv[1]).glob("*.json")):
     d = json.load(open(f))
@@ -81,3 +99,10 @@ for f in sorted(pathlib.Path(sys.argv[1]).glob("*.json")):
     print(f"{f.stem:22} step {d['step_ms']['median']:8.3f}  stages {sum(st.values()):8.3f}  "
           + " ".join(f"{k} {v:.3f}" for k, v in sorted(st.items()) if v))
 EOF
+# The device tool brings back eight files: past seven summaries they go
+# back as one archive.
+if [ "$(ls "$json" | wc -l)" -le 7 ]; then
+    cp "$json"/*.json "$OUT"/ 2>/dev/null || true
+else
+    tar czf "$OUT/summaries.tar.gz" -C "$json" .
+fi
