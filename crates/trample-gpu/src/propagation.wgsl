@@ -2,9 +2,10 @@
 // DESIGN §5) as generation passes: `begin`, `seed` and `prime` once, then
 // `gather` + `commit` + `advance` for generation 1 and `gather_commit` +
 // `advance` for generation 2 as wide passes, then `finish`, one workgroup
-// that loops over the generations left, up to the cap, each over the generation's
-// candidates (`frontier`: the blades next to the last generation, listed
-// by `seed` and by each blade as it joins), not the field. Each blade of generation
+// that loops over the generations left, up to the cap; each generation
+// runs over its candidates (`frontier`: the blades next to the last
+// generation, listed by `seed` and by each blade as it joins), not the
+// field. Each blade of generation
 // G+1 gathers, in the fixed order −x, +x, −z, +z, the contributions of the
 // active generation-G neighbours that point at it: the gather of
 // `trample::force::propagation::gather_force`, no float atomics. For
@@ -292,6 +293,12 @@ fn gather_commit(@builtin(global_invocation_id) gid: vec3<u32>) {
     if c == NONE_U32 || state.stop != 0u {
         return;
     }
+    gather_commit_one(c, p);
+}
+
+// Candidate c of list p, gathered and committed (`gather_commit`, and each
+// turn of `finish`).
+fn gather_commit_one(c: u32, p: u32) {
     // Out of list p (the next list but one uses its bit again); this pass
     // only adds to the other list.
     atomicAnd(&frontier[FRONTIER_HEAD + c], ~(1u << p));
@@ -376,12 +383,7 @@ fn finish(@builtin(local_invocation_index) lid: u32) {
         let p = state.g % 2u;
         let n = atomicLoad(&frontier[p]);
         for (var i = lid; i < n; i += FINISH_THREADS) {
-            let c = atomicLoad(&frontier[list_base(p) + i]);
-            atomicAnd(&frontier[FRONTIER_HEAD + c], ~(1u << p));
-            let nx = reach(c);
-            if nx.w != 0u {
-                join(c, nx);
-            }
+            gather_commit_one(atomicLoad(&frontier[list_base(p) + i]), p);
         }
         storageBarrier();
         if lid == 0u {
