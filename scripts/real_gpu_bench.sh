@@ -38,14 +38,19 @@
 # `the_real_gpu_script_runs_every_step` runs it that way on small scenes).
 set -u
 
+# The first source file newer than the build $1, if any: a build older
+# than the sources carries the wrong code (`cargo build -p trample-cli -p
+# trample-gpu --example X` builds the examples only, not the CLI; session
+# 24 measured a stale build so).
+newer_source() {
+    find crates -newer "$1" -type f \( -name '*.rs' -o -name '*.wgsl' -o -name Cargo.toml \) | head -n 1
+}
+
 if [ "${1:-}" = "--prepare" ]; then
     set -e
     bin=target/release/trample
     [ -x "$bin" ] || { echo "no $bin: run cargo build --release -p trample-cli first" >&2; exit 1; }
-    # A build older than the sources carries the wrong code: `cargo build
-    # -p trample-cli -p trample-gpu --example X` builds the examples only,
-    # not the CLI (session 24 measured a stale build so).
-    newer=$(find crates scenes -newer "$bin" -type f \( -name '*.rs' -o -name '*.wgsl' -o -name Cargo.toml \) | head -n 1)
+    newer=$(newer_source "$bin")
     if [ -n "$newer" ]; then
         echo "$bin is older than $newer: run cargo build --release -p trample-cli (on its own) first" >&2
         exit 1
@@ -57,7 +62,7 @@ if [ "${1:-}" = "--prepare" ]; then
     # runs stage_times; record_time is run by hand.
     for e in stage_times record_time; do
         if [ -x "target/release/examples/$e" ]; then
-            if [ -n "$(find crates -newer "target/release/examples/$e" -type f \( -name '*.rs' -o -name '*.wgsl' \) | head -n 1)" ]; then
+            if [ -n "$(newer_source "target/release/examples/$e")" ]; then
                 echo "target/release/examples/$e is older than the sources: not carried" >&2
                 continue
             fi
