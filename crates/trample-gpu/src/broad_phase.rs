@@ -43,7 +43,8 @@ pub struct GpuBroadParams {
 /// The compiled broad phase and the lists it fills, for one field.
 pub struct BroadPhase {
     kernel: Kernel,
-    params: wgpu::Buffer,
+    /// Its uniform ([`GpuBroadParams`]; propagation's `seed` reads it too).
+    pub(crate) params: wgpu::Buffer,
     patch_aabbs: wgpu::Buffer,
     /// Per sub-step: the candidate count and each object's patch rectangle
     /// (see [`GpuPatchRect`]).

@@ -20,8 +20,14 @@
 //! not the field: `seed` lists the blades next to generation 0, each blade
 //! that joins a generation lists its neighbours for the next (once each: a
 //! bit a blade), and `advance` sizes the next pass by that list
-//! (`GpuField::frontier`).
+//! (`GpuField::frontier`). `seed` itself goes over every blade (it clears
+//! the lists' bits and the generations), but after the broad phase
+//! ([`Propagation::record_after`]) it reads a blade's neighbours and their
+//! forces only where a patch next to the blade's was listed: the herd's
+//! 16.8 M blades are almost all far from every object (session 24, H200:
+//! `seed` was most of its 0.68 ms of propagation).
 
+use crate::broad_phase::{BroadPhase, GpuBroadParams};
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot, begin_pass};
 
@@ -57,6 +63,10 @@ pub struct Propagation {
     /// Stands in for `next_gather` in the gather passes' bind group: a
     /// buffer may not be storage and indirect arguments in one dispatch.
     unused_args: wgpu::Buffer,
+    /// Stand in for the broad phase's uniform and lists where none is
+    /// given: a zero uniform, so `seed` runs over every blade.
+    no_broad: wgpu::Buffer,
+    no_lists: wgpu::Buffer,
 }
 
 impl Propagation {
@@ -71,7 +81,7 @@ impl Propagation {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite, Read,
-                    ReadWrite, ReadWrite,
+                    ReadWrite, ReadWrite, Uniform, Read,
                 ],
                 &[
                     "begin",
@@ -87,6 +97,18 @@ impl Propagation {
             unused_args: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu gather dispatch (unused)"),
                 size: 12,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+            no_broad: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu propagation: no broad phase"),
+                size: std::mem::size_of::<GpuBroadParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM,
+                mapped_at_creation: false,
+            }),
+            no_lists: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu propagation: no patch lists"),
+                size: 16,
                 usage: wgpu::BufferUsages::STORAGE,
                 mapped_at_creation: false,
             }),
@@ -109,13 +131,14 @@ impl Propagation {
         params: &wgpu::Buffer,
         state: &wgpu::Buffer,
     ) {
-        let group = self.bind(device, field, params, state, &self.next_gather);
+        let group = self.bind(device, field, params, state, &self.next_gather, None);
         self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
     }
 
     /// The stage's bind group: the field's propagation arrays, with `args`
     /// at the indirect-arguments slot (the next gather's, or an unused
-    /// buffer while the gather reads them).
+    /// buffer while the gather reads them), and `broad`'s uniform and lists
+    /// (stand-ins without one).
     fn bind(
         &self,
         device: &wgpu::Device,
@@ -123,7 +146,10 @@ impl Propagation {
         params: &wgpu::Buffer,
         state: &wgpu::Buffer,
         args: &wgpu::Buffer,
+        broad: Option<&BroadPhase>,
     ) -> wgpu::BindGroup {
+        let (broad_params, lists) =
+            broad.map_or((&self.no_broad, &self.no_lists), |b| (&b.params, &b.lists));
         self.kernel.bind(
             device,
             &[
@@ -137,6 +163,8 @@ impl Propagation {
                 &field.touch,
                 &field.next,
                 &field.frontier,
+                broad_params,
+                lists,
             ],
         )
     }
@@ -146,7 +174,7 @@ impl Propagation {
     /// then at most `passes` generations (Eq. 4) over the candidates: gather
     /// and commit for the first, `gather_commit` for the second, `finish`
     /// for the others. [`Propagation::record_reset`] must come first in
-    /// the sub-step.
+    /// the sub-step. `seed` runs over every blade.
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -157,8 +185,27 @@ impl Propagation {
         groups: (u32, u32),
         passes: u32,
     ) {
-        let group = self.bind(device, field, params, state, &self.next_gather);
-        let gather_group = self.bind(device, field, params, state, &self.unused_args);
+        self.record_after(device, encoder, field, params, state, groups, passes, None);
+    }
+
+    /// [`Propagation::record`] after `broad` and the narrow phase over its
+    /// lists (recorded earlier in the sub-step, `broad` passed to it): `seed`
+    /// reads no neighbours for the blades whose patch and the four beside
+    /// it `broad` did not list (none of them was touched; the same results).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_after(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &GpuField,
+        params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
+        groups: (u32, u32),
+        passes: u32,
+        broad: Option<&BroadPhase>,
+    ) {
+        let group = self.bind(device, field, params, state, &self.next_gather, broad);
+        let gather_group = self.bind(device, field, params, state, &self.unused_args, broad);
         // One compute pass for the stage's dispatches.
         let mut cpass = begin_pass(encoder);
         let k = &self.kernel;

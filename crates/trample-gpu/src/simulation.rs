@@ -562,7 +562,7 @@ impl GpuSimulation {
                     Some(&self.broad),
                 );
                 laps.lap(device, queue, encoder, Stage::Narrow);
-                self.propagation.record(
+                self.propagation.record_after(
                     device,
                     encoder,
                     &self.field,
@@ -570,6 +570,7 @@ impl GpuSimulation {
                     &self.state,
                     groups,
                     params.counts[2],
+                    Some(&self.broad),
                 );
                 laps.lap(device, queue, encoder, Stage::Propagation);
                 self.bend.record(device, encoder, &self.field, &self.params);

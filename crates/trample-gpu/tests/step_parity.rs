@@ -8,7 +8,8 @@
 //! for 32 and 120 frames and the contact scene for 120 (issue 12); the
 //! walker and the tractor for 120 (issue 13); the LOD scene with a camera
 //! that stops (levels left out for a still viewpoint); and a simulation
-//! handed to the GPU mid-run. Reports the worst vertex and billboard-slope
+//! handed to the GPU mid-run; a push carried into a patch the broad phase
+//! did not list. Reports the worst vertex and billboard-slope
 //! differences and the DBG/PBG and LOD differences; asserts them within
 //! the stated tolerances. Last, the `follow` pass's cells against their CPU
 //! function after grass comes back to rest.
@@ -526,4 +527,106 @@ fn cells_follow_their_blades_back_to_rest() {
 #[test]
 fn cells_of_two_blades_follow_them_back_to_rest() {
     check_cells_follow_their_blades(2, 150);
+}
+
+/// A push into a patch the broad phase did not list. The blades of the
+/// last cell column left of the border x = 0 are laid over towards −x (80°)
+/// before the run; a box slides past them along z with its side farther
+/// from the border than the patch beside reaches (its box, the roots grown
+/// by the longest blade): the broad phase lists the box's patch alone,
+/// yet the box bends those blades' tips towards +x and propagation
+/// (Eq. 4) carries the push across the border. `seed` skips the blades
+/// far from every listed patch (`propagation.wgsl` `near_listed`), so the
+/// patches beside a listed one must still be seeded: the GPU's PBG count
+/// equals the CPU's in every frame, and the CPU's children include blades
+/// across the border.
+#[test]
+fn a_push_into_a_patch_no_object_reaches_matches_the_cpu() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let text = |face: f32| {
+        format!(
+            r#"
+name = "border push"
+[field]
+patches = [4, 4]
+cells_per_patch = 32
+[sim]
+precision = 5
+att = 0.9
+threshold = 0.05
+[camera]
+path = {{ kind = "static", position = [0.0, 3.0, 8.0] }}
+look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
+[[objects]]
+name = "slider"
+shape = {{ kind = "box", half_extents_m = [0.3, 0.3, 0.3] }}
+path = {{ kind = "line", from = [{x}, 0.29, -1.5], to = [{x}, 0.29, 1.5], duration_s = 1.0 }}
+"#,
+            x = face - 0.3
+        )
+    };
+    let probe = scenes::build(&scenes::scene(&text(-1.0)));
+    let longest = probe.field.max_blade_length;
+    // The box's +x side 2 cm beyond the reach of the patch right of x = 0.
+    let face = -(longest + 0.02);
+    let mut cpu = scenes::build(&scenes::scene(&text(face)));
+    let right = cpu
+        .field
+        .layout
+        .patch_list
+        .iter()
+        .filter(|p| p.aabb_min.x > -1.0 && p.aabb_min.x < 0.0)
+        .map(|p| p.aabb_min.x)
+        .fold(f32::INFINITY, f32::min);
+    assert!(
+        face < right,
+        "the patch beside must lie beyond the box ({face} against {right})"
+    );
+    let n = cpu.field.blades.segments;
+    let mut laid = 0;
+    for b in 0..cpu.field.blades.count {
+        let root = cpu.field.blades.vertex(b, 0);
+        if !(root.x > -0.1 && root.x < 0.0) {
+            continue;
+        }
+        let turn = glam::Quat::from_rotation_z(80f32.to_radians());
+        let verts: Vec<glam::Vec3A> = (0..=n)
+            .map(|k| root + turn * (cpu.field.blades.vertex(b, k) - root))
+            .collect();
+        cpu.field.blades.store(b, &verts);
+        laid += 1;
+    }
+    assert!(laid > 100, "{laid} blades laid over");
+    let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
+    let dt = cpu.params.dt_s;
+    let (mut pbg_frames, mut across, mut dbg) = (0, 0usize, 0u64);
+    for _ in 0..60 {
+        cpu.step(dt).unwrap();
+        g.step(device, queue, dt).unwrap();
+        let c = g.read_counters(device, queue).unwrap();
+        pbg_frames += u32::from(c.pbg != cpu.timings.pbg_blades);
+        dbg += u64::from(cpu.timings.dbg_blades);
+        let bl = &cpu.field.blades;
+        across = across.max(
+            (0..bl.count)
+                .filter(|&b| {
+                    cpu.class[b] == trample::step::BladeClass::Propagated
+                        && bl.rest_vertex(b, 0).x > 0.0
+                })
+                .count(),
+        );
+    }
+    eprintln!(
+        "{laid} blades laid over, {dbg} DBG blade-frames; children across the border (CPU, most in a frame): \
+         {across}; PBG count differs in {pbg_frames} frames"
+    );
+    assert!(
+        across > 0,
+        "the push must cross the border for the test to mean anything"
+    );
+    assert_eq!(
+        pbg_frames, 0,
+        "the GPU's PBG count differs in {pbg_frames} frames"
+    );
 }
