@@ -25,11 +25,15 @@ use crate::kernel::{Kernel, Slot, grid};
 /// The WGSL source as compiled.
 #[must_use]
 pub fn source() -> String {
-    include_str!("broad_phase.wgsl").to_string()
+    format!(
+        "{}\n{}",
+        include_str!("broad_params.wgsl"),
+        include_str!("broad_phase.wgsl")
+    )
 }
 
 /// The broad phase's uniform. Layout-compatible with `BroadParams` in
-/// `broad_phase.wgsl`.
+/// `broad_params.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct GpuBroadParams {

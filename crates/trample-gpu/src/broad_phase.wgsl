@@ -25,13 +25,7 @@ struct WorldObb {
     half: vec4<f32>,
 }
 
-// Layout-compatible with `GpuBroadParams` in broad_phase.rs.
-struct BroadParams {
-    // patches, patches per chunk (all but the last), chunks, patches along x
-    counts: vec4<u32>,
-    // blades per patch, max workgroups per dimension, mask words per patch, unused
-    dispatch: vec4<u32>,
-}
+// `BroadParams`: broad_params.wgsl, prepended.
 
 @group(0) @binding(0) var<uniform> broad: BroadParams;
 @group(0) @binding(1) var<storage, read> world_roots: array<WorldObb>;

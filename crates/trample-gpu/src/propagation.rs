@@ -22,7 +22,7 @@
 //! bit a blade), and `advance` sizes the next pass by that list
 //! (`GpuField::frontier`). `seed` itself goes over every blade (it clears
 //! the lists' bits and the generations), but after the broad phase
-//! ([`Propagation::record_after`]) it reads a blade's neighbours and their
+//! (`broad` given to [`Propagation::record`]) it reads a blade's neighbours and their
 //! forces only where a patch next to the blade's was listed: the herd's
 //! 16.8 M blades are almost all far from every object (session 24, H200:
 //! `seed` was most of its 0.68 ms of propagation).
@@ -31,12 +31,14 @@ use crate::broad_phase::{BroadPhase, GpuBroadParams};
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot, begin_pass};
 
-/// The WGSL source as compiled (`blade.wgsl` prepended).
+/// The WGSL source as compiled (`blade.wgsl` and `broad_params.wgsl`
+/// prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}",
+        "{}\n{}\n{}",
         crate::BLADE_WGSL,
+        include_str!("broad_params.wgsl"),
         include_str!("propagation.wgsl")
     )
 }
@@ -174,26 +176,13 @@ impl Propagation {
     /// then at most `passes` generations (Eq. 4) over the candidates: gather
     /// and commit for the first, `gather_commit` for the second, `finish`
     /// for the others. [`Propagation::record_reset`] must come first in
-    /// the sub-step. `seed` runs over every blade.
-    pub fn record(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        field: &GpuField,
-        params: &wgpu::Buffer,
-        state: &wgpu::Buffer,
-        groups: (u32, u32),
-        passes: u32,
-    ) {
-        self.record_after(device, encoder, field, params, state, groups, passes, None);
-    }
-
-    /// [`Propagation::record`] after `broad` and the narrow phase over its
-    /// lists (recorded earlier in the sub-step, `broad` passed to it): `seed`
-    /// reads no neighbours for the blades whose patch and the four beside
-    /// it `broad` did not list (none of them was touched; the same results).
+    /// the sub-step. With `broad` (recorded earlier in the sub-step, and
+    /// the narrow phase over its lists), `seed` reads no neighbours for the
+    /// blades whose patch and the four beside it `broad` did not list (none
+    /// of them was touched: the same results); without, it reads them for
+    /// every blade.
     #[allow(clippy::too_many_arguments)]
-    pub fn record_after(
+    pub fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,

@@ -47,13 +47,7 @@
 // alone: which patches the narrow phase ran over this sub-step. Without a
 // broad phase (the propagation recorded on its own) a zero uniform: then
 // every blade is seeded as it always was.
-// Layout-compatible with `BroadParams` in broad_phase.wgsl.
-struct BroadParams {
-    // patches, patches per chunk (all but the last), chunks, patches along x
-    counts: vec4<u32>,
-    // blades per patch, max workgroups per dimension, mask words per patch, unused
-    dispatch: vec4<u32>,
-}
+// (`BroadParams`: broad_params.wgsl, prepended.)
 @group(0) @binding(10) var<uniform> broad: BroadParams;
 @group(0) @binding(11) var<storage, read> lists: array<u32>;
 

@@ -562,7 +562,7 @@ impl GpuSimulation {
                     Some(&self.broad),
                 );
                 laps.lap(device, queue, encoder, Stage::Narrow);
-                self.propagation.record_after(
+                self.propagation.record(
                     device,
                     encoder,
                     &self.field,

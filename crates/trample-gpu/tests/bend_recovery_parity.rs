@@ -93,7 +93,7 @@ fn bent_then_recovered_blades_match_the_cpu() {
     recover.write_owner_table(queue, &[recovery]);
     let mut enc = device.create_command_encoder(&Default::default());
     propagation.record_reset(device, &mut enc, &g, &uniform, &state);
-    propagation.record(device, &mut enc, &g, &uniform, &state, groups, 0);
+    propagation.record(device, &mut enc, &g, &uniform, &state, groups, 0, None);
     bend.record(device, &mut enc, &g, &uniform);
     queue.submit([enc.finish()]);
     let bent = g.read_positions(device, queue).unwrap();

@@ -139,6 +139,7 @@ fn run(
         &state,
         (groups_x, 1),
         prop.max_generations,
+        None,
     );
     queue.submit([enc.finish()]);
 
