@@ -540,6 +540,61 @@ fn closest_point_within_sq(p: vec3<f32>, max_sq: f32) -> SurfacePoint {
     return best;
 }
 
+// `way_out::WAY_OUT_BAND_M`.
+const WAY_OUT_BAND_M: f32 = 0.002;
+
+// `way_out::way_out` (with `for_each_triangle_within_sq`'s walk: depth
+// first, left child first, a box farther than the bound skipped whole): the
+// normalised sum of the outward normals of the triangles within depth +
+// band of p, each weighted by (1 − (d − depth) / band)²; the direction to
+// `nearest` where the sum cancels. Uses `cp_stack` (the closest-point walk
+// is done by then).
+fn way_out(p: vec3<f32>, nearest: vec3<f32>, depth: f32) -> vec3<f32> {
+    let reach = depth + WAY_OUT_BAND_M;
+    let max_sq = reach * reach;
+    let count = tree.x;
+    var sum = vec3<f32>(0.0);
+    cp_stack[0] = vec2<u32>(0u, 0u);
+    var len = 1u;
+    while len > 0u && count > 0u {
+        len -= 1u;
+        let i = cp_stack[len].x;
+        if i >= count || distance_sq_to_box(p, i) > max_sq {
+            continue;
+        }
+        let n = node_at(i);
+        let l = n.children.x;
+        let r = n.children.y;
+        if l == NO_CHILD || l <= i || r <= i || len + 2u > STACK_SIZE {
+            for (var t = n.children.z; t < n.children.z + n.children.w; t++) {
+                let c = closest_on_triangle(p, t);
+                let dv = c.point - p;
+                let d_sq = dot3(dv, dv);
+                if d_sq <= max_sq {
+                    let x = clamp((sqrt(d_sq) - depth) / WAY_OUT_BAND_M, 0.0, 1.0);
+                    let w = (1.0 - x) * (1.0 - x);
+                    let a = corner(t, 0u);
+                    let nrm = cross_scalar(corner(t, 1u) - a, corner(t, 2u) - a);
+                    // glam `normalize_or_zero`.
+                    let nrcp = 1.0 / sqrt(dot3(nrm, nrm));
+                    if nrcp < 3.0e38 && nrcp > 0.0 {
+                        sum += nrm * nrcp * w;
+                    }
+                }
+            }
+        } else {
+            cp_stack[len] = vec2<u32>(r, 0u);
+            cp_stack[len + 1u] = vec2<u32>(l, 0u);
+            len += 2u;
+        }
+    }
+    let rcp = 1.0 / sqrt(dot3(sum, sum));
+    if rcp < 3.0e38 && rcp > 0.0 {
+        return sum * rcp;
+    }
+    return (nearest - p) / depth;
+}
+
 // `contact::surface_and_side`: the closest surface point measured (found
 // false when none was needed: a voxel known outside, nothing within the
 // open depth or the bound) and whether p is inside. `bound_sq`: a squared
@@ -621,8 +676,8 @@ fn push_out_hinted(p: vec3<f32>, open_depth: f32, hint: u32) -> Pushed {
     }
     let depth = sqrt(side.s.distance_sq);
     if side.inside && depth > CONTACT_TOLERANCE_M {
-        let s = side.s.point;
-        return Pushed(vec4<f32>(s + (p - s) * (CONTACT_TOLERANCE_M / depth), 1.0), side.s.triangle);
+        let out = way_out(p, side.s.point, depth);
+        return Pushed(vec4<f32>(p + out * (depth - CONTACT_TOLERANCE_M), 1.0), side.s.triangle);
     }
     return Pushed(vec4<f32>(p, 0.0), side.s.triangle);
 }
