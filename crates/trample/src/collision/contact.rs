@@ -32,10 +32,11 @@
 use glam::Vec3;
 
 use super::closest_point::{
-    Feature, SurfacePoint, closest_point_on_triangle_region, closest_point_within_sq,
+    Feature, NearFaces, SurfacePoint, closest_point_and_near_within_sq,
+    closest_point_on_triangle_region, closest_point_within_sq,
 };
 use super::exact::point_inside_by_ray;
-use super::way_out::way_out;
+use super::way_out::{WAY_OUT_BAND_M, way_out};
 use crate::obb::ObbTree;
 
 /// How deep, metres, the contact response leaves a vertex inside an object:
@@ -53,7 +54,7 @@ pub const CONTACT_TOLERANCE_M: f32 = 0.003;
 /// counts as inside). Non-finite `p` gives `None`. No allocation.
 #[must_use]
 pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f32)> {
-    match surface_and_side(tree, p, open_depth, f32::INFINITY) {
+    match surface_and_side(tree, p, open_depth, f32::INFINITY, None) {
         Some((s, true)) => Some((s.point, s.distance_sq.sqrt())),
         _ => None,
     }
@@ -66,13 +67,20 @@ pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f3
 /// from `p` to some point of the mesh, measured as the walk measures
 /// (`closest_point_on_triangle_region`, `distance_squared`), or infinity:
 /// the walk skips the boxes farther than it, with the same answer
-/// ([`closest_point_within_sq`]).
+/// ([`closest_point_within_sq`]). `near`: where to list the triangles
+/// within its width beyond the closest point (what
+/// [`way_out`] sums), or `None`.
 fn surface_and_side(
     tree: &ObbTree,
     p: Vec3,
     open_depth: f32,
     bound_sq: f32,
+    near: Option<&mut NearFaces>,
 ) -> Option<(SurfacePoint, bool)> {
+    let walk = |max_sq: f32| match near {
+        Some(near) => closest_point_and_near_within_sq(tree, p, max_sq, near),
+        None => closest_point_within_sq(tree, p, max_sq),
+    };
     if tree.is_empty() || !p.is_finite() {
         return None;
     }
@@ -81,7 +89,7 @@ fn surface_and_side(
         if known == Some(false) {
             return None;
         }
-        let s = closest_point_within_sq(tree, p, bound_sq)?;
+        let s = walk(bound_sq)?;
         let inside = match (known, s.feature()) {
             (Some(true), _) => true,
             (_, Feature::Face) => (p - s.point).dot(s.normal) < 0.0,
@@ -92,7 +100,7 @@ fn surface_and_side(
         if open_depth.is_nan() || open_depth < 0.0 {
             return None;
         }
-        let s = closest_point_within_sq(tree, p, (open_depth * open_depth).min(bound_sq))?;
+        let s = walk((open_depth * open_depth).min(bound_sq))?;
         let inside = (p - s.point).dot(s.side_normal(tree)) < 0.0;
         Some((s, inside))
     }
@@ -132,11 +140,12 @@ pub fn push_out_hinted(tree: &ObbTree, p: Vec3, open_depth: f32, hint: &mut u32)
         // The walk need not look farther than the hint (same answer).
         bound_sq = d;
     }
-    let (s, inside) = surface_and_side(tree, p, open_depth, bound_sq)?;
+    let mut near = NearFaces::new(WAY_OUT_BAND_M);
+    let (s, inside) = surface_and_side(tree, p, open_depth, bound_sq, Some(&mut near))?;
     *hint = s.triangle;
     let depth = s.distance_sq.sqrt();
     (inside && depth > CONTACT_TOLERANCE_M)
-        .then(|| p + way_out(tree, p, s.point, depth) * (depth - CONTACT_TOLERANCE_M))
+        .then(|| p + way_out(tree, p, s.point, depth, &near) * (depth - CONTACT_TOLERANCE_M))
 }
 
 #[cfg(test)]

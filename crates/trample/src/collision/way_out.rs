@@ -21,7 +21,7 @@
 
 use glam::{Vec3, Vec3A};
 
-use super::closest_point::closest_point_on_triangle_region;
+use super::closest_point::{NearFaces, closest_point_on_triangle_region};
 use super::exact::STACK_SIZE;
 use crate::obb::ObbTree;
 
@@ -90,7 +90,10 @@ pub fn for_each_triangle_within_sq(
 }
 
 /// The unit direction in which a vertex at `p` (object frame), `depth`
-/// metres (> 0) from its closest surface point `nearest`, is pushed out:
+/// metres (> 0) from its closest surface point `nearest`, is pushed out
+/// (`near`: the triangles the closest-point walk listed within
+/// [`WAY_OUT_BAND_M`] beyond it, in its order; when it overflowed, the tree
+/// is walked again, in [`for_each_triangle_within_sq`]'s order):
 /// the normalised sum of the outward unit normals of every triangle within
 /// `depth + WAY_OUT_BAND_M` of `p`, each weighted by `(1 − (d − depth) /
 /// WAY_OUT_BAND_M)²` for a triangle `d` from `p` — 1 at the closest
@@ -98,15 +101,25 @@ pub fn for_each_triangle_within_sq(
 /// triangle enters the sum without a jump. `(nearest − p) / depth` where
 /// the sum cancels (or no triangle is met: an empty tree).
 #[must_use]
-pub fn way_out(tree: &ObbTree, p: Vec3, nearest: Vec3, depth: f32) -> Vec3 {
+pub fn way_out(tree: &ObbTree, p: Vec3, nearest: Vec3, depth: f32, near: &NearFaces) -> Vec3 {
     let reach = depth + WAY_OUT_BAND_M;
+    let max_sq = reach * reach;
     let mut sum = Vec3::ZERO;
-    for_each_triangle_within_sq(tree, p, reach * reach, |t, d_sq| {
+    let mut add = |t: usize, d_sq: f32| {
         let x = ((d_sq.sqrt() - depth) / WAY_OUT_BAND_M).clamp(0.0, 1.0);
         let w = (1.0 - x) * (1.0 - x);
         let [a, b, c] = tree.triangles[t];
         sum += (b - a).cross(c - a).normalize_or_zero() * w;
-    });
+    };
+    if near.overflow {
+        for_each_triangle_within_sq(tree, p, max_sq, &mut add);
+    } else {
+        for &(t, d_sq) in &near.tris[..near.len] {
+            if d_sq <= max_sq {
+                add(t as usize, d_sq);
+            }
+        }
+    }
     sum.try_normalize().unwrap_or_else(|| (nearest - p) / depth)
 }
 
@@ -186,6 +199,54 @@ mod tests {
         assert!(worst < 3.0, "the target moved {worst} times the step");
     }
 
+    /// The closest-point walk that lists the near faces finds the plain
+    /// walk's closest point bit for bit, and lists (unless it overflowed)
+    /// exactly the triangles within the band beyond it.
+    #[test]
+    fn the_walk_lists_the_faces_within_the_band() {
+        use crate::collision::closest_point::{
+            closest_point_and_near_within_sq, closest_point_within_sq,
+        };
+        let mut rng = XorShift(0x1234_5678_9abc_def1u64);
+        let mut overflowed = 0;
+        for mesh in [sphere(1.0, 3), knot(2.4), cuboid(Vec3::new(0.6, 0.3, 0.9))] {
+            let tree = ObbTree::build(&mesh, 32);
+            for _ in 0..500 {
+                let p = Vec3::new(
+                    rng.range(-1.3, 1.3),
+                    rng.range(-1.3, 1.3),
+                    rng.range(-1.3, 1.3),
+                );
+                let bound = if rng.unit() < 0.5 {
+                    f32::INFINITY
+                } else {
+                    rng.range(0.0, 0.5)
+                };
+                let plain = closest_point_within_sq(&tree, p, bound);
+                let mut near = NearFaces::new(WAY_OUT_BAND_M);
+                let listed = closest_point_and_near_within_sq(&tree, p, bound, &mut near);
+                assert_eq!(format!("{plain:?}"), format!("{listed:?}"), "{p}");
+                let Some(s) = listed else { continue };
+                if near.overflow {
+                    overflowed += 1;
+                    continue;
+                }
+                let reach = s.distance_sq.sqrt() + WAY_OUT_BAND_M;
+                let mut want = Vec::new();
+                for_each_triangle_within_sq(&tree, p, reach * reach, |t, _| want.push(t as u32));
+                want.sort_unstable();
+                let mut got: Vec<u32> = near.tris[..near.len]
+                    .iter()
+                    .filter(|&&(_, d)| d <= reach * reach)
+                    .map(|&(t, _)| t)
+                    .collect();
+                got.sort_unstable();
+                assert_eq!(got, want, "{p}");
+            }
+        }
+        assert!(overflowed < 50, "{overflowed} overflowed");
+    }
+
     /// Under a flat face cut into two triangles, the way out is the face's
     /// normal, also near the cut (where the other triangle's closest point,
     /// on the cut, lies within the band).
@@ -196,7 +257,14 @@ mod tests {
             for z in [-0.7, -0.2, 0.0, 0.1, 0.6] {
                 let p = Vec3::new(x, 0.29, z);
                 let s = closest_point_on_mesh(&tree, p, f32::INFINITY).unwrap();
-                let u = way_out(&tree, p, s.point, s.distance_sq.sqrt());
+                let mut near = NearFaces::new(WAY_OUT_BAND_M);
+                let _ = crate::collision::closest_point::closest_point_and_near_within_sq(
+                    &tree,
+                    p,
+                    f32::INFINITY,
+                    &mut near,
+                );
+                let u = way_out(&tree, p, s.point, s.distance_sq.sqrt(), &near);
                 assert!(u.distance(Vec3::Y) < 1e-6, "{p}: {u}");
             }
         }
