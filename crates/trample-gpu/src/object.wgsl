@@ -478,58 +478,12 @@ fn squared(x: f32) -> f32 {
     return x * x;
 }
 
-// `closest_point::NEAR_FACES_MAX`, and the list of `NearFaces` (triangle,
-// bits of its squared distance), its length and overflow flag, filled by
-// `closest_point_within_sq` when it is given a band.
-const NEAR_FACES_MAX: u32 = 16u;
-var<private> band_tris: array<vec2<u32>, NEAR_FACES_MAX>;
-var<private> band_len: u32;
-var<private> band_overflow: bool;
-
-// `NearFaces::push`.
-fn band_push(t: u32, d: f32, within_sq: f32) {
-    if band_overflow {
-        return;
-    }
-    if band_len == NEAR_FACES_MAX {
-        var kept = 0u;
-        for (var i = 0u; i < band_len; i++) {
-            if bitcast<f32>(band_tris[i].y) <= within_sq {
-                band_tris[kept] = band_tris[i];
-                kept += 1u;
-            }
-        }
-        band_len = kept;
-        if kept == NEAR_FACES_MAX {
-            band_overflow = true;
-            return;
-        }
-    }
-    band_tris[band_len] = vec2<u32>(t, bitcast<u32>(d));
-    band_len += 1u;
-}
-
-// The boxes `closest_point_within_sq` skips lie farther than this: the
-// closest point so far, plus the band (`closest_walk`'s `limit`).
-fn skip_of(best_sq: f32, band: f32) -> f32 {
-    if band > 0.0 {
-        let r = sqrt(best_sq) + band;
-        return r * r;
-    }
-    return best_sq;
-}
-
 // `closest_point::closest_point_within_sq`: branch and bound, nearer child
 // first, each box's distance measured once (when it is pushed); ties keep
 // the first found. `max_sq`: only points within its square root count.
-// `band` > 0: `closest_point_and_near_within_sq` — also lists the
-// triangles within `band` beyond the closest point in `band_tris`.
-fn closest_point_within_sq(p: vec3<f32>, max_sq: f32, band: f32) -> SurfacePoint {
+fn closest_point_within_sq(p: vec3<f32>, max_sq: f32) -> SurfacePoint {
     var best = SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u);
     var best_sq = max_sq;
-    band_len = 0u;
-    band_overflow = false;
-    var skip_sq = skip_of(best_sq, band);
     let count = tree.x;
     if count == 0u {
         return best;
@@ -540,7 +494,7 @@ fn closest_point_within_sq(p: vec3<f32>, max_sq: f32, band: f32) -> SurfacePoint
         len -= 1u;
         let i = cp_stack[len].x;
         // The bound may have shrunk since the node was pushed.
-        if i >= count || bitcast<f32>(cp_stack[len].y) > skip_sq {
+        if i >= count || bitcast<f32>(cp_stack[len].y) > best_sq {
             continue;
         }
         let n = node_at(i);
@@ -551,12 +505,8 @@ fn closest_point_within_sq(p: vec3<f32>, max_sq: f32, band: f32) -> SurfacePoint
                 let c = closest_on_triangle(p, t);
                 let dv = c.point - p;
                 let d = dot3(dv, dv);
-                if band > 0.0 && d <= skip_sq {
-                    band_push(t, d, skip_sq);
-                }
                 if d <= best_sq && (!best.found || d < best_sq) {
                     best_sq = d;
-                    skip_sq = skip_of(best_sq, band);
                     let a = corner(t, 0u);
                     let nrm = cross_scalar(corner(t, 1u) - a, corner(t, 2u) - a);
                     let nl = sqrt(dot3(nrm, nrm));
@@ -590,92 +540,16 @@ fn closest_point_within_sq(p: vec3<f32>, max_sq: f32, band: f32) -> SurfacePoint
     return best;
 }
 
-// `way_out::WAY_OUT_BAND_M`.
-const WAY_OUT_BAND_M: f32 = 0.002;
-
-// `way_out`'s share of triangle t, d_sq from the vertex, `depth` the
-// closest point's distance: its unit normal (glam `normalize_or_zero`)
-// times (1 − (d − depth) / band)².
-fn face_share(t: u32, d_sq: f32, depth: f32) -> vec3<f32> {
-    let x = clamp((sqrt(d_sq) - depth) / WAY_OUT_BAND_M, 0.0, 1.0);
-    let w = (1.0 - x) * (1.0 - x);
-    let a = corner(t, 0u);
-    let nrm = cross_scalar(corner(t, 1u) - a, corner(t, 2u) - a);
-    let nrcp = 1.0 / sqrt(dot3(nrm, nrm));
-    if nrcp < 3.0e38 && nrcp > 0.0 {
-        return nrm * nrcp * w;
-    }
-    return vec3<f32>(0.0);
-}
-
-// `way_out::way_out`: the normalised sum of the outward normals of the
-// triangles within depth + band of p, each weighted by (1 − (d − depth) /
-// band)² — those the closest-point walk listed (`band_tris`, in its order),
-// or, when the list overflowed, those `for_each_triangle_within_sq`'s walk
-// meets (depth first, left child first, a box farther than the bound
-// skipped whole); the direction to `nearest` where the sum cancels. Uses
-// `cp_stack` (the closest-point walk is done by then).
-fn way_out(p: vec3<f32>, nearest: vec3<f32>, depth: f32) -> vec3<f32> {
-    let reach = depth + WAY_OUT_BAND_M;
-    let max_sq = reach * reach;
-    let count = tree.x;
-    var sum = vec3<f32>(0.0);
-    if !band_overflow {
-        for (var i = 0u; i < band_len; i++) {
-            let d_sq = bitcast<f32>(band_tris[i].y);
-            if d_sq <= max_sq {
-                sum += face_share(band_tris[i].x, d_sq, depth);
-            }
-        }
-    }
-    cp_stack[0] = vec2<u32>(0u, 0u);
-    var len = 1u;
-    if !band_overflow {
-        len = 0u;
-    }
-    while len > 0u && count > 0u {
-        len -= 1u;
-        let i = cp_stack[len].x;
-        if i >= count || distance_sq_to_box(p, i) > max_sq {
-            continue;
-        }
-        let n = node_at(i);
-        let l = n.children.x;
-        let r = n.children.y;
-        if l == NO_CHILD || l <= i || r <= i || len + 2u > STACK_SIZE {
-            for (var t = n.children.z; t < n.children.z + n.children.w; t++) {
-                let c = closest_on_triangle(p, t);
-                let dv = c.point - p;
-                let d_sq = dot3(dv, dv);
-                if d_sq <= max_sq {
-                    sum += face_share(t, d_sq, depth);
-                }
-            }
-        } else {
-            cp_stack[len] = vec2<u32>(r, 0u);
-            cp_stack[len + 1u] = vec2<u32>(l, 0u);
-            len += 2u;
-        }
-    }
-    let rcp = 1.0 / sqrt(dot3(sum, sum));
-    if rcp < 3.0e38 && rcp > 0.0 {
-        return sum * rcp;
-    }
-    return (nearest - p) / depth;
-}
-
 // `contact::surface_and_side`: the closest surface point measured (found
 // false when none was needed: a voxel known outside, nothing within the
 // open depth or the bound) and whether p is inside. `bound_sq`: a squared
 // distance from p to some point of the mesh, or infinity (the same answer).
-// `band` > 0: the walk lists the triangles within it beyond the closest
-// point (`way_out`).
 struct Side {
     s: SurfacePoint,
     inside: bool,
 }
 
-fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32, band: f32) -> Side {
+fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
     var out = Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), false);
     if tree.x == 0u {
         return out;
@@ -685,7 +559,7 @@ fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32, band: f32) -> 
         if known == 0u {
             return out;
         }
-        out.s = closest_point_within_sq(p, bound_sq, band);
+        out.s = closest_point_within_sq(p, bound_sq);
         if !out.s.found {
             return out;
         }
@@ -703,7 +577,7 @@ fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32, band: f32) -> 
     if !(open_depth >= 0.0) {
         return out;
     }
-    out.s = closest_point_within_sq(p, min(open_depth * open_depth, bound_sq), band);
+    out.s = closest_point_within_sq(p, min(open_depth * open_depth, bound_sq));
     out.inside = out.s.found && dot3(p - out.s.point, side_normal(out.s)) < 0.0;
     return out;
 }
@@ -712,7 +586,7 @@ fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32, band: f32) -> 
 // inside the object, w < 0 when it is outside. `open_depth`: how far
 // behind an open mesh a point still counts as inside.
 fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
-    let side = surface_and_side(p, open_depth, squared(3.0e38), 0.0);
+    let side = surface_and_side(p, open_depth, squared(3.0e38));
     if !side.s.found || !side.inside {
         return vec4<f32>(0.0, 0.0, 0.0, -1.0);
     }
@@ -741,14 +615,14 @@ fn push_out_hinted(p: vec3<f32>, open_depth: f32, hint: u32) -> Pushed {
         }
         bound_sq = d;
     }
-    let side = surface_and_side(p, open_depth, bound_sq, WAY_OUT_BAND_M);
+    let side = surface_and_side(p, open_depth, bound_sq);
     if !side.s.found {
         return Pushed(vec4<f32>(p, 0.0), hint);
     }
     let depth = sqrt(side.s.distance_sq);
     if side.inside && depth > CONTACT_TOLERANCE_M {
-        let out = way_out(p, side.s.point, depth);
-        return Pushed(vec4<f32>(p + out * (depth - CONTACT_TOLERANCE_M), 1.0), side.s.triangle);
+        let s = side.s.point;
+        return Pushed(vec4<f32>(s + (p - s) * (CONTACT_TOLERANCE_M / depth), 1.0), side.s.triangle);
     }
     return Pushed(vec4<f32>(p, 0.0), side.s.triangle);
 }

@@ -130,64 +130,6 @@ impl SurfacePoint {
     }
 }
 
-/// Most triangles [`NearFaces`] lists; past them it gives up
-/// ([`NearFaces::overflow`]) and [`way_out`](super::way_out::way_out) walks
-/// the tree again.
-pub const NEAR_FACES_MAX: usize = 16;
-
-/// The triangles a closest-point walk met within `width` metres beyond the
-/// closest point it found (see [`closest_point_and_near_within_sq`]): each
-/// with its squared distance, in the order the walk met them. Some listed
-/// early, when the closest point so far was farther, may lie beyond.
-#[derive(Clone, Copy, Debug)]
-pub struct NearFaces {
-    /// The band's width, metres.
-    pub width: f32,
-    /// (triangle, squared distance) of the first `len`.
-    pub tris: [(u32, f32); NEAR_FACES_MAX],
-    /// How many of `tris` hold triangles.
-    pub len: usize,
-    /// More triangles were near than `tris` holds: the list is incomplete.
-    pub overflow: bool,
-}
-
-impl NearFaces {
-    /// An empty list for a band `width` metres wide.
-    #[must_use]
-    pub fn new(width: f32) -> Self {
-        Self {
-            width,
-            tris: [(0, 0.0); NEAR_FACES_MAX],
-            len: 0,
-            overflow: false,
-        }
-    }
-
-    /// Lists triangle `t` at squared distance `d`; when full, first drops
-    /// those farther than `within_sq`, then gives up.
-    fn push(&mut self, t: u32, d: f32, within_sq: f32) {
-        if self.overflow {
-            return;
-        }
-        if self.len == NEAR_FACES_MAX {
-            let mut kept = 0;
-            for i in 0..self.len {
-                if self.tris[i].1 <= within_sq {
-                    self.tris[kept] = self.tris[i];
-                    kept += 1;
-                }
-            }
-            self.len = kept;
-            if kept == NEAR_FACES_MAX {
-                self.overflow = true;
-                return;
-            }
-        }
-        self.tris[self.len] = (t, d);
-        self.len += 1;
-    }
-}
-
 /// Squared distance from `p` to the box `obb` (0 inside it).
 #[inline]
 fn distance_sq_to_box(p: Vec3, obb: &Obb) -> f32 {
@@ -227,52 +169,10 @@ pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Opti
 /// [`crate::collision::contact::push_out_hinted`] relies on.)
 #[must_use]
 pub fn closest_point_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32) -> Option<SurfacePoint> {
-    closest_walk::<false>(tree, p, max_sq, &mut NearFaces::new(0.0))
-}
-
-/// [`closest_point_within_sq`] that also lists in `near` every triangle
-/// within `near.width` beyond the closest point (what
-/// [`way_out`](super::way_out::way_out) sums): the walk then skips only the
-/// boxes farther than the closest point found so far plus that width. The
-/// same closest point bit for bit (the order of the walk does not depend on
-/// its bound, and the triangles the plain walk keeps lie within it).
-#[must_use]
-pub fn closest_point_and_near_within_sq(
-    tree: &ObbTree,
-    p: Vec3,
-    max_sq: f32,
-    near: &mut NearFaces,
-) -> Option<SurfacePoint> {
-    near.len = 0;
-    near.overflow = false;
-    closest_walk::<true>(tree, p, max_sq, near)
-}
-
-/// The walk of [`closest_point_within_sq`] (`BAND` false: `near` unused)
-/// and of [`closest_point_and_near_within_sq`] (`BAND` true).
-#[inline(always)]
-fn closest_walk<const BAND: bool>(
-    tree: &ObbTree,
-    p: Vec3,
-    max_sq: f32,
-    near: &mut NearFaces,
-) -> Option<SurfacePoint> {
     if tree.is_empty() || !p.is_finite() || max_sq.is_nan() || max_sq < 0.0 {
         return None;
     }
     let mut best_sq = max_sq;
-    // The boxes farther than this are skipped: the closest point so far,
-    // plus the band's width when triangles near it are listed.
-    let width = near.width;
-    let limit = |best_sq: f32| {
-        if BAND {
-            let r = best_sq.sqrt() + width;
-            r * r
-        } else {
-            best_sq
-        }
-    };
-    let mut skip_sq = limit(best_sq);
     let mut best: Option<SurfacePoint> = None;
     // (node, its box's squared distance, computed once when it is pushed).
     let mut stack = [(0u32, 0.0f32); STACK_SIZE];
@@ -285,7 +185,7 @@ fn closest_walk<const BAND: bool>(
         len -= 1;
         let (i, box_sq) = stack[len];
         // The bound may have shrunk since the node was pushed.
-        if box_sq > skip_sq {
+        if box_sq > best_sq {
             continue;
         }
         let Some(node) = tree.nodes.get(i as usize) else {
@@ -300,12 +200,8 @@ fn closest_walk<const BAND: bool>(
             for (k, tri) in tris.iter().enumerate() {
                 let (q, region) = closest_point_on_triangle_region(p, tri);
                 let d = q.distance_squared(p);
-                if BAND && d <= skip_sq {
-                    near.push((first + k) as u32, d, skip_sq);
-                }
                 if d <= best_sq && (best.is_none() || d < best_sq) {
                     best_sq = d;
-                    skip_sq = limit(best_sq);
                     best = Some(SurfacePoint {
                         point: q,
                         distance_sq: d,
