@@ -359,3 +359,64 @@ fn far_turns_sub_stepped_by_travel_flatten_like_every_frame() {
         "{unbound} of {every}: the bound matters"
     );
 }
+
+/// The far bodies' turns carry about the same work each step, not only the
+/// same number of bodies ([`trample::step::passes::far_turns`]): two big
+/// balls and two small ones, listed big, small, big, small, all far, at
+/// `far_every = 2`. Turns by body id put both big balls on one step and
+/// both small ones on the next (this test failed so: "step 0: bodies
+/// [0, 2] take their turn"); by cost each step takes one big ball and one
+/// small one. A
+/// body keeps its turn while it stays far, and a body that comes near
+/// loses it.
+#[test]
+fn far_turns_share_the_work_between_the_steps() {
+    let ball = |name: &str, r: f32, z: f32| {
+        format!(
+            r#"
+[[objects]]
+name = "{name}"
+shape = {{ kind = "sphere", radius_m = {r} }}
+orientation = "rolling"
+path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration_s = 4.0 }}
+"#
+        )
+    };
+    let objects = [
+        ball("big0", 1.0, -4.0),
+        ball("small1", 0.2, -1.5),
+        ball("big2", 1.0, 1.5),
+        ball("small3", 0.2, 4.0),
+    ]
+    .concat();
+    let mut sim = field_12m(400.0, "far_every = 2", &objects);
+    let dt = sim.params.dt_s;
+    let big = [true, false, true, false];
+    let mut first = None;
+    for step in 0..20 {
+        let turns = trample::step::passes::far_turns(&sim);
+        assert!(turns.iter().all(Option::is_some), "all four are far");
+        if let Some(first) = &first {
+            assert_eq!(&turns, first, "step {step}: each body keeps its turn");
+        }
+        first = Some(turns);
+        let passes = plan_passes(&sim, dt);
+        let stepped: Vec<usize> = (0..4)
+            .filter(|&i| passes[1..].iter().any(|p| p.has(i)))
+            .collect();
+        let bigs = stepped.iter().filter(|&&i| big[i]).count();
+        assert_eq!(
+            (stepped.len(), bigs),
+            (2, 1),
+            "step {step}: bodies {stepped:?} take their turn"
+        );
+        sim.step(dt).unwrap();
+    }
+    // Near now: no turn.
+    sim.params.far_beyond_m = 1.0e4;
+    assert!(
+        trample::step::passes::far_turns(&sim)
+            .iter()
+            .all(Option::is_none)
+    );
+}

@@ -75,6 +75,11 @@ pub struct Body {
     /// The time up to which the body has touched the grass, seconds: the
     /// end of the last step it took part in ([`crate::step::passes`]).
     pub(crate) stepped_to: f64,
+    /// Its turn among the far bodies while it is far
+    /// ([`crate::step::passes::far_turns`]): it steps on the frames where
+    /// `(frame + turn) % sim.far_every == 0`. `None` while it is near (or
+    /// before its first step).
+    pub(crate) far_turn: Option<u32>,
     /// What each collider kept while at rest ([`super::at_rest`]), by
     /// collider index; grown on first use.
     pub(crate) rest: Vec<super::at_rest::ColliderMemo>,
@@ -130,6 +135,7 @@ impl Body {
             parts,
             rig,
             stepped_to: 0.0,
+            far_turn: None,
             rest: Vec::new(),
         };
         body.set_time(0.0);

@@ -77,8 +77,10 @@ pub struct SimParams {
     /// [`crate::step::Body::may_step_far`]) whose root box lies wholly
     /// farther than
     /// [`SimParams::far_beyond_m`] from the camera (horizontally) touches
-    /// the grass every `far_every`-th step only — the bodies take turns, by
-    /// id, so each step carries a share of them — and then over all the
+    /// the grass every `far_every`-th step only — the bodies take turns,
+    /// each given the turn with the least work so far
+    /// ([`crate::step::passes::far_turns`]), so each step carries a share
+    /// of them — and then over all the
     /// time since it last did: its track is the one the whole field gets
     /// stepped at `far_every · dt` (the displacement `F · h` of DESIGN §6
     /// is frame-rate independent; [`crate::step::passes`]). Default 1: every

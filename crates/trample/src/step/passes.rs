@@ -5,9 +5,16 @@
 //! With `sim.far_every = k > 1`, a body that can be posed at any time
 //! ([`Body::may_step_far`]) and whose root box lies wholly farther than
 //! `sim.far_beyond_m` from the camera (horizontally) touches the grass only
-//! on the steps where `(frame + id) % k == 0` — the far bodies take turns,
-//! so each step carries about `1/k` of them — and then over all the time
-//! since it last did. A step runs:
+//! on the steps where `(frame + turn) % k == 0` — the far bodies take
+//! turns, so each step carries about `1/k` of them — and then over all the
+//! time since it last did. A body's `turn` ([`far_turns`]) is given when it
+//! becomes far and kept while it stays far: the one whose bodies' work
+//! ([`far_cost`]: ground covered times sub-steps) sums to the least, so
+//! that each step carries about `1/k` of the far bodies' work and not only
+//! of their number (the herd at `k = 16`, two cores: by body id, the steps
+//! of a turn took 10.8 to 21.6 ms on average and 10 % of the steps over
+//! 20 ms; by work, 12.2 to 18.1 ms and 17.6: BENCHMARKS.md, session 27). A
+//! step runs:
 //!
 //! - its **main pass**: the step's `dt` from `time`, over the bodies that
 //!   are not far (every body when `k = 1`: the step as it always was), with
@@ -119,9 +126,9 @@ pub fn plan_passes(sim: &Simulation, dt: f32) -> Vec<Pass> {
     let end = sim.time + f64::from(dt);
     let mut main = vec![true; n];
     let mut due: Vec<(f64, usize)> = Vec::new();
-    let eye = sim.eye();
+    let turns = far_turns(sim);
     for (i, body) in sim.bodies.iter().enumerate() {
-        let far = every > 1 && body.may_step_far() && is_far(body, eye, sim.params.far_beyond_m);
+        let far = turns[i].is_some();
         // A body that sat out steps (far, waiting for its turn) and is near
         // now catches up at once, from where it stopped.
         let behind = body.stepped_to < sim.time;
@@ -129,7 +136,7 @@ pub fn plan_passes(sim: &Simulation, dt: f32) -> Vec<Pass> {
             continue;
         }
         main[i] = false;
-        let turn = !far || (sim.frame + u64::from(body.id.0)).is_multiple_of(every);
+        let turn = turns[i].is_none_or(|t| (sim.frame + u64::from(t)).is_multiple_of(every));
         if turn && body.stepped_to < end {
             due.push((body.stepped_to, i));
         }
@@ -145,6 +152,73 @@ pub fn plan_passes(sim: &Simulation, dt: f32) -> Vec<Pass> {
         passes.push(Pass::new(sim, active, start, (end - start) as f32, false));
     }
     passes
+}
+
+/// Each body's turn among the far bodies this step (see the module docs):
+/// `None` for a body that is not far (or with `sim.far_every` ≤ 1),
+/// otherwise `Some(t)`, `t < far_every`: it steps on the frames where
+/// `(frame + t) % far_every == 0`. A far body keeps the turn it had; the
+/// bodies that just became far are given theirs largest first (by
+/// [`far_cost`]), each the turn whose bodies' costs sum to the least (the
+/// first of equal ones). A function of the simulation's state alone, so
+/// that [`plan_passes`] and [`Simulation::begin_step`] (which keeps the
+/// turns in the bodies) agree.
+#[must_use]
+pub fn far_turns(sim: &Simulation) -> Vec<Option<u32>> {
+    let every = sim.params.far_every.max(1);
+    let mut turns = vec![None; sim.bodies.len()];
+    if every == 1 {
+        return turns;
+    }
+    let eye = sim.eye();
+    let mut load = vec![0.0f64; every as usize];
+    let mut new = Vec::new();
+    for (i, body) in sim.bodies.iter().enumerate() {
+        if !(body.may_step_far() && is_far(body, eye, sim.params.far_beyond_m)) {
+            continue;
+        }
+        let cost = far_cost(sim, body);
+        match body.far_turn.filter(|&t| t < every) {
+            Some(t) => {
+                turns[i] = Some(t);
+                load[t as usize] += cost;
+            }
+            None => new.push((cost, i)),
+        }
+    }
+    new.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    for (cost, i) in new {
+        let (t, _) = load
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1.total_cmp(b.1).then(a.0.cmp(&b.0)))
+            .expect("far_every > 1 turns");
+        load[t] += cost;
+        turns[i] = Some(t as u32);
+    }
+    turns
+}
+
+/// What a far body's turn is taken to cost: the ground its root box can
+/// reach, m² — the blades its narrow phase tests (the box's horizontal
+/// rectangle grown by a blade's length and the contact shell, as the
+/// narrow phase's candidates are) — times the sub-steps of a turn at its
+/// speed now (`far_every` steps of the scene's `dt_s` of travel, at most
+/// `far_travel_m` a sub-step; at least 1). An estimate from the pose
+/// alone, so the same on every machine and thread count.
+#[must_use]
+pub fn far_cost(sim: &Simulation, body: &Body) -> f64 {
+    let reach = sim.field.max_blade_length + sim.params.contact_shell_m;
+    let (lo, hi) = super::stages::reach_rect(&body.world_root, reach);
+    let area = f64::from(hi[0] - lo[0]) * f64::from(hi[1] - lo[1]);
+    let travel = f64::from(body.pose.velocity.length())
+        * f64::from(sim.params.dt_s)
+        * f64::from(sim.params.far_every);
+    let substeps = (travel / f64::from(sim.params.far_travel_m))
+        .ceil()
+        .max(1.0);
+    let cost = area * substeps;
+    if cost.is_finite() { cost.max(0.0) } else { 0.0 }
 }
 
 /// How many bodies the far passes of `passes` step (every pass but the

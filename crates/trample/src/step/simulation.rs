@@ -282,7 +282,11 @@ impl Simulation {
     pub fn begin_step(&mut self, dt: f32) -> Result<Vec<Pass>, SimError> {
         check_dt(dt)?;
         self.field.clear_changes();
+        let turns = super::passes::far_turns(self);
         let passes = plan_passes(self, dt);
+        for (body, turn) in self.bodies.iter_mut().zip(turns) {
+            body.far_turn = turn;
+        }
         for pass in &passes {
             let plan = pass.plan;
             if plan.needed > plan.substeps {
