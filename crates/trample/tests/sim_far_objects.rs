@@ -366,9 +366,8 @@ fn far_turns_sub_stepped_by_travel_flatten_like_every_frame() {
 /// `far_every = 2`. Turns by body id put both big balls on one step and
 /// both small ones on the next (this test failed so: "step 0: bodies
 /// [0, 2] take their turn"); by cost each step takes one big ball and one
-/// small one. A
-/// body keeps its turn while it stays far, and a body that comes near
-/// loses it.
+/// small one. A body keeps its turn while it stays far, and a body that
+/// comes near loses it.
 #[test]
 fn far_turns_share_the_work_between_the_steps() {
     let ball = |name: &str, r: f32, z: f32| {

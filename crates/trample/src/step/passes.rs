@@ -11,10 +11,10 @@
 //! becomes far and kept while it stays far: the one whose bodies' work
 //! ([`far_cost`]: ground covered times sub-steps) sums to the least, so
 //! that each step carries about `1/k` of the far bodies' work and not only
-//! of their number (the herd at `k = 16`, two cores: by body id, the steps
-//! of a turn took 10.8 to 21.6 ms on average and 10 % of the steps over
-//! 20 ms; by work, 12.2 to 18.1 ms and 17.6: BENCHMARKS.md, session 27). A
-//! step runs:
+//! of their number (the herd at `k = 16`, two cores, 240 steps: by body
+//! id, a turn's steps took 10.9 to 22.5 ms on average and 31–36 steps took
+//! over 20 ms; by work, 12.3 to 18.5 ms and 2–4 steps: BENCHMARKS.md,
+//! session 27). A step runs:
 //!
 //! - its **main pass**: the step's `dt` from `time`, over the bodies that
 //!   are not far (every body when `k = 1`: the step as it always was), with
@@ -121,14 +121,19 @@ pub fn is_far(body: &Body, eye: Vec3, beyond: f32) -> bool {
 /// pass first, then the far passes by start time.
 #[must_use]
 pub fn plan_passes(sim: &Simulation, dt: f32) -> Vec<Pass> {
+    plan_passes_with(sim, dt, &far_turns(sim))
+}
+
+/// [`plan_passes`] with the far bodies' turns already found
+/// ([`far_turns`] of `sim`: what [`Simulation::begin_step`] keeps).
+pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>]) -> Vec<Pass> {
     let n = sim.bodies.len();
     let every = u64::from(sim.params.far_every.max(1));
     let end = sim.time + f64::from(dt);
     let mut main = vec![true; n];
     let mut due: Vec<(f64, usize)> = Vec::new();
-    let turns = far_turns(sim);
     for (i, body) in sim.bodies.iter().enumerate() {
-        let far = turns[i].is_some();
+        let far = turns.get(i).copied().flatten().is_some();
         // A body that sat out steps (far, waiting for its turn) and is near
         // now catches up at once, from where it stopped.
         let behind = body.stepped_to < sim.time;
@@ -136,7 +141,11 @@ pub fn plan_passes(sim: &Simulation, dt: f32) -> Vec<Pass> {
             continue;
         }
         main[i] = false;
-        let turn = turns[i].is_none_or(|t| (sim.frame + u64::from(t)).is_multiple_of(every));
+        let turn = turns
+            .get(i)
+            .copied()
+            .flatten()
+            .is_none_or(|t| (sim.frame + u64::from(t)).is_multiple_of(every));
         if turn && body.stepped_to < end {
             due.push((body.stepped_to, i));
         }

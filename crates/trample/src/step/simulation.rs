@@ -3,7 +3,7 @@
 use super::blade_class::BladeClass;
 use super::body::{Body, BodyId};
 use super::params::{SimError, SimParams, check_dt};
-use super::passes::{Pass, plan_passes};
+use super::passes::{Pass, plan_passes_with};
 use super::stages;
 use super::timings::StepTimings;
 use crate::camera::{Camera, CameraView};
@@ -284,7 +284,7 @@ impl Simulation {
         check_dt(dt)?;
         self.field.clear_changes();
         let turns = super::passes::far_turns(self);
-        let passes = plan_passes(self, dt);
+        let passes = plan_passes_with(self, dt, &turns);
         for (body, turn) in self.bodies.iter_mut().zip(turns) {
             body.far_turn = turn;
         }
