@@ -1,20 +1,25 @@
 //! Blade deformation on the GPU (paper §6.1, Eq. 5–7, Fig. 7): dispatches
-//! `bend.wgsl` over every blade; those with a force this sub-step (DBG or
-//! PBG) bend, as `trample::deform::bend::bend_blade` does, above the
+//! `bend.wgsl` over the active patches' dirty patches
+//! ([`crate::active_patches`]; every blade without a broad phase); those
+//! with a force this sub-step (DBG or PBG) bend, as `trample::deform::bend::bend_blade` does, above the
 //! terrain's ground guard (`guard.wgsl`).
 
+use crate::active_patches::List;
+use crate::broad_phase::{BroadPhase, NoBroad};
 use crate::field::GpuField;
-use crate::kernel::{Kernel, Slot};
+use crate::kernel::{Kernel, Slot, begin_pass};
 
-/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl` and `chunk.wgsl`
-/// prepended).
+/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`, `chunk.wgsl`,
+/// `broad_params.wgsl` and `active_chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}\n{}",
+        "{}\n{}\n{}\n{}\n{}\n{}",
         crate::BLADE_WGSL,
         crate::GUARD_WGSL,
         crate::CHUNK_WGSL,
+        include_str!("broad_params.wgsl"),
+        include_str!("active_chunk.wgsl"),
         include_str!("bend.wgsl")
     )
 }
@@ -22,6 +27,7 @@ pub fn source() -> String {
 /// The compiled bending kernel.
 pub struct Bend {
     kernel: Kernel,
+    no_broad: NoBroad,
 }
 
 impl Bend {
@@ -34,21 +40,28 @@ impl Bend {
                 device,
                 "trample-gpu bend",
                 &source(),
-                &[Uniform, ReadWrite, Read, Read, ReadWrite, Uniform, Read],
-                &["bend"],
+                &[
+                    Uniform, ReadWrite, Read, Read, ReadWrite, Uniform, Read, Uniform, ReadWrite,
+                ],
+                &["bend", "bend_active"],
             ),
+            no_broad: NoBroad::new(device),
         }
     }
 
-    /// Records the bending of every forced blade, one dispatch per chunk.
+    /// Records the bending of every forced blade, one dispatch per chunk:
+    /// over `broad`'s active bend lists (the active patches' `record_lists`
+    /// recorded before, after propagation), or every blade without.
     pub fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         field: &GpuField,
         params: &wgpu::Buffer,
+        broad: Option<&BroadPhase>,
     ) {
-        for chunk in &field.chunks {
+        let (broad_params, lists) = self.no_broad.or(broad);
+        for (c, chunk) in field.chunks.iter().enumerate() {
             let group = self.kernel.bind(
                 device,
                 &[
@@ -59,10 +72,23 @@ impl Bend {
                     &field.displaced,
                     &chunk.uniform,
                     &field.ground,
+                    broad_params,
+                    lists,
                 ],
             );
-            self.kernel
-                .dispatch(encoder, 0, &group, crate::kernel::run_grid(chunk.groups));
+            match broad {
+                Some(b) => self.kernel.dispatch_indirect_at(
+                    &mut begin_pass(encoder),
+                    1,
+                    &group,
+                    &b.args,
+                    b.list_args_offset(List::Bend(c as u32)),
+                ),
+                None => {
+                    self.kernel
+                        .dispatch(encoder, 0, &group, crate::kernel::run_grid(chunk.groups))
+                }
+            }
         }
     }
 }

@@ -12,6 +12,11 @@
 @group(0) @binding(4) var<storage, read_write> displaced: array<u32>;
 @group(0) @binding(5) var<uniform> chunk: Chunk;
 @group(0) @binding(6) var<storage, read> ground: array<f32>;
+// The broad phase's uniform and lists: the active patches' bend lists
+// (`active_patches.wgsl`; `BroadParams` and the layout: broad_params.wgsl,
+// prepended), read by `bend_active`.
+@group(0) @binding(7) var<uniform> broad: BroadParams;
+@group(0) @binding(8) var<storage, read_write> lists: array<atomic<u32>>;
 
 // `bend::offset_base` (Eq. 5): the part of v1 perpendicular to AB, over num.
 fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: f32) -> vec3<f32> {
@@ -34,6 +39,17 @@ fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
         if generation[b] != NO_GENERATION {
             bend_blade(b);
         }
+    }
+}
+
+// `bend` over the chunk's active bend list: the patches dirty this sub-step
+// (those `seed` ran over and those propagation listed a candidate in), the
+// only ones that hold a blade with a generation.
+@compute @workgroup_size(64)
+fn bend_active(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let b = active_chunk_blade(gid, groups, ACTIVE_BEND);
+    if b != NOT_IN_CHUNK && generation[b] != NO_GENERATION {
+        bend_blade(b);
     }
 }
 

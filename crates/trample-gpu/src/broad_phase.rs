@@ -19,6 +19,7 @@ use trample::field::FieldLayout;
 use trample::obb::Obb;
 use wgpu::util::DeviceExt;
 
+use crate::active_patches::{List, region_words};
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot, grid};
 
@@ -56,7 +57,8 @@ pub struct BroadPhase {
     /// The per-chunk patch lists, then the per-chunk counts, then a mark
     /// per patch (see the WGSL).
     pub(crate) lists: wgpu::Buffer,
-    /// Per chunk: the narrow phase's indirect dispatch (x, y, z).
+    /// Per chunk: the narrow phase's indirect dispatch (x, y, z); then one
+    /// per active-patch list ([`BroadPhase::list_args_offset`]).
     pub(crate) args: wgpu::Buffer,
     chunks: u32,
     patches: u32,
@@ -95,15 +97,20 @@ impl Sized {
                 limit,
             });
         }
+        let first = active_first(patches, chunks, objects);
         let params = GpuBroadParams {
             counts,
             dispatch: [
                 per_patch,
                 device.limits().max_compute_workgroups_per_dimension,
                 mask_words(objects),
-                0,
+                first as u32,
             ],
         };
+        // Every patch starts dirty and kept: the first sub-step visits the
+        // whole field once (a table made again, for more objects, too).
+        let mut words = vec![0u32; lists_words(patches, chunks, objects) as usize];
+        words[first as usize..(first + 2 * u64::from(patches)) as usize].fill(1);
         use wgpu::BufferUsages as U;
         let init = |label: &str, contents: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -125,10 +132,45 @@ impl Sized {
             ),
             lists: init(
                 "trample-gpu broad phase lists",
-                bytemuck::cast_slice(&vec![0u32; lists_words(patches, chunks, objects) as usize]),
+                bytemuck::cast_slice(&words),
                 U::STORAGE | U::COPY_DST | U::COPY_SRC,
             ),
         })
+    }
+}
+
+/// Stand-ins for a broad phase's uniform and lists, bound by the stages that
+/// read them where none is given (the stage tests): a zero uniform (no
+/// patches: every blade is visited, nothing is marked) and a small buffer.
+pub(crate) struct NoBroad {
+    pub(crate) params: wgpu::Buffer,
+    pub(crate) lists: wgpu::Buffer,
+}
+
+impl NoBroad {
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
+        Self {
+            params: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu no broad phase"),
+                size: std::mem::size_of::<GpuBroadParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM,
+                mapped_at_creation: false,
+            }),
+            lists: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu no patch lists"),
+                size: 16,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    /// `broad`'s uniform and lists, or these stand-ins.
+    pub(crate) fn or<'a>(
+        &'a self,
+        broad: Option<&'a BroadPhase>,
+    ) -> (&'a wgpu::Buffer, &'a wgpu::Buffer) {
+        broad.map_or((&self.params, &self.lists), |b| (&b.params, &b.lists))
     }
 }
 
@@ -139,9 +181,16 @@ pub fn mask_words(objects: u32) -> u32 {
 }
 
 /// Words of the lists buffer: the lists, the per-chunk counts, a mark per
-/// patch, then an object mask per patch (see `broad_phase.wgsl`).
+/// patch, an object mask per patch (see `broad_phase.wgsl`), then the
+/// active patches' region ([`crate::active_patches`]).
 #[must_use]
 pub fn lists_words(patches: u32, chunks: u32, objects: u32) -> u64 {
+    active_first(patches, chunks, objects) + region_words(patches, chunks)
+}
+
+/// The first word of the active patches' region of the lists: after the
+/// broad phase's own lists, counts, marks and masks.
+fn active_first(patches: u32, chunks: u32, objects: u32) -> u64 {
     u64::from(chunks) + u64::from(patches) * (2 + u64::from(mask_words(objects)))
 }
 
@@ -245,7 +294,9 @@ impl BroadPhase {
             lists: sized.lists,
             args: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("trample-gpu narrow phase dispatch"),
-                contents: bytemuck::cast_slice(&vec![0u32; 3 * chunks as usize]),
+                // The narrow phase's per chunk, then the active patches'
+                // lists': tidy, seed, bend's and recover's per chunk.
+                contents: bytemuck::cast_slice(&vec![0u32; 3 * (3 * chunks + 2) as usize]),
                 usage: wgpu::BufferUsages::STORAGE
                     | wgpu::BufferUsages::INDIRECT
                     | wgpu::BufferUsages::COPY_SRC,
@@ -297,6 +348,35 @@ impl BroadPhase {
         Ok(true)
     }
 
+    /// Patches of the field.
+    #[must_use]
+    pub fn patch_count(&self) -> u32 {
+        self.patches
+    }
+
+    /// Chunks of the field.
+    #[must_use]
+    pub fn chunk_count(&self) -> u32 {
+        self.chunks
+    }
+
+    /// The byte offset in `lists` of `list`'s count, and the bytes of the
+    /// counts from there to the end of the active patches' region.
+    pub(crate) fn active_counts(&self, list: List) -> (u64, u64) {
+        let first =
+            active_first(self.patches, self.chunks, self.objects) + 6 * u64::from(self.patches);
+        let all = region_words(self.patches, self.chunks) - 6 * u64::from(self.patches);
+        let i = u64::from(list.index(self.chunks));
+        ((first + i) * 4, (all - i) * 4)
+    }
+
+    /// The byte offset in `args` of `list`'s indirect dispatch (written by
+    /// the active patches' `list_args`).
+    #[must_use]
+    pub fn list_args_offset(&self, list: List) -> u64 {
+        u64::from(3 * (self.chunks + list.index(self.chunks))) * 4
+    }
+
     /// Where the per-patch object masks lie in `BroadPhase::lists`:
     /// (words per patch, first word), as the object table's header carries
     /// them to the narrow phase and the contact response
@@ -334,7 +414,10 @@ impl BroadPhase {
             0,
             bytemuck::cast_slice(&rects),
         );
-        encoder.clear_buffer(&self.lists, u64::from(self.patches) * 4, None);
+        // The counts, marks and masks (not the active patches' region).
+        let first = u64::from(self.patches) * 4;
+        let end = active_first(self.patches, self.chunks, self.objects) * 4;
+        encoder.clear_buffer(&self.lists, first, Some(end - first));
         let group = self.kernel.bind(
             device,
             &[

@@ -176,9 +176,22 @@ impl Kernel {
         group: &wgpu::BindGroup,
         args: &wgpu::Buffer,
     ) {
+        self.dispatch_indirect_at(pass, entry, group, args, 0);
+    }
+
+    /// As [`Kernel::dispatch_indirect_in`], with the arguments at byte
+    /// `offset` of `args`.
+    pub(crate) fn dispatch_indirect_at(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        entry: usize,
+        group: &wgpu::BindGroup,
+        args: &wgpu::Buffer,
+        offset: u64,
+    ) {
         pass.set_pipeline(&self.pipelines[entry]);
         pass.set_bind_group(0, group, &[]);
-        pass.dispatch_workgroups_indirect(args, 0);
+        pass.dispatch_workgroups_indirect(args, offset);
     }
 }
 

@@ -46,6 +46,7 @@
 //! cannot see as uniform (see `narrow_phase.wgsl`); `examples/stage_times.rs`
 //! with `MESA_SHADER_CACHE_DISABLE=true` shows a recompiling stage.
 
+pub mod active_patches;
 pub mod bend;
 pub mod broad_phase;
 pub mod cells;
@@ -118,6 +119,7 @@ pub const CELL_WGSL: &str = include_str!("cell.wgsl");
 pub fn shader_sources() -> Vec<(&'static str, String)> {
     vec![
         ("broad_phase.wgsl", broad_phase::source()),
+        ("active_patches.wgsl", active_patches::source()),
         ("draw_lists.wgsl", draw_lists::source()),
         ("narrow_phase.wgsl", narrow_phase::source()),
         ("contact.wgsl", contact::source()),

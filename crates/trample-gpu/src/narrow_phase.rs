@@ -136,8 +136,12 @@ impl NarrowPhase {
     ///
     /// With `broad` (recorded earlier in `encoder`; `objects` made with its
     /// [`BroadPhase::mask_layout`]): the simulation's weighted contacts;
-    /// forces and contacts are cleared and only the blades of the listed
-    /// patches are tested, each against the objects marked for its patch.
+    /// only the blades of the listed patches are tested, each against the
+    /// objects marked for its patch, and only theirs are written (every
+    /// blade of a listed patch: nothing touched is zero). Every other
+    /// blade's force and contact must be zero already: the active patches'
+    /// `tidy` ([`crate::propagation::Propagation::record_tidy`]) clears
+    /// those of the patches listed before.
     /// Without it: the paper's hit flags, every blade of the field against
     /// every object.
     #[allow(clippy::too_many_arguments)]
@@ -154,10 +158,6 @@ impl NarrowPhase {
     ) -> u32 {
         if objects.is_empty() {
             return 0;
-        }
-        if broad.is_some() {
-            encoder.clear_buffer(&field.force, 0, None);
-            encoder.clear_buffer(&field.touch, 0, None);
         }
         let lists = broad.map_or(&self.no_lists, |b| &b.lists);
         objects.set_walk(

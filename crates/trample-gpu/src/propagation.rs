@@ -20,14 +20,18 @@
 //! not the field: `seed` lists the blades next to generation 0, each blade
 //! that joins a generation lists its neighbours for the next (once each: a
 //! bit a blade), and `advance` sizes the next pass by that list
-//! (`GpuField::frontier`). `seed` itself goes over every blade (it clears
-//! the lists' bits and the generations), but after the broad phase
-//! (`broad` given to [`Propagation::record`]) it reads a blade's neighbours and their
-//! forces only where a patch next to the blade's was listed: the herd's
-//! 16.8 M blades are almost all far from every object (session 24, H200:
-//! `seed` was most of its 0.68 ms of propagation).
+//! (`GpuField::frontier`). Without a broad phase `seed` goes over every
+//! blade (it clears the lists' bits and the generations); with one
+//! (`broad` given to [`Propagation::record`]) it goes over the active
+//! patches' seed list — the patches next to those listed — and
+//! [`Propagation::record_tidy`], before the narrow phase, puts back the
+//! state of the patches the broad phase no longer lists
+//! ([`crate::active_patches`]): the herd's 16.8 M blades are almost all far
+//! from every object (session 24, H200: `seed` over all of them was most of
+//! its 0.68 ms of propagation).
 
-use crate::broad_phase::{BroadPhase, GpuBroadParams};
+use crate::active_patches::List;
+use crate::broad_phase::{BroadPhase, NoBroad};
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot, begin_pass};
 
@@ -51,6 +55,8 @@ const ADVANCE: usize = 4;
 const GATHER_COMMIT: usize = 5;
 const PRIME: usize = 6;
 const FINISH: usize = 7;
+const TIDY: usize = 8;
+const SEED_ACTIVE: usize = 9;
 
 /// Generations recorded as wide (indirect) passes before `finish` takes
 /// the rest in one workgroup: the first generations' candidate lists are
@@ -67,8 +73,7 @@ pub struct Propagation {
     unused_args: wgpu::Buffer,
     /// Stand in for the broad phase's uniform and lists where none is
     /// given: a zero uniform, so `seed` runs over every blade.
-    no_broad: wgpu::Buffer,
-    no_lists: wgpu::Buffer,
+    no_broad: NoBroad,
 }
 
 impl Propagation {
@@ -82,8 +87,8 @@ impl Propagation {
                 "trample-gpu propagation",
                 &source(),
                 &[
-                    Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite, Read,
-                    ReadWrite, ReadWrite, Uniform, Read,
+                    Uniform, ReadWrite, ReadWrite, ReadWrite, ReadWrite, Read, ReadWrite,
+                    ReadWrite, ReadWrite, ReadWrite, Uniform, ReadWrite,
                 ],
                 &[
                     "begin",
@@ -94,6 +99,8 @@ impl Propagation {
                     "gather_commit",
                     "prime",
                     "finish",
+                    "tidy",
+                    "seed_active",
                 ],
             ),
             unused_args: device.create_buffer(&wgpu::BufferDescriptor {
@@ -102,18 +109,7 @@ impl Propagation {
                 usage: wgpu::BufferUsages::STORAGE,
                 mapped_at_creation: false,
             }),
-            no_broad: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("trample-gpu propagation: no broad phase"),
-                size: std::mem::size_of::<GpuBroadParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM,
-                mapped_at_creation: false,
-            }),
-            no_lists: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("trample-gpu propagation: no patch lists"),
-                size: 16,
-                usage: wgpu::BufferUsages::STORAGE,
-                mapped_at_creation: false,
-            }),
+            no_broad: NoBroad::new(device),
             next_gather: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu gather dispatch"),
                 size: 12,
@@ -137,6 +133,30 @@ impl Propagation {
         self.kernel.dispatch(encoder, BEGIN, &group, (1, 1));
     }
 
+    /// Records `tidy` over `broad`'s active tidy list (the patches dirty
+    /// from the last sub-step that the broad phase did not list now: their forces,
+    /// contacts, generations and candidate bits put back to none), after
+    /// the active patches' `record_seed` and before the narrow phase, which
+    /// then writes the listed patches' forces and contacts alone.
+    pub fn record_tidy(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        field: &GpuField,
+        params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
+        broad: &BroadPhase,
+    ) {
+        let group = self.bind(device, field, params, state, &self.next_gather, Some(broad));
+        self.kernel.dispatch_indirect_at(
+            &mut begin_pass(encoder),
+            TIDY,
+            &group,
+            &broad.args,
+            broad.list_args_offset(List::Tidy),
+        );
+    }
+
     /// The stage's bind group: the field's propagation arrays, with `args`
     /// at the indirect-arguments slot (the next gather's, or an unused
     /// buffer while the gather reads them), and `broad`'s uniform and lists
@@ -150,8 +170,7 @@ impl Propagation {
         args: &wgpu::Buffer,
         broad: Option<&BroadPhase>,
     ) -> wgpu::BindGroup {
-        let (broad_params, lists) =
-            broad.map_or((&self.no_broad, &self.no_lists), |b| (&b.params, &b.lists));
+        let (broad_params, lists) = self.no_broad.or(broad);
         self.kernel.bind(
             device,
             &[
@@ -176,11 +195,11 @@ impl Propagation {
     /// then at most `passes` generations (Eq. 4) over the candidates: gather
     /// and commit for the first, `gather_commit` for the second, `finish`
     /// for the others. [`Propagation::record_reset`] must come first in
-    /// the sub-step. With `broad` (recorded earlier in the sub-step, and
-    /// the narrow phase over its lists), `seed` reads no neighbours for the
-    /// blades whose patch and the four beside it `broad` did not list (none
-    /// of them was touched: the same results); without, it reads them for
-    /// every blade.
+    /// the sub-step. With `broad` (recorded earlier in the sub-step with
+    /// the active patches' `record_seed`, then [`Propagation::record_tidy`]
+    /// and the narrow phase over its lists), `seed` runs over the patches
+    /// next to those `broad` listed (no other blade or neighbour of one was
+    /// touched: the same results); without, over every blade.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -198,7 +217,16 @@ impl Propagation {
         // One compute pass for the stage's dispatches.
         let mut cpass = begin_pass(encoder);
         let k = &self.kernel;
-        k.dispatch_in(&mut cpass, SEED, &group, groups);
+        match broad {
+            Some(b) => k.dispatch_indirect_at(
+                &mut cpass,
+                SEED_ACTIVE,
+                &group,
+                &b.args,
+                b.list_args_offset(List::Seed),
+            ),
+            None => k.dispatch_in(&mut cpass, SEED, &group, groups),
+        }
         k.dispatch_in(&mut cpass, PRIME, &group, (1, 1));
         for pass in 0..passes.min(WIDE_GENERATIONS) {
             if pass == 0 {

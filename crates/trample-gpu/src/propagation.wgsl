@@ -29,8 +29,8 @@
 // cost a dispatch of nothing.
 @group(0) @binding(6) var<storage, read_write> next_gather: array<u32, 3>;
 // The narrow phase's per-blade contact: segment mask, firmest weight's
-// bits, its owner (see narrow_phase.wgsl).
-@group(0) @binding(7) var<storage, read> touch: array<vec4<u32>>;
+// bits, its owner (see narrow_phase.wgsl). Written by `tidy` alone.
+@group(0) @binding(7) var<storage, read_write> touch: array<vec4<u32>>;
 // Per blade, written by `gather`, applied by `commit`: the new force in
 // xyz, and in w 1 + the owner of the first pusher (0: not reached). Zero
 // between the two passes' runs (zero when made; `gather` writes only the
@@ -43,13 +43,14 @@
 // two lists of N blade indices each (`list_base`).
 @group(0) @binding(9) var<storage, read_write> frontier: array<atomic<u32>>;
 
-// The broad phase's uniform and lists (broad_phase.wgsl), read by `seed`
-// alone: which patches the narrow phase ran over this sub-step. Without a
-// broad phase (the propagation recorded on its own) a zero uniform: then
-// every blade is seeded as it always was.
-// (`BroadParams`: broad_params.wgsl, prepended.)
+// The broad phase's uniform and lists (broad_phase.wgsl): the active
+// patches (`active_patches.wgsl`), whose tidy and seed lists `tidy` and
+// `seed_active` run over, and whose dirty marks `list_candidate` sets.
+// Without a broad phase (the propagation recorded on its own) a zero
+// uniform: `seed` runs over every blade and nothing is marked.
+// (`BroadParams` and the region's layout: broad_params.wgsl, prepended.)
 @group(0) @binding(10) var<uniform> broad: BroadParams;
-@group(0) @binding(11) var<storage, read> lists: array<u32>;
+@group(0) @binding(11) var<storage, read_write> lists: array<atomic<u32>>;
 
 const NONE_U32: u32 = 0xffffffffu;
 const CLASS_UNTOUCHED: u32 = 0u;
@@ -66,7 +67,9 @@ fn list_base(p: u32) -> u32 {
     return FRONTIER_HEAD + params.counts.x * (1u + p);
 }
 
-// Puts blade c in candidate list p unless it is there already.
+// Puts blade c in candidate list p unless it is there already; its patch
+// is dirty (its candidate bit, and the force and generation it may take,
+// are tidied once the broad phase no longer lists it).
 fn list_candidate(c: u32, p: u32) {
     if c >= params.counts.x {
         return;
@@ -75,6 +78,9 @@ fn list_candidate(c: u32, p: u32) {
     if (atomicOr(&frontier[FRONTIER_HEAD + c], bit) & bit) == 0u {
         let i = atomicAdd(&frontier[p], 1u);
         atomicStore(&frontier[list_base(p) + i], c);
+        if broad.counts.x != 0u {
+            atomicStore(&lists[active_word(ACTIVE_DIRTY, c / max(broad.dispatch.x, 1u))], 1u);
+        }
     }
 }
 
@@ -125,63 +131,52 @@ fn begin() {
     }
 }
 
-// Whether the broad phase listed blade b's patch or one of the four beside
-// it this sub-step (`broad_phase.wgsl`'s mark per patch): only there can
-// the blade or one of its 4-neighbours (Definition 6; across a patch
-// border the neighbour lies in the patch beside) have been touched — the
-// narrow phase cleared every blade's force and wrote those of the listed
-// patches alone. True when no broad phase is bound.
-fn near_listed(b: u32) -> bool {
-    let per = broad.dispatch.x;
-    if per == 0u {
-        return true;
+// A dirty patch the broad phase did not list (`active_patches.wgsl`): its blades' state
+// of the last sub-step put back to none — no force, no contact, no
+// generation, no candidate bit — as the narrow phase's clear and `seed`
+// left every blade of the field before (the same state, written only where
+// it was set).
+@compute @workgroup_size(64)
+fn tidy(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let b = active_blade(gid, groups, ACTIVE_TIDY, 0u);
+    if b >= params.counts.x {
+        return;
     }
-    let patches = broad.counts.x;
-    let row = max(broad.counts.w, 1u);
-    let p = b / per;
-    if p >= patches {
-        return true;
-    }
-    let marks = patches + broad.counts.z;
-    let x = p % row;
-    var near = lists[marks + p] != 0u;
-    if x > 0u {
-        near = near || lists[marks + p - 1u] != 0u;
-    }
-    if x + 1u < row && p + 1u < patches {
-        near = near || lists[marks + p + 1u] != 0u;
-    }
-    if p >= row {
-        near = near || lists[marks + p - row] != 0u;
-    }
-    if p + row < patches {
-        near = near || lists[marks + p + row] != 0u;
-    }
-    return near;
+    force[b] = vec4<f32>(0.0);
+    touch[b] = vec4<u32>(0u);
+    generation[b] = NO_GENERATION;
+    atomicStore(&frontier[FRONTIER_HEAD + b], 0u);
 }
 
 // Generation 0 = every blade an object touched (Definition 4, held by its
 // contact weight); DBG in the paper's sense (class, count) from
-// DBG_WEIGHT on; the track owner of the firmest contact.
+// DBG_WEIGHT on; the track owner of the firmest contact. Every blade of the
+// field (no broad phase bound).
 @compute @workgroup_size(64)
 fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = blade_index(gid);
-    if b >= params.counts.x {
-        return;
+    if b < params.counts.x {
+        seed_blade(b);
     }
+}
+
+// `seed` over the active patches' seed list: the patches the broad phase
+// listed and the four beside each. Only there can a blade or one of its
+// neighbours have been touched; everywhere else `tidy` (or no contact
+// since) left no generation and no candidate bit, `seed`'s answer there.
+@compute @workgroup_size(64)
+fn seed_active(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let b = active_blade(gid, groups, ACTIVE_SEED, 0u);
+    if b < params.counts.x {
+        seed_blade(b);
+    }
+}
+
+fn seed_blade(b: u32) {
     // The blade's listed bits start clear every sub-step (a list left over
     // at the cap, or by a caller recording fewer passes, is forgotten); no
     // other thread writes them in this pass.
     atomicStore(&frontier[FRONTIER_HEAD + b], 0u);
-    // Far from every listed patch (most of a large field): neither the
-    // blade nor a neighbour was touched, so it is no candidate and joins no
-    // generation — the answer of the tests below, without reading its
-    // neighbours and their forces (session 24, H200: `seed` over the
-    // herd's 16.8 M blades, 0.68 ms, was most of its propagation).
-    if !near_listed(b) {
-        generation[b] = NO_GENERATION;
-        return;
-    }
     // A candidate of generation 1 (list 0): a neighbour that points back
     // at it was touched (generation 0), as `reach` will look for.
     if params.counts.z != 0u {

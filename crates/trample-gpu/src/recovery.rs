@@ -1,23 +1,28 @@
 //! Recovery on the GPU (ours, DESIGN §6): dispatches `recovery.wgsl` over
-//! every blade; displaced ones relax towards rest as
+//! the active patches that may hold a displaced or touched blade
+//! ([`crate::active_patches`]; every blade without a broad phase); displaced ones relax towards rest as
 //! `trample::step::recover` does (`recovery::recover_blade`, with each
 //! blade's track owner's settings and not while an object holds it), and
 //! are counted. Billboard slopes recover in `slopes.wgsl` (the paper's
 //! mode) or follow their blades (`follow.wgsl`).
 
+use crate::active_patches::List;
+use crate::broad_phase::{BroadPhase, NoBroad};
 use crate::field::GpuField;
-use crate::kernel::{Kernel, Slot};
+use crate::kernel::{Kernel, Slot, begin_pass};
 use trample::recovery::RecoveryParams;
 
-/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl` and `chunk.wgsl`
-/// prepended).
+/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`, `chunk.wgsl`,
+/// `broad_params.wgsl` and `active_chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}\n{}",
+        "{}\n{}\n{}\n{}\n{}\n{}",
         crate::BLADE_WGSL,
         crate::GUARD_WGSL,
         crate::CHUNK_WGSL,
+        include_str!("broad_params.wgsl"),
+        include_str!("active_chunk.wgsl"),
         include_str!("recovery.wgsl")
     )
 }
@@ -30,6 +35,7 @@ pub const OWNERS: usize = 256;
 pub struct Recovery {
     kernel: Kernel,
     owners: wgpu::Buffer,
+    no_broad: NoBroad,
 }
 
 impl Recovery {
@@ -44,10 +50,11 @@ impl Recovery {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Uniform, Read, Read, Read,
-                    Read, Uniform,
+                    Read, Uniform, Uniform, ReadWrite,
                 ],
-                &["recover"],
+                &["recover", "recover_active"],
             ),
+            no_broad: NoBroad::new(device),
             owners: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu track owners"),
                 size: (OWNERS * 16) as u64,
@@ -83,7 +90,10 @@ impl Recovery {
         table.iter().any(|p| p.recovery_s.is_finite())
     }
 
-    /// Records the recovery of every displaced blade, one dispatch per chunk.
+    /// Records the recovery of every displaced blade, one dispatch per
+    /// chunk: over `broad`'s active recover lists (the active patches'
+    /// `record_lists` recorded before in the sub-step, told that recovery
+    /// runs), or every blade without.
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -91,8 +101,10 @@ impl Recovery {
         field: &GpuField,
         params: &wgpu::Buffer,
         state: &wgpu::Buffer,
+        broad: Option<&BroadPhase>,
     ) {
-        for chunk in &field.chunks {
+        let (broad_params, lists) = self.no_broad.or(broad);
+        for (c, chunk) in field.chunks.iter().enumerate() {
             let group = self.kernel.bind(
                 device,
                 &[
@@ -107,9 +119,20 @@ impl Recovery {
                     &field.class,
                     &field.touch,
                     &self.owners,
+                    broad_params,
+                    lists,
                 ],
             );
-            self.kernel.dispatch(encoder, 0, &group, chunk.groups);
+            match broad {
+                Some(b) => self.kernel.dispatch_indirect_at(
+                    &mut begin_pass(encoder),
+                    1,
+                    &group,
+                    &b.args,
+                    b.list_args_offset(List::Recover(c as u32)),
+                ),
+                None => self.kernel.dispatch(encoder, 0, &group, chunk.groups),
+            }
         }
     }
 }

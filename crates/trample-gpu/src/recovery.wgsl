@@ -24,13 +24,37 @@
 @group(0) @binding(9) var<storage, read> touch: array<vec4<u32>>;
 // Per track owner (0: `[sim]`, i: body i − 1): recovery_s (0 for ∞), trail.
 @group(0) @binding(10) var<uniform> owners: array<vec4<f32>, 256>;
+// The broad phase's uniform and lists: the active patches' recover lists
+// and kept marks (`active_patches.wgsl`; `BroadParams` and the layout:
+// broad_params.wgsl, prepended), for `recover_active`.
+@group(0) @binding(11) var<uniform> broad: BroadParams;
+@group(0) @binding(12) var<storage, read_write> lists: array<atomic<u32>>;
 
 @compute @workgroup_size(64)
 fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
     let b = chunk_blade(gid);
+    if b != NOT_IN_CHUNK {
+        recover_or_count(b);
+    }
+}
+
+// `recover` over the chunk's active recover list: the patches dirty this
+// sub-step and those kept (where a blade may be displaced; every other
+// blade is at rest and untouched). A patch where a blade is left displaced
+// is kept for the next recovery.
+@compute @workgroup_size(64)
+fn recover_active(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let b = active_chunk_blade(gid, groups, ACTIVE_RECOVER);
     if b == NOT_IN_CHUNK {
         return;
     }
+    recover_or_count(b);
+    if displaced[b] != 0u {
+        atomicStore(&lists[active_word(ACTIVE_KEEP, b / max(broad.dispatch.x, 1u))], 1u);
+    }
+}
+
+fn recover_or_count(b: u32) {
     if touch[b].w != 0u {
         atomicAdd(&state.contact, 1u);
     }

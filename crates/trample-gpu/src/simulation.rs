@@ -21,6 +21,7 @@ use trample::field::{Lod, Terrain};
 use trample::force::propagation::GENERATION_CAP;
 use wgpu::util::DeviceExt;
 
+use crate::active_patches::ActivePatches;
 use crate::bend::Bend;
 use crate::broad_phase::BroadPhase;
 use crate::cells::{Cells, GpuWorldObb};
@@ -106,6 +107,8 @@ pub struct GpuSimulation {
     /// Made when a body first leaves ([`TrackOwners`]).
     track_owners: Option<TrackOwners>,
     broad: BroadPhase,
+    /// The patches the field-wide passes visit ([`ActivePatches`]).
+    active: ActivePatches,
     /// Narrow-phase and contact dispatches recorded in the last sub-step.
     object_dispatches: u32,
     /// Per-sub-step uploads in order with the passes ([`crate::upload`]).
@@ -278,6 +281,7 @@ impl GpuSimulation {
             roots_capacity: colliders.max(1),
             track_owners: None,
             broad,
+            active: ActivePatches::new(device),
             cells: Cells::new(device),
             world_roots,
             sim,
@@ -550,6 +554,17 @@ impl GpuSimulation {
                     &self.sim.field.layout,
                     &obbs,
                 );
+                // The active patches: the patches touched before and not
+                // listed now tidied, those near the listed ones to seed.
+                self.active.record_seed(device, encoder, &self.broad);
+                self.propagation.record_tidy(
+                    device,
+                    encoder,
+                    &self.field,
+                    &self.params,
+                    &self.state,
+                    &self.broad,
+                );
                 laps.lap(device, queue, encoder, Stage::Broad);
                 self.object_dispatches = self.narrow.record(
                     device,
@@ -573,7 +588,17 @@ impl GpuSimulation {
                     Some(&self.broad),
                 );
                 laps.lap(device, queue, encoder, Stage::Propagation);
-                self.bend.record(device, encoder, &self.field, &self.params);
+                // Bend's and recover's lists (every patch propagation
+                // reached is dirty now).
+                self.active
+                    .record_lists(device, encoder, &self.broad, pass.main);
+                self.bend.record(
+                    device,
+                    encoder,
+                    &self.field,
+                    &self.params,
+                    Some(&self.broad),
+                );
                 laps.lap(device, queue, encoder, Stage::Deformation);
                 if p.contact {
                     self.object_dispatches += self.contact.record(
@@ -596,8 +621,18 @@ impl GpuSimulation {
             }
             laps.lap(device, queue, encoder, Stage::Transitions);
             if pass.main {
-                self.recovery
-                    .record(device, encoder, &self.field, &self.params, &self.state);
+                if self.objects.is_empty() {
+                    // No lists made above (no broad phase ran).
+                    self.active.record_lists(device, encoder, &self.broad, true);
+                }
+                self.recovery.record(
+                    device,
+                    encoder,
+                    &self.field,
+                    &self.params,
+                    &self.state,
+                    Some(&self.broad),
+                );
                 if !p.track_everywhere {
                     self.cells.record_recover_slopes(encoder, &cell_groups);
                 }

@@ -94,11 +94,11 @@ fn bent_then_recovered_blades_match_the_cpu() {
     let mut enc = device.create_command_encoder(&Default::default());
     propagation.record_reset(device, &mut enc, &g, &uniform, &state);
     propagation.record(device, &mut enc, &g, &uniform, &state, groups, 0, None);
-    bend.record(device, &mut enc, &g, &uniform);
+    bend.record(device, &mut enc, &g, &uniform, None);
     queue.submit([enc.finish()]);
     let bent = g.read_positions(device, queue).unwrap();
     let mut enc = device.create_command_encoder(&Default::default());
-    recover.record(device, &mut enc, &g, &uniform, &state);
+    recover.record(device, &mut enc, &g, &uniform, &state, None);
     queue.submit([enc.finish()]);
     let recovered = g.read_positions(device, queue).unwrap();
 

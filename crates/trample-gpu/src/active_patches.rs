@@ -1,0 +1,149 @@
+//! The active patches (ours; `active_patches.wgsl`): the passes that went
+//! over every blade of the field each sub-step — the clearing of the forces
+//! and contacts, propagation's `seed`, `bend` and `recover` — go over the
+//! patches where something happens: the patches near those the broad phase
+//! listed, those propagation reached, and those holding displaced blades.
+//! Their cost follows the objects and their tracks, not the field (issue
+//! 16: on the herd's 16.8 M blades these passes, one thread a blade, took
+//! ~0.8 ms of an H200's ~4.8 ms step); the results are the same bits, since
+//! every other patch holds the state of no contact and no displaced blade.
+//!
+//! Each patch carries two marks in the broad phase's lists
+//! ([`BroadPhase::active_first`]): dirty (a blade may hold the last
+//! sub-step's force, contact, generation or candidate bit: put back to none
+//! by `tidy` once the broad phase no longer lists it) and kept (a blade may be displaced:
+//! `recover` visits it, and clears the mark when none is left). Both start
+//! set on every patch, so the first sub-step visits the whole field once.
+
+use crate::broad_phase::BroadPhase;
+use crate::kernel::{Kernel, Slot, begin_pass, grid};
+
+/// The WGSL source as compiled (`broad_params.wgsl` prepended).
+#[must_use]
+pub fn source() -> String {
+    format!(
+        "{}\n{}",
+        include_str!("broad_params.wgsl"),
+        include_str!("active_patches.wgsl")
+    )
+}
+
+const PLAN_SEED: usize = 0;
+const PLAN_MAIN: usize = 1;
+const PLAN_FAR: usize = 2;
+const LIST_ARGS: usize = 3;
+
+/// A list of active patches, in the order of its count in the lists
+/// (`broad_params.wgsl`'s `ACTIVE_COUNTS`) and of its indirect dispatch in
+/// [`BroadPhase::args`] ([`BroadPhase::list_args_offset`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum List {
+    /// The dirty patches the broad phase did not list (`tidy`).
+    Tidy,
+    /// The patches near those the broad phase listed (`seed`).
+    Seed,
+    /// Chunk c's dirty patches (`bend`).
+    Bend(u32),
+    /// Chunk c's dirty and kept patches (`recover`).
+    Recover(u32),
+}
+
+impl List {
+    /// Its index among the lists: tidy, seed, bend's per chunk, recover's
+    /// per chunk (of `chunks`).
+    #[must_use]
+    pub fn index(self, chunks: u32) -> u32 {
+        match self {
+            Self::Tidy => 0,
+            Self::Seed => 1,
+            Self::Bend(c) => 2 + c,
+            Self::Recover(c) => 2 + chunks + c,
+        }
+    }
+}
+
+/// Words of the active patches' region of the lists for `patches` patches
+/// in `chunks` chunks: two marks and four lists a patch, then the lists'
+/// counts.
+#[must_use]
+pub fn region_words(patches: u32, chunks: u32) -> u64 {
+    6 * u64::from(patches) + 2 + 2 * u64::from(chunks)
+}
+
+/// The compiled planning kernels.
+pub struct ActivePatches {
+    kernel: Kernel,
+}
+
+impl ActivePatches {
+    /// Compiles the kernels on `device`.
+    #[must_use]
+    pub fn new(device: &wgpu::Device) -> Self {
+        use Slot::{ReadWrite, Uniform};
+        Self {
+            kernel: Kernel::new(
+                device,
+                "trample-gpu active patches",
+                &source(),
+                &[Uniform, ReadWrite, ReadWrite],
+                &["plan_seed", "plan_main", "plan_far", "list_args"],
+            ),
+        }
+    }
+
+    /// Records, after `broad` (in the same sub-step), the tidy and seed
+    /// lists and their dispatches; the patches near a listed one become
+    /// dirty, the others clean once tidied.
+    pub fn record_seed(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        broad: &BroadPhase,
+    ) {
+        let (first, _) = broad.active_counts(List::Tidy);
+        encoder.clear_buffer(&broad.lists, first, Some(8));
+        self.plan(device, encoder, broad, PLAN_SEED);
+    }
+
+    /// Records, after propagation, bend's and recover's lists and their
+    /// dispatches. `recovering`: recovery runs in this sub-step (it marks
+    /// the patches it leaves displaced blades in kept again).
+    pub fn record_lists(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        broad: &BroadPhase,
+        recovering: bool,
+    ) {
+        let (first, bytes) = broad.active_counts(List::Bend(0));
+        encoder.clear_buffer(&broad.lists, first, Some(bytes));
+        self.plan(
+            device,
+            encoder,
+            broad,
+            if recovering { PLAN_MAIN } else { PLAN_FAR },
+        );
+    }
+
+    fn plan(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        broad: &BroadPhase,
+        entry: usize,
+    ) {
+        let group = self
+            .kernel
+            .bind(device, &[&broad.params, &broad.lists, &broad.args]);
+        let max = device.limits().max_compute_workgroups_per_dimension;
+        let mut pass = begin_pass(encoder);
+        self.kernel
+            .dispatch_in(&mut pass, entry, &group, grid(broad.patch_count(), max));
+        self.kernel.dispatch_in(
+            &mut pass,
+            LIST_ARGS,
+            &group,
+            grid(2 + 2 * broad.chunk_count(), max),
+        );
+    }
+}
