@@ -17,6 +17,7 @@
 
 use crate::broad_phase::BroadPhase;
 use crate::kernel::{Kernel, Slot, begin_pass, grid};
+use crate::readback::read_buffer;
 
 /// The WGSL source as compiled (`broad_params.wgsl` prepended).
 #[must_use]
@@ -147,3 +148,72 @@ impl ActivePatches {
         );
     }
 }
+
+/// The active patches as the GPU holds them after a step, beside what the
+/// field's blades hold (tests: the marks must cover every blade's state).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ActiveState {
+    /// Per patch: marked dirty.
+    pub dirty: Vec<bool>,
+    /// Per patch: marked kept.
+    pub kept: Vec<bool>,
+    /// Patches on the last sub-step's recover lists (all chunks).
+    pub recover_listed: u32,
+    /// Per patch: a blade holds a force, a contact or a generation.
+    pub touched: Vec<bool>,
+    /// Per patch: a blade is displaced.
+    pub displaced: Vec<bool>,
+}
+
+impl ActiveState {
+    /// Reads back `broad`'s marks and `field`'s per-blade state.
+    ///
+    /// # Errors
+    /// [`crate::GpuError::ReadBack`] when mapping fails.
+    pub fn read(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        broad: &BroadPhase,
+        field: &crate::GpuField,
+    ) -> Result<Self, crate::GpuError> {
+        let words: Vec<u32> = read_buffer(device, queue, &broad.lists, "active patches")?;
+        let patches = broad.patch_count() as usize;
+        let chunks = broad.chunk_count();
+        let first = broad.active_first() as usize;
+        let mark = |block: usize| -> Vec<bool> {
+            words[first + block * patches..first + (block + 1) * patches]
+                .iter()
+                .map(|&w| w != 0)
+                .collect()
+        };
+        let counts = first + 6 * patches;
+        let recover_listed = (0..chunks)
+            .map(|c| words[counts + List::Recover(c).index(chunks) as usize])
+            .sum();
+        let per = (field.count as usize / patches.max(1)).max(1);
+        let forces = field.read_forces(device, queue)?;
+        let masks = field.read_hit_masks(device, queue)?;
+        let generation = field.read_u32(device, queue, &field.generation)?;
+        let displaced = field.read_u32(device, queue, &field.displaced)?;
+        let by_patch = |f: &dyn Fn(usize) -> bool| -> Vec<bool> {
+            (0..patches)
+                .map(|p| (p * per..(p + 1) * per).any(f))
+                .collect()
+        };
+        Ok(Self {
+            dirty: mark(0),
+            kept: mark(1),
+            recover_listed,
+            touched: by_patch(&|b| {
+                forces[b].force != [0.0; 3]
+                    || forces[b].num != 0.0
+                    || masks[b] != 0
+                    || generation[b] != u32::from(NO_GENERATION)
+            }),
+            displaced: by_patch(&|b| displaced[b] != 0),
+        })
+    }
+}
+
+/// `blade.wgsl`'s `NO_GENERATION`.
+const NO_GENERATION: u8 = 255;

@@ -360,6 +360,11 @@ impl BroadPhase {
         self.chunks
     }
 
+    /// The first word of the active patches' region of `lists`.
+    pub(crate) fn active_first(&self) -> u64 {
+        active_first(self.patches, self.chunks, self.objects)
+    }
+
     /// The byte offset in `lists` of `list`'s count, and the bytes of the
     /// counts from there to the end of the active patches' region.
     pub(crate) fn active_counts(&self, list: List) -> (u64, u64) {

@@ -13,17 +13,20 @@
 //! CPU skips patches whose cells all keep one level: same result); every
 //! billboard cell tests every object's root box (the CPU first keeps the
 //! patches under the box: a conservative filter, same result); `follow`
-//! computes every cell whose blades are away from rest or were when it
-//! last computed it (the CPU only those whose blades moved: the others
-//! already hold these values).
+//! computes every cell of the active patches that may hold a displaced
+//! blade ([`crate::active_patches`]) whose blades are away from rest or
+//! were when it last computed it (the CPU only those whose blades moved:
+//! the others already hold these values).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use trample::field::FieldLayout;
 use trample::obb::Obb;
 
+use crate::active_patches::List;
+use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
-use crate::kernel::{Kernel, Slot};
+use crate::kernel::{Kernel, Slot, begin_pass};
 
 /// The per-cell stages, one WGSL file each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,13 +60,24 @@ pub fn source(stage: Stage) -> String {
     } else {
         String::new()
     };
+    // `follow` runs over the active patches' recover lists.
+    let active = if stage == Stage::Follow {
+        format!(
+            "{}\n{}",
+            include_str!("broad_params.wgsl"),
+            include_str!("active_chunk.wgsl")
+        )
+    } else {
+        String::new()
+    };
     format!(
-        "{}\n{}\n{}\n{}\n{}\n{}",
+        "{}\n{}\n{}\n{}\n{}\n{}\n{}",
         crate::SEGMENT_OBB_WGSL,
         crate::BLADE_WGSL,
         guard,
         crate::CHUNK_WGSL,
         crate::CELL_WGSL,
+        active,
         own
     )
 }
@@ -187,6 +201,7 @@ impl Cells {
                 "trample-gpu follow",
                 &[
                     Uniform, ReadWrite, Read, ReadWrite, ReadWrite, Read, Read, Uniform, Read,
+                    Uniform, ReadWrite,
                 ],
                 "follow",
             ),
@@ -202,6 +217,7 @@ impl Cells {
         params: &wgpu::Buffer,
         state: &wgpu::Buffer,
         world_roots: &wgpu::Buffer,
+        broad: &BroadPhase,
     ) -> CellGroups {
         CellGroups(
             field
@@ -266,6 +282,8 @@ impl Cells {
                             &chunk.rest,
                             &chunk.uniform,
                             &field.displaced,
+                            &broad.params,
+                            &broad.lists,
                         ],
                     ),
                     size: chunk.cell_groups,
@@ -305,10 +323,23 @@ impl Cells {
     }
 
     /// Records billboards and flatness that follow the blades (track
-    /// everywhere), last in a sub-step.
-    pub fn record_follow(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        for g in &groups.0 {
-            self.follow.dispatch(encoder, 0, &g.follow, g.size);
+    /// everywhere), last in a sub-step: over the cells of `broad`'s active
+    /// recover lists (made in this sub-step: the active patches'
+    /// `record_lists`).
+    pub fn record_follow(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        groups: &CellGroups,
+        broad: &BroadPhase,
+    ) {
+        for (c, g) in groups.0.iter().enumerate() {
+            self.follow.dispatch_indirect_at(
+                &mut begin_pass(encoder),
+                0,
+                &g.follow,
+                &broad.args,
+                broad.list_args_offset(List::Recover(c as u32)),
+            );
         }
     }
 }

@@ -3,13 +3,13 @@
 // (`transition::cell_offset_and_flatness`, as `step::deform::
 // cells_from_blades` keeps them), at the end of a sub-step. The CPU updates
 // only the cells whose blades moved; a cell whose blades did not keeps
-// exactly these values. Here a cell whose blades are all at rest (not
-// displaced: a blade leaves the displaced set only at its rest position,
-// bit for bit) and were at rest when it was last computed (`AT_REST`) is
-// not computed again: it would get the same values. Every other cell is
-// computed, so the result is the same as computing every cell; where the
-// field is at rest the pass reads a few bytes a cell, not its blades'
-// vertices.
+// exactly these values. Here only the cells of the active patches that may
+// hold a displaced blade are visited (`follow`), and of those a cell whose
+// blades are all at rest (not displaced: a blade leaves the displaced set
+// only at its rest position, bit for bit) and were at rest when it was
+// last computed (`AT_REST`) is not computed again: it would get the same
+// values. Every other cell is computed, so the result is the same as
+// computing every cell; where the field is at rest the pass reads nothing.
 
 @group(0) @binding(0) var<uniform> params: StepParams;
 @group(0) @binding(1) var<storage, read_write> cell_state: array<u32>;
@@ -20,13 +20,29 @@
 @group(0) @binding(6) var<storage, read> rest: array<vec4<f32>>;
 @group(0) @binding(7) var<uniform> chunk: Chunk;
 @group(0) @binding(8) var<storage, read> displaced: array<u32>;
+// The broad phase's uniform and lists: the active patches' recover lists
+// (`active_patches.wgsl`; `BroadParams` and the layout: broad_params.wgsl,
+// prepended).
+@group(0) @binding(9) var<uniform> broad: BroadParams;
+@group(0) @binding(10) var<storage, read_write> lists: array<atomic<u32>>;
 
+// Over the cells of the chunk's active recover list (the dispatch of that
+// list: one thread a blade of each patch, the first cells-a-patch of them
+// take a cell each). A cell outside it has all its blades at rest, and was
+// computed when they came to rest (their patch was on the list then, as
+// every patch is on the first sub-step's): it keeps its values.
 @compute @workgroup_size(64)
-fn follow(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let c = chunk_cell(gid);
-    if c == NOT_IN_CHUNK {
+fn follow(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let at = active_chunk_thread(gid, groups, ACTIVE_RECOVER);
+    let bpc = max(params.cells.y, 1u);
+    let cells = broad.dispatch.x / bpc;
+    if at.x == NOT_IN_CHUNK || at.y >= cells {
         return;
     }
+    follow_cell(at.x * cells + at.y);
+}
+
+fn follow_cell(c: u32) {
     let bpc = params.cells.y;
     let s = cell_state[c];
     var at_rest = true;

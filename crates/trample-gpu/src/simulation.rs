@@ -426,6 +426,7 @@ impl GpuSimulation {
             &self.params,
             &self.state,
             &self.world_roots,
+            &self.broad,
         );
         let recovery_on = self.recovery.write_owners(queue, &self.sim);
         let p = self.sim.params.clone();
@@ -544,28 +545,31 @@ impl GpuSimulation {
                 self.cells.record_classify(encoder, &cell_groups);
             }
             laps.lap(device, queue, encoder, Stage::Lod);
+            // The broad phase, with no object too (it then lists nothing),
+            // and the active patches: the patches touched before and not
+            // listed now tidied (once the last body has left, every one of
+            // them: no force of its holds a blade any more), those near the
+            // listed ones to seed.
+            self.broad.record(
+                device,
+                queue,
+                &mut self.uploads,
+                encoder,
+                &self.world_roots,
+                &self.sim.field.layout,
+                &obbs,
+            );
+            self.active.record_seed(device, encoder, &self.broad);
+            self.propagation.record_tidy(
+                device,
+                encoder,
+                &self.field,
+                &self.params,
+                &self.state,
+                &self.broad,
+            );
+            laps.lap(device, queue, encoder, Stage::Broad);
             if !self.objects.is_empty() {
-                self.broad.record(
-                    device,
-                    queue,
-                    &mut self.uploads,
-                    encoder,
-                    &self.world_roots,
-                    &self.sim.field.layout,
-                    &obbs,
-                );
-                // The active patches: the patches touched before and not
-                // listed now tidied, those near the listed ones to seed.
-                self.active.record_seed(device, encoder, &self.broad);
-                self.propagation.record_tidy(
-                    device,
-                    encoder,
-                    &self.field,
-                    &self.params,
-                    &self.state,
-                    &self.broad,
-                );
-                laps.lap(device, queue, encoder, Stage::Broad);
                 self.object_dispatches = self.narrow.record(
                     device,
                     queue,
@@ -639,7 +643,7 @@ impl GpuSimulation {
             }
             laps.lap(device, queue, encoder, Stage::Recovery);
             if p.track_everywhere {
-                self.cells.record_follow(encoder, &cell_groups);
+                self.cells.record_follow(encoder, &cell_groups, &self.broad);
             }
             laps.lap(device, queue, encoder, Stage::Deformation);
             if let Some(e) = own {
@@ -741,6 +745,19 @@ impl GpuSimulation {
             &self.sim.visible,
             draw,
         );
+    }
+
+    /// The active patches' marks and lists after the last step, beside the
+    /// blades' state ([`ActiveState`]; tests).
+    ///
+    /// # Errors
+    /// [`GpuError::ReadBack`] when mapping fails.
+    pub fn read_active_patches(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<crate::active_patches::ActiveState, GpuError> {
+        crate::active_patches::ActiveState::read(device, queue, &self.broad, &self.field)
     }
 
     /// The draw lists of the last [`GpuSimulation::record_draw_lists`].
