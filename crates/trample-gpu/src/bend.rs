@@ -4,10 +4,10 @@
 //! with a force this sub-step (DBG or PBG) bend, as `trample::deform::bend::bend_blade` does, above the
 //! terrain's ground guard (`guard.wgsl`).
 
-use crate::active_patches::List;
+use crate::active_patches::{List, dispatch_listed};
 use crate::broad_phase::{BroadPhase, NoBroad};
 use crate::field::GpuField;
-use crate::kernel::{Kernel, Slot, begin_pass};
+use crate::kernel::{Kernel, Slot};
 
 /// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`, `chunk.wgsl`,
 /// `broad_params.wgsl` and `active_chunk.wgsl` prepended).
@@ -76,19 +76,14 @@ impl Bend {
                     lists,
                 ],
             );
-            match broad {
-                Some(b) => self.kernel.dispatch_indirect_at(
-                    &mut begin_pass(encoder),
-                    1,
-                    &group,
-                    &b.args,
-                    b.list_args_offset(List::Bend(c as u32)),
-                ),
-                None => {
-                    self.kernel
-                        .dispatch(encoder, 0, &group, crate::kernel::run_grid(chunk.groups))
-                }
-            }
+            dispatch_listed(
+                &self.kernel,
+                encoder,
+                &group,
+                broad,
+                List::Bend(c as u32),
+                crate::kernel::run_grid(chunk.groups),
+            );
         }
     }
 }

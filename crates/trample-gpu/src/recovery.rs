@@ -6,10 +6,10 @@
 //! are counted. Billboard slopes recover in `slopes.wgsl` (the paper's
 //! mode) or follow their blades (`follow.wgsl`).
 
-use crate::active_patches::List;
+use crate::active_patches::{List, dispatch_listed};
 use crate::broad_phase::{BroadPhase, NoBroad};
 use crate::field::GpuField;
-use crate::kernel::{Kernel, Slot, begin_pass};
+use crate::kernel::{Kernel, Slot};
 use trample::recovery::RecoveryParams;
 
 /// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`, `chunk.wgsl`,
@@ -123,16 +123,14 @@ impl Recovery {
                     lists,
                 ],
             );
-            match broad {
-                Some(b) => self.kernel.dispatch_indirect_at(
-                    &mut begin_pass(encoder),
-                    1,
-                    &group,
-                    &b.args,
-                    b.list_args_offset(List::Recover(c as u32)),
-                ),
-                None => self.kernel.dispatch(encoder, 0, &group, chunk.groups),
-            }
+            dispatch_listed(
+                &self.kernel,
+                encoder,
+                &group,
+                broad,
+                List::Recover(c as u32),
+                chunk.groups,
+            );
         }
     }
 }
