@@ -9,7 +9,7 @@
 //! every other patch holds the state of no contact and no displaced blade.
 //!
 //! Each patch carries two marks in the broad phase's lists
-//! ([`BroadPhase::active_first`]): dirty (a blade may hold the last
+//! (`broad_params.wgsl`'s `ACTIVE_*` region): dirty (a blade may hold the last
 //! sub-step's force, contact, generation or candidate bit: put back to none
 //! by `tidy` once the broad phase no longer lists it) and kept (a blade may be displaced:
 //! `recover` visits it, and clears the mark when none is left). Both start
@@ -36,7 +36,7 @@ const LIST_ARGS: usize = 3;
 
 /// A list of active patches, in the order of its count in the lists
 /// (`broad_params.wgsl`'s `ACTIVE_COUNTS`) and of its indirect dispatch in
-/// [`BroadPhase::args`] ([`BroadPhase::list_args_offset`]).
+/// the broad phase's indirect arguments ([`BroadPhase::list_args_offset`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum List {
     /// The dirty patches the broad phase did not list (`tidy`).

@@ -462,9 +462,7 @@ impl GpuSimulation {
             let mut k = 0;
             for (index, body) in self.sim.bodies.iter_mut().enumerate() {
                 let on = pass.has(index);
-                if pass.main || on {
-                    body.set_time(t);
-                }
+                body.pose_for_pass(t, pass.main, on);
                 for c in body.colliders() {
                     if k >= self.objects.len() {
                         break;
@@ -748,7 +746,7 @@ impl GpuSimulation {
     }
 
     /// The active patches' marks and lists after the last step, beside the
-    /// blades' state ([`ActiveState`]; tests).
+    /// blades' state ([`crate::active_patches::ActiveState`]; tests).
     ///
     /// # Errors
     /// [`GpuError::ReadBack`] when mapping fails.
