@@ -419,3 +419,91 @@ path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration
             .all(Option::is_none)
     );
 }
+
+/// `scenes/NAME` built with `far_every = k`, every body counting as far
+/// (`far_beyond_m = 1`: the scenes' cameras are metres away) and a far
+/// turn cut into sub-steps of 3 cm (`far_travel_m`: several a turn).
+fn rig_scene(name: &str, k: u32) -> Simulation {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    let mut sim = trample::scene::Scene::load(&path)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .build()
+        .unwrap();
+    sim.params.far_every = k;
+    sim.params.far_beyond_m = 1.0;
+    sim.params.far_travel_m = 0.03;
+    sim
+}
+
+/// Articulated and animated bodies take far turns too (`Body::pose_for_pass`):
+/// the tractor of `scenes/tractor.toml` (wheels as parts, their spin from
+/// an odometer) and the walker of `scenes/walker.toml` (a skinned mesh
+/// whose clock runs with its ground speed), far at `far_every = 4`. At each
+/// step that ends a body's turn its wheels' poses and its skin match the
+/// every-frame run's (the odometer and the clock integrated forwards from
+/// the last turn, in the same slices: a rig posed at the step's end by the
+/// main pass and then at the turn's earlier sub-step times restarts them:
+/// the wheels then ~2 rad off, the skin 0.56 m); between turns the wheels
+/// stay on their axles (their positions as every frame) while their spin
+/// waits for the turn.
+#[test]
+fn articulated_and_animated_bodies_take_far_turns_with_their_rigs_running_on() {
+    let k = 4;
+    for name in ["tractor.toml", "walker.toml"] {
+        let mut every = rig_scene(name, 1);
+        let mut far = rig_scene(name, k);
+        let (mut turns, mut waits) = (0, 0);
+        let (mut worst_spin, mut worst_skin, mut worst_axle) = (0.0f32, 0.0f32, 0.0f32);
+        for _ in 0..90 {
+            let dt = every.params.dt_s;
+            every.step(dt).unwrap();
+            far.step(dt).unwrap();
+            let (e, f) = (&every.bodies[0], &far.bodies[0]);
+            let at_turn = f.stepped_to() == far.time;
+            if at_turn {
+                turns += 1;
+            } else {
+                waits += 1;
+            }
+            for (pe, pf) in e.parts.iter().zip(&f.parts) {
+                worst_axle = worst_axle.max(pe.pose.position.distance(pf.pose.position));
+                if at_turn {
+                    // The angle between the two rotations, from where they
+                    // take two axes (`Quat::angle_between`'s acos near 1
+                    // reads ~1e-3 rad for two equal rotations).
+                    let (a, b) = (pe.pose.rotation, pf.pose.rotation);
+                    let off = |v: Vec3| (a * v).distance(b * v);
+                    worst_spin = worst_spin.max(off(Vec3::X).max(off(Vec3::Y)));
+                }
+            }
+            if at_turn {
+                let (me, mf) = (&e.object.mesh.positions, &f.object.mesh.positions);
+                for (a, b) in me.iter().zip(mf) {
+                    worst_skin = worst_skin.max(a.distance(*b));
+                }
+            }
+        }
+        println!(
+            "{name}: {turns} turns, {waits} steps waited; at the turns: wheel rotation {worst_spin:.2e} \
+             rad, skin {worst_skin:.2e} m; axles {worst_axle:.2e} m"
+        );
+        assert!(
+            turns > 0 && waits > 2 * turns,
+            "{name}: far turns must be taken ({turns} turns, {waits} waits)"
+        );
+        assert!(
+            worst_spin < 1e-3,
+            "{name}: wheels {worst_spin} rad off at a turn"
+        );
+        assert!(
+            worst_skin < 1e-3,
+            "{name}: skin {worst_skin} m off at a turn"
+        );
+        assert!(
+            worst_axle < 1e-4,
+            "{name}: a wheel {worst_axle} m off its axle"
+        );
+    }
+}

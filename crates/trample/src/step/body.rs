@@ -154,12 +154,34 @@ impl Body {
     /// ([`crate::step::SimParams::far_every`]): a pass may pose it at any
     /// time since its last turn — on its scene path, or driven by the host
     /// (whose moves between two turns are joined into one,
-    /// [`crate::step::Simulation::move_body`]) — so not an articulated body
-    /// (its wheels count the distance rolled) or an animated one (its mesh
-    /// is skinned for the time asked, forwards only).
+    /// [`crate::step::Simulation::move_body`]). Every body may: an
+    /// articulated body's wheel odometer and an animated body's skin and
+    /// clock run forwards only, and between its turns the main pass leaves
+    /// them where its last turn did ([`Body::pose_for_pass`]).
     #[must_use]
     pub fn may_step_far(&self) -> bool {
-        self.parts.is_empty() && self.object.animated.is_none()
+        true
+    }
+
+    /// Poses the body for a pass at time `t` (the CPU's and the GPU's
+    /// loops both call this at each sub-step): a body the pass steps
+    /// (`stepped`) is posed with its rig ([`Body::set_time`]); a body a
+    /// main pass does not step (far, waiting for its turn) follows its path
+    /// — its pose, its parts' poses from its wheels' spin as it stands, its
+    /// root box — but its rig's integrators (the wheels' odometer, a
+    /// ground-speed animation clock) and its skin stay at its last turn, so
+    /// that its next far pass, which starts there, runs them forwards (posed
+    /// at `t` first, they would restart at the turn's earlier times): far
+    /// away, its wheels turn and its mesh moves once a turn. A far pass
+    /// poses only the bodies it steps.
+    pub fn pose_for_pass(&mut self, t: f32, main: bool, stepped: bool) {
+        if stepped {
+            self.set_time(t);
+        } else if main {
+            self.pose = self.pose_at(t);
+            super::rig::pose_parts(self, t);
+            self.world_root = world_obb(&self.tree.nodes[0].obb, &self.pose);
+        }
     }
 
     /// How many colliders the body has: 1 (its own mesh) + its parts.

@@ -73,9 +73,9 @@ pub struct SimParams {
     pub track_everywhere: bool,
     /// Far objects stepped less often (ours, issue 16; beside DESIGN §7's
     /// step, resting on §6's frame-rate independence): a body (on its scene
-    /// path or driven by the host; not articulated, not animated:
-    /// [`crate::step::Body::may_step_far`]) whose root box lies wholly
-    /// farther than
+    /// path or driven by the host; articulated and animated ones too, their
+    /// wheels and skin moving once a turn: [`crate::step::Body::pose_for_pass`])
+    /// whose colliders' root boxes lie wholly farther than
     /// [`SimParams::far_beyond_m`] from the camera (horizontally) touches
     /// the grass every `far_every`-th step only — the bodies take turns,
     /// each given the turn with the least work so far

@@ -2,9 +2,10 @@
 //! step, resting on §6's frame-rate independence): how a step is split into
 //! passes over the bodies.
 //!
-//! With `sim.far_every = k > 1`, a body that can be posed at any time
-//! ([`Body::may_step_far`]) and whose root box lies wholly farther than
-//! `sim.far_beyond_m` from the camera (horizontally) touches the grass only
+//! With `sim.far_every = k > 1`, a body (any: [`Body::may_step_far`]; an
+//! articulated or animated one's rig runs on from its last turn,
+//! [`Body::pose_for_pass`]) whose colliders' root boxes lie wholly farther
+//! than `sim.far_beyond_m` from the camera (horizontally) touches the grass only
 //! on the steps where `(frame + turn) % k == 0` — the far bodies take
 //! turns, so each step carries about `1/k` of them — and then over all the
 //! time since it last did. A body's `turn` ([`far_turns`]) is given when it
@@ -108,13 +109,16 @@ impl Pass {
 }
 
 /// Whether `body` lies wholly farther than `beyond` metres from `eye`,
-/// horizontally: its root box's centre, less the box's half diagonal
-/// (its bounding sphere), is farther than that.
+/// horizontally: for each of its colliders (its own mesh and its parts),
+/// the root box's centre, less the box's half diagonal (its bounding
+/// sphere), is farther than that.
 #[must_use]
 pub fn is_far(body: &Body, eye: Vec3, beyond: f32) -> bool {
-    let root = &body.world_root;
-    let d = (root.center.x - eye.x).hypot(root.center.z - eye.z) - root.half_diagonal();
-    d > beyond
+    body.colliders().all(|c| {
+        let root = c.world_root;
+        let d = (root.center.x - eye.x).hypot(root.center.z - eye.z) - root.half_diagonal();
+        d > beyond
+    })
 }
 
 /// The passes of a step of `dt` seconds (see the module docs): the main

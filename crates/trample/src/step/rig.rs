@@ -110,6 +110,16 @@ pub(crate) fn pose_rig(body: &mut Body, t: f32) {
         return;
     }
     advance_odometer(body, t);
+    pose_parts(body, t);
+}
+
+/// Poses `body`'s parts at `t` from the body's pose and the wheels' spin
+/// as it stands (the odometer not advanced): a far body between its turns
+/// ([`Body::pose_for_pass`]).
+pub(crate) fn pose_parts(body: &mut Body, t: f32) {
+    if body.parts.is_empty() {
+        return;
+    }
     let rig = &mut body.rig;
     let input = PartsInput {
         t,

@@ -137,9 +137,7 @@ pub(crate) fn substep(sim: &mut Simulation, pass: &Pass, t: f32, h: f32, tm: &mu
     // Poses.
     let clock = Instant::now();
     for (i, body) in sim.bodies.iter_mut().enumerate() {
-        if pass.main || pass.has(i) {
-            body.set_time(t);
-        }
+        body.pose_for_pass(t, pass.main, pass.has(i));
     }
     tm.poses_ms += ms(clock);
 
