@@ -624,7 +624,8 @@ impl GpuSimulation {
             laps.lap(device, queue, encoder, Stage::Transitions);
             if pass.main {
                 if self.objects.is_empty() {
-                    // No lists made above (no broad phase ran).
+                    // Recover's lists were not made above (no object:
+                    // no propagation, no bend).
                     self.active.record_lists(device, encoder, &self.broad, true);
                 }
                 self.recovery.record(
