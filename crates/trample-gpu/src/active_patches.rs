@@ -1,19 +1,21 @@
 //! The active patches (ours; `active_patches.wgsl`): the passes that went
 //! over every blade of the field each sub-step — the clearing of the forces
-//! and contacts, propagation's `seed`, `bend` and `recover` — go over the
-//! patches where something happens: the patches near those the broad phase
-//! listed, those propagation reached, and those holding displaced blades.
-//! Their cost follows the objects and their tracks, not the field (issue
-//! 16: on the herd's 16.8 M blades these passes, one thread a blade, took
-//! ~0.8 ms of an H200's ~4.8 ms step); the results are the same bits, since
-//! every other patch holds the state of no contact and no displaced blade.
+//! and contacts, propagation's `seed`, `bend`, `recover` and `follow` — go
+//! over the patches where something happens: the patches near those the
+//! broad phase listed, those propagation reached, and those holding
+//! displaced blades. Their cost follows the objects and their tracks, not
+//! the field (issue 16; on an H200 the herd's step, 16.8 M blades and 128
+//! objects, went from 4.7 to 4.1 ms: BENCHMARKS.md, "Session 28"); the
+//! results are the same bits, since every other patch holds the state of
+//! no contact and no displaced blade.
 //!
 //! Each patch carries two marks in the broad phase's lists
-//! (`broad_params.wgsl`'s `ACTIVE_*` region): dirty (a blade may hold the last
-//! sub-step's force, contact, generation or candidate bit: put back to none
-//! by `tidy` once the broad phase no longer lists it) and kept (a blade may be displaced:
-//! `recover` visits it, and clears the mark when none is left). Both start
-//! set on every patch, so the first sub-step visits the whole field once.
+//! (`broad_params.wgsl`'s `ACTIVE_*` region): dirty (a blade may hold the
+//! last sub-step's force, contact, generation or candidate bit: put back to
+//! none by `tidy` once the broad phase no longer lists the patch) and kept
+//! (a blade may be displaced: `recover` visits it, and clears the mark when
+//! none is left). Both start set on every patch, so the first sub-step
+//! visits the whole field once.
 
 use crate::broad_phase::BroadPhase;
 use crate::kernel::{Kernel, Slot, begin_pass, grid};
