@@ -420,6 +420,68 @@ path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration
     );
 }
 
+/// The bodies of a far pass share its sub-steps (its fastest body's), and
+/// the turns count that ([`trample::step::passes::far_work`]): a big ball
+/// and a small one moving fast (4 sub-steps a turn), two big ones slowly
+/// (1), all far, `far_every = 2`. Summing each body's ground times its own
+/// sub-steps put the small fast ball with the two big slow ones, whose
+/// pass then ran 4 sub-steps over three bodies: the narrow phase tested
+/// 3.5 times as many blades on one step as on the next, 12.3 k every two
+/// steps (this test failed so). Counting a pass's shared sub-steps, the
+/// fast balls share a turn and the slow ones the other: 1.7 times, 5.7 k.
+#[test]
+fn far_turns_count_the_sub_steps_a_pass_shares() {
+    let ball = |name: &str, r: f32, z: f32, duration: f32| {
+        format!(
+            r#"
+[[objects]]
+name = "{name}"
+shape = {{ kind = "sphere", radius_m = {r} }}
+path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration_s = {duration} }}
+"#
+        )
+    };
+    let objects = [
+        ball("fast_big", 0.6, -4.0, 4.0),
+        ball("slow_big1", 1.0, -1.5, 40.0),
+        ball("fast_small", 0.1, 1.0, 4.0),
+        ball("slow_big3", 1.0, 3.5, 40.0),
+    ]
+    .concat();
+    let mut sim = field_12m(400.0, "far_every = 2\nfar_travel_m = 0.025", &objects);
+    let dt = sim.params.dt_s;
+    let subs: Vec<f64> = sim
+        .bodies
+        .iter()
+        .map(|b| trample::step::passes::far_work(&sim, b).substeps)
+        .collect();
+    assert_eq!(subs, [4.0, 1.0, 4.0, 1.0], "sub-steps a turn");
+    let (mut tested, mut bodies) = (Vec::new(), Vec::new());
+    for step in 0..12 {
+        let t = sim.step(dt).unwrap();
+        if step >= 2 {
+            tested.push(t.narrow_candidates);
+            bodies.push(t.far_bodies);
+        }
+    }
+    let turns: Vec<u32> = trample::step::passes::far_turns(&sim)
+        .into_iter()
+        .map(|t| t.expect("all four are far"))
+        .collect();
+    let (lo, hi) = (*tested.iter().min().unwrap(), *tested.iter().max().unwrap());
+    println!("turns {turns:?}; bodies a step {bodies:?}; blades tested a step: {tested:?}");
+    assert!(
+        lo > 0 && f64::from(hi) <= 1.8 * f64::from(lo),
+        "blades tested a step: {tested:?}"
+    );
+    assert!(
+        bodies.iter().all(|&b| b == 2),
+        "two bodies a step: {bodies:?}"
+    );
+    assert_eq!(turns[0], turns[2], "the fast balls share a turn: {turns:?}");
+    assert_eq!(turns[1], turns[3], "the slow balls share a turn: {turns:?}");
+}
+
 /// `scenes/NAME` built with `far_every = k`, every body counting as far
 /// (`far_beyond_m = 1`: the scenes' cameras are metres away) and a far
 /// turn cut into sub-steps of 3 cm (`far_travel_m`: several a turn).

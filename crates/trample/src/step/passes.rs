@@ -9,13 +9,15 @@
 //! on the steps where `(frame + turn) % k == 0` — the far bodies take
 //! turns, so each step carries about `1/k` of them — and then over all the
 //! time since it last did. A body's `turn` ([`far_turns`]) is given when it
-//! becomes far and kept while it stays far: the one whose bodies' work
-//! ([`far_cost`]: ground covered times sub-steps) sums to the least, so
-//! that each step carries about `1/k` of the far bodies' work and not only
-//! of their number (the herd at `k = 16`, two cores, 240 steps: by body
-//! id, a turn's steps took 10.9 to 22.5 ms on average and 31–36 steps took
-//! over 20 ms; by work, 12.3 to 18.5 ms and 2–4 steps: BENCHMARKS.md,
-//! session 27). A step runs:
+//! becomes far and kept while it stays far: the one whose far pass has the
+//! least work with it ([`far_work`]: the pass's sub-steps, its fastest
+//! body's, times the ground its bodies reach), so that each step carries
+//! about `1/k` of the far bodies' work and not only of their number (the
+//! herd at `k = 16`, two cores, 240 steps: by body id, a turn's steps took
+//! 10.9 to 22.5 ms on average and 31–36 steps took over 20 ms; by each
+//! body's ground times its own sub-steps, 12.3 to 18.5 ms and 2–4 steps:
+//! BENCHMARKS.md, session 27; counting a pass's shared sub-steps, session
+//! 29). A step runs:
 //!
 //! - its **main pass**: the step's `dt` from `time`, over the bodies that
 //!   are not far (every body when `k = 1`: the step as it always was), with
@@ -172,8 +174,12 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
 /// otherwise `Some(t)`, `t < far_every`: it steps on the frames where
 /// `(frame + t) % far_every == 0`. A far body keeps the turn it had; the
 /// bodies that just became far are given theirs largest first (by
-/// [`far_cost`]), each the turn whose bodies' costs sum to the least (the
-/// first of equal ones). A function of the simulation's state alone, so
+/// [`far_cost`]), each the turn whose load is least once it joins. A
+/// turn's load is what its far pass does: its sub-steps — those of its
+/// fastest body, since the bodies of a pass share them — times the ground
+/// its bodies reach ([`far_work`]), so bodies of like speeds tend to share
+/// a turn and a slow one is not carried through a fast one's sub-steps
+/// (ties: the first turn). A function of the simulation's state alone, so
 /// that [`plan_passes`] and [`Simulation::begin_step`] (which keeps the
 /// turns in the bodies) agree.
 #[must_use]
@@ -184,54 +190,105 @@ pub fn far_turns(sim: &Simulation) -> Vec<Option<u32>> {
         return turns;
     }
     let eye = sim.eye();
-    let mut load = vec![0.0f64; every as usize];
+    // Per turn: its sub-steps (its fastest body's) and the ground its
+    // bodies reach.
+    let mut substeps = vec![0.0f64; every as usize];
+    let mut ground = vec![0.0f64; every as usize];
     let mut new = Vec::new();
     for (i, body) in sim.bodies.iter().enumerate() {
         if !(body.may_step_far() && is_far(body, eye, sim.params.far_beyond_m)) {
             continue;
         }
-        let cost = far_cost(sim, body);
+        let work = far_work(sim, body);
         match body.far_turn.filter(|&t| t < every) {
             Some(t) => {
                 turns[i] = Some(t);
-                load[t as usize] += cost;
+                substeps[t as usize] = substeps[t as usize].max(work.substeps);
+                ground[t as usize] += work.area;
             }
-            None => new.push((cost, i)),
+            None => new.push((work, i)),
         }
     }
-    new.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    for (cost, i) in new {
-        let (t, _) = load
-            .iter()
-            .enumerate()
-            .min_by(|a, b| a.1.total_cmp(b.1).then(a.0.cmp(&b.0)))
+    new.sort_by(|a, b| b.0.cost().total_cmp(&a.0.cost()).then(a.1.cmp(&b.1)));
+    for (work, i) in new {
+        let load = |t: usize| substeps[t].max(work.substeps) * (ground[t] + work.area);
+        let t = (0..every as usize)
+            .min_by(|&a, &b| load(a).total_cmp(&load(b)).then(a.cmp(&b)))
             .expect("far_every > 1 turns");
-        load[t] += cost;
+        substeps[t] = substeps[t].max(work.substeps);
+        ground[t] += work.area;
         turns[i] = Some(t as u32);
     }
     turns
 }
 
-/// What a far body's turn is taken to cost: the ground its root box can
-/// reach, m² — the blades its narrow phase tests (the box's horizontal
-/// rectangle grown by a blade's length and the contact shell, as the
-/// narrow phase's candidates are) — times the sub-steps of a turn at its
-/// speed now (`far_every` steps of the scene's `dt_s` of travel, at most
-/// `far_travel_m` a sub-step; at least 1). An estimate from the pose
-/// alone, so the same on every machine and thread count.
+/// What a far body's turn is taken to cost ([`far_work`]): the ground its
+/// root box can reach, m², times the sub-steps of a turn at its speed.
+/// An estimate from the pose alone, so the same on every machine and
+/// thread count.
 #[must_use]
 pub fn far_cost(sim: &Simulation, body: &Body) -> f64 {
+    far_work(sim, body).cost()
+}
+
+/// A far body's share of a far pass ([`far_work`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FarWork {
+    /// The ground its root box can reach, m²: the box's horizontal
+    /// rectangle grown by a blade's length and the contact shell, as the
+    /// narrow phase's candidates are, averaged over the box's headings (a
+    /// far body keeps its turn while it turns: a car's rectangle is 2.5
+    /// times larger across the world's axes than along them). Finite, ≥ 0.
+    pub area: f64,
+    /// The sub-steps of a turn at its speed now: `far_every` steps of the
+    /// scene's `dt_s` of travel, at most `far_travel_m` a sub-step; ≥ 1.
+    pub substeps: f64,
+}
+
+impl FarWork {
+    /// `area · substeps`: the ground its narrow phase tests over a turn.
+    #[must_use]
+    pub fn cost(&self) -> f64 {
+        self.area * self.substeps
+    }
+}
+
+/// Yaws the ground a root box reaches is averaged over: a quarter turn
+/// (a rectangle's bounds repeat every 90°) in equal steps.
+const FAR_HEADINGS: u32 = 8;
+
+/// What a far body does in a far pass (see [`FarWork`]): the turns of
+/// [`far_turns`] balance these, a pass's sub-steps being its fastest
+/// body's. Measured on the herd at `far_every = 16` (BENCHMARKS.md,
+/// session 29): a turn's sub-steps times its bodies' ground follows the
+/// blades its narrow phase tests (correlation 0.99 over the 16 turns).
+#[must_use]
+pub fn far_work(sim: &Simulation, body: &Body) -> FarWork {
     let reach = sim.field.max_blade_length + sim.params.contact_shell_m;
-    let (lo, hi) = super::stages::reach_rect(&body.world_root, reach);
-    let area = f64::from(hi[0] - lo[0]) * f64::from(hi[1] - lo[1]);
+    let root = &body.world_root;
+    let corners = root.corners().map(|c| c - root.center);
+    let mut area = 0.0f64;
+    for j in 0..FAR_HEADINGS {
+        let yaw = std::f32::consts::FRAC_PI_2 * j as f32 / FAR_HEADINGS as f32;
+        let (sin, cos) = yaw.sin_cos();
+        let (mut x, mut z) = (0.0f32, 0.0f32);
+        for d in &corners {
+            x = x.max((d.x * cos - d.z * sin).abs());
+            z = z.max((d.x * sin + d.z * cos).abs());
+        }
+        area += f64::from(2.0 * (x + reach)) * f64::from(2.0 * (z + reach));
+    }
+    area /= f64::from(FAR_HEADINGS);
     let travel = f64::from(body.pose.velocity.length())
         * f64::from(sim.params.dt_s)
         * f64::from(sim.params.far_every);
     let substeps = (travel / f64::from(sim.params.far_travel_m))
         .ceil()
         .max(1.0);
-    let cost = area * substeps;
-    if cost.is_finite() { cost.max(0.0) } else { 0.0 }
+    FarWork {
+        area: if area.is_finite() { area.max(0.0) } else { 0.0 },
+        substeps: if substeps.is_finite() { substeps } else { 1.0 },
+    }
 }
 
 /// How many bodies the far passes of `passes` step (every pass but the
