@@ -3,7 +3,11 @@
 (balls, boxes, knots, the beetle car, the cow) each circling somewhere on a
 large field (issue 16); and scenes/herd_parked.toml: the same 128 objects
 on herd.toml's field, parked where their circles start (objects at rest,
-`sim.reuse_at_rest`). Run from the repository root:
+`sim.reuse_at_rest`); and scenes/herd_stopgo.toml: herd.toml with each
+object going round its circle in legs of 1.5-4 s, each stopped, at half,
+full or one and a half times its speed (keyframes, 20 s; then it stays
+where it is): far bodies that change speed (issue 16's far turns). Run
+from the repository root:
 
     python3 scenes/make_herd.py
 
@@ -19,10 +23,37 @@ KINDS = ["ball"] * 32 + ["box"] * 32 + ["knot"] * 24 + ["car"] * 20 + ["cow"] * 
 assert len(KINDS) == 128
 
 
-def objects(extent_m, seed, radius_range, parked=False):
+def stop_go_keys(cx, y, cz, r, speed, phase, seed, total_s=20.0, spacing_s=0.5):
+    """Keyframes round the circle (centre + r (cos t, 0, -sin t), as a
+    circle path) in legs of 1.5-4 s, each at 0, 0.5, 1 or 1.5 times
+    `speed` (not the last leg's), a key at least every spacing_s while moving. Its own seeded
+    generator, so the other scenes' numbers are untouched."""
+    rng = random.Random(seed)
+    keys = []
+    t, theta, factor = 0.0, phase, None
+
+    def key(t, theta):
+        x, z = cx + r * math.cos(theta), cz - r * math.sin(theta)
+        keys.append(f"    {{ t_s = {t:.3f}, position = [{x:.3f}, {y}, {z:.3f}] }},")
+
+    key(t, theta)
+    while t < total_s:
+        leg = rng.uniform(1.5, 4.0)
+        factor = rng.choice([f for f in (0.0, 0.5, 1.0, 1.5) if f != factor])
+        pieces = 1 if factor == 0.0 else math.ceil(leg / spacing_s)
+        omega = factor * speed / r
+        for _ in range(pieces):
+            t += leg / pieces
+            theta += omega * leg / pieces
+            key(t, theta)
+    return "[\n" + "\n".join(keys) + "\n]"
+
+
+def objects(extent_m, seed, radius_range, parked=False, stop_go=False):
     """One [[objects]] block per object, on a jittered 16 x 8 grid over a
     square field of side extent_m centred on the origin; parked: standing
-    still where its circle starts."""
+    still where its circle starts; stop_go: round its circle at changing
+    speeds (stop_go_keys)."""
     rng = random.Random(seed)
     kinds = KINDS[:]
     rng.shuffle(kinds)
@@ -61,7 +92,13 @@ def objects(extent_m, seed, radius_range, parked=False):
             shape = '{ kind = "mesh", path = "meshes/spot.obj", anchor = "bottom" }'
             extra = 'scale = 1.4\norientation = "face_motion"'
             y = 0.0
-        if parked:
+        if stop_go:
+            # The circle as herd.toml writes it (rounded), at its speed.
+            rc, pc = round(r, 2), round(period, 2)
+            keys = stop_go_keys(round(cx, 2), y, round(cz, 2), rc, 2.0 * math.pi * rc / pc,
+                                round(phase, 3), seed * 1000 + i)
+            path = f'{{ kind = "keyframes", keys = {keys} }}'
+        elif parked:
             extra = "\n".join(l for l in extra.split("\n") if not l.startswith("orientation"))
             x, z = cx + r * math.cos(phase), cz + r * math.sin(phase)
             path = f'{{ kind = "static", position = [{x:.2f}, {y}, {z:.2f}] }}'
@@ -75,7 +112,8 @@ def objects(extent_m, seed, radius_range, parked=False):
     return "\n".join(out)
 
 
-def scene(name, description, patches, extent_m, radius_range, comment, limit=8.0, parked=False):
+def scene(name, description, patches, extent_m, radius_range, comment, limit=8.0, parked=False,
+          stop_go=False):
     return f"""# {comment}
 # Written by scenes/make_herd.py (seeded): edit that and run it again.
 name = "{name}"
@@ -92,7 +130,7 @@ memory_limit_gib = {limit}
 path = {{ kind = "static", position = [0.0, 8.0, -6.0] }}
 look_at = {{ kind = "point", at = [0.0, 0.0, 10.0] }}
 
-{objects(extent_m, 128, radius_range, parked)}"""
+{objects(extent_m, 128, radius_range, parked, stop_go)}"""
 
 
 # The default field's patches are 32 x 32 cells of 0.1 m: 3.2 m.
@@ -136,5 +174,21 @@ with open("scenes/herd_parked.toml", "w") as f:
             "# 16,777,216-blade field: what objects at rest cost (sim.reuse_at_rest).",
             10.0,
             parked=True,
+        )
+    )
+with open("scenes/herd_stopgo.toml", "w") as f:
+    f.write(
+        scene(
+            "herd_stopgo",
+            "herd.toml's 128 objects going round their circles in legs: stopped, slow, fast",
+            128,
+            128 * 3.2,
+            (3.0, 8.0),
+            "herd.toml's 128 objects going round their circles in legs of 1.5-4 s,\n"
+            "# each stopped or at 0.5, 1 or 1.5 times the object's speed (keyframes\n"
+            "# for 20 s, then each stays where it is), on its 16,777,216-blade field:\n"
+            "# far bodies that change speed (issue 16's far turns, `--far-every`).",
+            10.0,
+            stop_go=True,
         )
     )

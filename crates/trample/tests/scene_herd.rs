@@ -2,7 +2,9 @@
 //! objects circling over a 16.8 M-blade field, parses, validates and fits
 //! its memory limit (it is not built here: 7.8 GiB estimated); its smaller twin
 //! `scenes/herd_small.toml` (1 M blades) builds and steps, and every object
-//! is over the field (the broad phase lists patches under each).
+//! is over the field (the broad phase lists patches under each); its
+//! variants `herd_parked.toml` (standing still) and `herd_stopgo.toml`
+//! (changing speed) are the same objects.
 
 mod common;
 
@@ -92,5 +94,61 @@ fn herd_parked_is_the_herd_standing_still() {
         assert_eq!(p.name, h.name);
         assert_eq!(p.path.kind_name(), "static", "{}", p.name);
         assert_eq!(h.path.kind_name(), "circle", "{}", h.name);
+    }
+}
+
+/// `scenes/herd_stopgo.toml` is the herd's field and objects going round
+/// their circles in `herd.toml` (every key on the circle, the first where
+/// the circle starts) in legs: each object stops and changes speed
+/// (far bodies whose far pass's load changes, `step::passes::far_schedule`).
+#[test]
+fn herd_stopgo_is_the_herd_going_round_its_circles_at_changing_speeds() {
+    use trample::object::PathParams;
+    let (stopgo, herd) = (load("herd_stopgo.toml"), load("herd.toml"));
+    stopgo.validate().expect("herd_stopgo.toml is valid");
+    assert_eq!(stopgo.file.field.blade_count(), 16_777_216);
+    assert_eq!(kinds(&stopgo), kinds(&herd));
+    for (s, h) in stopgo.file.objects.iter().zip(&herd.file.objects) {
+        assert_eq!(s.name, h.name);
+        let PathParams::Circle {
+            center,
+            radius_m,
+            period_s,
+            phase_rad,
+        } = h.path
+        else {
+            panic!("{}: {:?}", h.name, h.path)
+        };
+        let PathParams::Keyframes { keys } = &s.path else {
+            panic!("{}: {:?}", s.name, s.path)
+        };
+        let start = [
+            center[0] + radius_m * phase_rad.cos(),
+            center[2] - radius_m * phase_rad.sin(),
+        ];
+        let first = keys[0].position;
+        assert!(
+            (first[0] - start[0]).hypot(first[2] - start[1]) < 0.01,
+            "{}: starts at {first:?}, its circle at {start:?}",
+            s.name
+        );
+        let speed = std::f32::consts::TAU * radius_m / period_s;
+        let mut speeds = Vec::new();
+        for w in keys.windows(2) {
+            let (a, b) = (w[0].position, w[1].position);
+            assert_eq!(a[1], center[1], "{}: height", s.name);
+            let off = (b[0] - center[0]).hypot(b[2] - center[2]) - radius_m;
+            assert!(off.abs() < 0.01, "{}: a key {off} m off its circle", s.name);
+            let v = (b[0] - a[0]).hypot(b[2] - a[2]) / (w[1].t_s - w[0].t_s);
+            speeds.push((v / speed * 2.0).round() / 2.0);
+        }
+        assert!(keys.last().unwrap().t_s >= 20.0, "{}: 20 s of keys", s.name);
+        assert!(
+            speeds.iter().all(|f| [0.0, 0.5, 1.0, 1.5].contains(f)),
+            "{}: legs at {speeds:?} times its speed",
+            s.name
+        );
+        let legs = speeds.windows(2).filter(|w| w[0] != w[1]).count();
+        assert!(legs >= 3, "{}: changes speed {legs} times", s.name);
     }
 }

@@ -482,6 +482,110 @@ path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration
     assert_eq!(turns[1], turns[3], "the slow balls share a turn: {turns:?}");
 }
 
+/// A far body whose speed changes is given its turn again after its next
+/// turn ([`trample::step::passes::far_schedule`]): the balls of
+/// `far_turns_count_the_sub_steps_a_pass_shares`, but the small one starts
+/// slowly (1 sub-step a turn, so it joins the two big slow balls) and
+/// speeds up after 0.2 s to the big fast ball's speed (4 sub-steps).
+/// Turns kept while a body stays far left it with the slow pair, whose
+/// pass then ran 4 sub-steps over three bodies: 3.6 times as many blades
+/// tested on one step as on the next, 12.5 k every two steps (this test
+/// failed so). Given its turn again, it moves to the fast ball's turn once
+/// it has taken its own: 1.6 times, 5.8 k.
+#[test]
+fn a_far_body_that_speeds_up_moves_to_a_turn_of_its_speed() {
+    let ball = |name: &str, r: f32, z: f32, duration: f32| {
+        format!(
+            r#"
+[[objects]]
+name = "{name}"
+shape = {{ kind = "sphere", radius_m = {r} }}
+path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration_s = {duration} }}
+"#
+        )
+    };
+    // 0.25 m/s for 0.2 s, then 2.5 m/s (the fast ball's speed).
+    let speeding = r#"
+[[objects]]
+name = "speeding_small"
+shape = { kind = "sphere", radius_m = 0.1 }
+path = { kind = "keyframes", keys = [
+    { t_s = 0.0, position = [-5.0, 0.1, 1.0] },
+    { t_s = 0.2, position = [-4.95, 0.1, 1.0] },
+    { t_s = 4.0, position = [4.55, 0.1, 1.0] },
+] }
+"#;
+    let objects = [
+        ball("fast_big", 0.6, -4.0, 4.0),
+        ball("slow_big1", 1.0, -1.5, 40.0),
+        speeding.to_string(),
+        ball("slow_big3", 1.0, 3.5, 40.0),
+    ]
+    .concat();
+    let mut sim = field_12m(400.0, "far_every = 2\nfar_travel_m = 0.025", &objects);
+    let dt = sim.params.dt_s;
+    let substeps = |sim: &Simulation| -> Vec<f64> {
+        sim.bodies
+            .iter()
+            .map(|b| trample::step::passes::far_work(sim, b).substeps)
+            .collect()
+    };
+    assert_eq!(substeps(&sim), [4.0, 1.0, 1.0, 1.0], "sub-steps a turn");
+    let turns = |sim: &Simulation| -> Vec<u32> {
+        trample::step::passes::far_turns(sim)
+            .into_iter()
+            .map(|t| t.expect("all four are far"))
+            .collect()
+    };
+    let before = turns(&sim);
+    assert_eq!(
+        before[1], before[2],
+        "slow, it joins the slow pair: {before:?}"
+    );
+    let (mut tested, mut bodies) = (Vec::new(), Vec::new());
+    for step in 0..40 {
+        let t = sim.step(dt).unwrap().clone();
+        if sim.time > 0.35 {
+            tested.push(t.narrow_candidates);
+            bodies.push(t.far_bodies);
+        }
+        if step == 0 {
+            assert_eq!(turns(&sim), before, "kept while its speed is kept");
+        }
+        // Given its turn again only after it took its own: no body waits
+        // more than `far_every` steps.
+        for b in &sim.bodies {
+            assert!(
+                sim.time - b.stepped_to() < 1.5 * f64::from(dt),
+                "step {step}: {} last stepped at {} s, now {} s",
+                b.object.name,
+                b.stepped_to(),
+                sim.time
+            );
+        }
+    }
+    assert_eq!(substeps(&sim), [4.0, 1.0, 4.0, 1.0], "it sped up");
+    let after = turns(&sim);
+    let (lo, hi) = (*tested.iter().min().unwrap(), *tested.iter().max().unwrap());
+    println!(
+        "turns {before:?} -> {after:?}; bodies a step {bodies:?}; blades tested a step: {tested:?}"
+    );
+    assert_eq!(
+        after[0], after[2],
+        "it moved to the fast ball's turn: {after:?}"
+    );
+    assert_eq!(after[1], after[3], "the slow pair kept theirs: {after:?}");
+    assert_eq!((after[1], after[3]), (before[1], before[3]));
+    assert!(
+        lo > 0 && f64::from(hi) <= 1.8 * f64::from(lo),
+        "blades tested a step: {tested:?}"
+    );
+    assert!(
+        bodies.iter().all(|&b| b == 2),
+        "two bodies a step: {bodies:?}"
+    );
+}
+
 /// `scenes/NAME` built with `far_every = k`, every body counting as far
 /// (`far_beyond_m = 1`: the scenes' cameras are metres away) and a far
 /// turn cut into sub-steps of 3 cm (`far_travel_m`: several a turn).

@@ -76,10 +76,10 @@ pub struct Body {
     /// end of the last step it took part in ([`crate::step::passes`]).
     pub(crate) stepped_to: f64,
     /// Its turn among the far bodies while it is far
-    /// ([`crate::step::passes::far_turns`]): it steps on the frames where
+    /// ([`crate::step::passes::far_schedule`]): it steps on the frames where
     /// `(frame + turn) % sim.far_every == 0`. `None` while it is near (or
     /// before its first step).
-    pub(crate) far_turn: Option<u32>,
+    pub(crate) far_turn: Option<super::passes::FarTurn>,
     /// What each collider kept while at rest ([`super::at_rest`]), by
     /// collider index; grown on first use.
     pub(crate) rest: Vec<super::at_rest::ColliderMemo>,

@@ -78,8 +78,9 @@ pub struct SimParams {
     /// whose colliders' root boxes lie wholly farther than
     /// [`SimParams::far_beyond_m`] from the camera (horizontally) touches
     /// the grass every `far_every`-th step only — the bodies take turns,
-    /// each given the turn with the least work so far
-    /// ([`crate::step::passes::far_turns`]), so each step carries a share
+    /// each given the turn with the least work so far, and given it again
+    /// when its speed changes ([`crate::step::passes::far_schedule`]), so
+    /// each step carries a share
     /// of them — and then over all the
     /// time since it last did: its track is the one the whole field gets
     /// stepped at `far_every · dt` (the displacement `F · h` of DESIGN §6

@@ -8,8 +8,10 @@
 //! than `sim.far_beyond_m` from the camera (horizontally) touches the grass only
 //! on the steps where `(frame + turn) % k == 0` — the far bodies take
 //! turns, so each step carries about `1/k` of them — and then over all the
-//! time since it last did. A body's `turn` ([`far_turns`]) is given when it
-//! becomes far and kept while it stays far: the one whose far pass has the
+//! time since it last did. A body's `turn` ([`far_schedule`]) is given when
+//! it becomes far, and again after a turn at which its speed asks for more
+//! or fewer sub-steps than when it was given it (it sped up, slowed down,
+//! stopped or started), and kept otherwise: the one whose far pass has the
 //! least work with it ([`far_work`]: the pass's sub-steps, its fastest
 //! body's, times the ground its bodies reach), so that each step carries
 //! about `1/k` of the far bodies' work and not only of their number (the
@@ -172,18 +174,62 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
 /// Each body's turn among the far bodies this step (see the module docs):
 /// `None` for a body that is not far (or with `sim.far_every` ≤ 1),
 /// otherwise `Some(t)`, `t < far_every`: it steps on the frames where
-/// `(frame + t) % far_every == 0`. A far body keeps the turn it had; the
-/// bodies that just became far are given theirs largest first (by
-/// [`far_cost`]), each the turn whose load is least once it joins. A
-/// turn's load is what its far pass does: its sub-steps — those of its
-/// fastest body, since the bodies of a pass share them — times the ground
-/// its bodies reach ([`far_work`]), so bodies of like speeds tend to share
-/// a turn and a slow one is not carried through a fast one's sub-steps
-/// (ties: the first turn). A function of the simulation's state alone, so
-/// that [`plan_passes`] and [`Simulation::begin_step`] (which keeps the
-/// turns in the bodies) agree.
+/// `(frame + t) % far_every == 0` ([`far_schedule`] without the sub-steps).
 #[must_use]
 pub fn far_turns(sim: &Simulation) -> Vec<Option<u32>> {
+    far_schedule(sim)
+        .into_iter()
+        .map(|s| s.map(|s| s.turn))
+        .collect()
+}
+
+/// A far body's place among the far turns ([`far_schedule`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FarTurn {
+    /// Its turn: it steps on the frames where `(frame + turn) % far_every
+    /// == 0`; `turn < far_every`.
+    pub turn: u32,
+    /// The travel of a turn at its speed when it was given `turn`
+    /// ([`FarWork::travel`]): it keeps `turn` while its sub-steps stay
+    /// those of this travel, or its travel stays within
+    /// [`FAR_TRAVEL_BAND`] of it.
+    pub travel: f64,
+}
+
+/// How far, in sub-steps, a far body's travel a turn may drift from what
+/// it was when it was given its turn before it is given one again, when
+/// its sub-steps changed ([`far_schedule`]): a body at a steady speed whose
+/// travel sits on a whole number of sub-steps (float noise crossing it)
+/// keeps its turn.
+pub const FAR_TRAVEL_BAND: f64 = 0.25;
+
+impl FarTurn {
+    /// Whether a body given this turn, now with `work`, keeps it.
+    fn holds(&self, work: &FarWork) -> bool {
+        work.substeps == substeps_of(self.travel)
+            || (work.travel - self.travel).abs() < FAR_TRAVEL_BAND
+    }
+}
+
+/// Each body's [`FarTurn`] this step: `None` for a body that is not far
+/// (or with `sim.far_every` ≤ 1). A far body keeps the turn it had while
+/// its speed asks for the sub-steps it had when given it (or its travel a
+/// turn stays within [`FAR_TRAVEL_BAND`] of what it was). The bodies that
+/// just became far, and those whose sub-steps changed (a body that sped
+/// up, slowed down, stopped or started: it changed its pass's load) and
+/// that took their turn on the last step, are given theirs largest first
+/// (by [`far_cost`]), each the turn whose load is least once it joins
+/// (ties: the turn it had, then the first). A turn's load is what its far
+/// pass does: its sub-steps — those of its fastest body, since the bodies
+/// of a pass share them — times the ground its bodies reach
+/// ([`far_work`]), so bodies of like speeds tend to share a turn and a
+/// slow one is not carried through a fast one's sub-steps. A body whose
+/// speed changed waits for its turn before it moves, so no body waits
+/// more than `far_every` steps between two turns. A function of the
+/// simulation's state alone, so that [`plan_passes`] and
+/// [`Simulation::begin_step`] (which keeps the turns in the bodies) agree.
+#[must_use]
+pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
     let every = sim.params.far_every.max(1);
     let mut turns = vec![None; sim.bodies.len()];
     if every == 1 {
@@ -194,30 +240,41 @@ pub fn far_turns(sim: &Simulation) -> Vec<Option<u32>> {
     // bodies reach.
     let mut substeps = vec![0.0f64; every as usize];
     let mut ground = vec![0.0f64; every as usize];
-    let mut new = Vec::new();
+    let mut placing = Vec::new();
     for (i, body) in sim.bodies.iter().enumerate() {
         if !(body.may_step_far() && is_far(body, eye, sim.params.far_beyond_m)) {
             continue;
         }
         let work = far_work(sim, body);
-        match body.far_turn.filter(|&t| t < every) {
-            Some(t) => {
+        let kept = body.far_turn.filter(|t| t.turn < every);
+        match kept {
+            Some(t) if t.holds(&work) || body.stepped_to < sim.time => {
                 turns[i] = Some(t);
+                let t = t.turn;
                 substeps[t as usize] = substeps[t as usize].max(work.substeps);
                 ground[t as usize] += work.area;
             }
-            None => new.push((work, i)),
+            _ => placing.push((work, i, kept)),
         }
     }
-    new.sort_by(|a, b| b.0.cost().total_cmp(&a.0.cost()).then(a.1.cmp(&b.1)));
-    for (work, i) in new {
+    placing.sort_by(|a, b| b.0.cost().total_cmp(&a.0.cost()).then(a.1.cmp(&b.1)));
+    for (work, i, had) in placing {
         let load = |t: usize| substeps[t].max(work.substeps) * (ground[t] + work.area);
+        let moved = |t: usize| had.is_none_or(|h| h.turn != t as u32);
         let t = (0..every as usize)
-            .min_by(|&a, &b| load(a).total_cmp(&load(b)).then(a.cmp(&b)))
+            .min_by(|&a, &b| {
+                load(a)
+                    .total_cmp(&load(b))
+                    .then(moved(a).cmp(&moved(b)))
+                    .then(a.cmp(&b))
+            })
             .expect("far_every > 1 turns");
         substeps[t] = substeps[t].max(work.substeps);
         ground[t] += work.area;
-        turns[i] = Some(t as u32);
+        turns[i] = Some(FarTurn {
+            turn: t as u32,
+            travel: work.travel,
+        });
     }
     turns
 }
@@ -244,6 +301,9 @@ pub struct FarWork {
     /// The sub-steps of a turn at its speed now: `far_every` steps of the
     /// scene's `dt_s` of travel, at most `far_travel_m` a sub-step; ≥ 1.
     pub substeps: f64,
+    /// The travel of a turn at its speed now, in `far_travel_m`: finite,
+    /// ≥ 0; `substeps` is its ceiling, at least 1.
+    pub travel: f64,
 }
 
 impl FarWork {
@@ -292,13 +352,23 @@ pub fn far_work(sim: &Simulation, body: &Body) -> FarWork {
     let travel = f64::from(body.pose.velocity.length())
         * f64::from(sim.params.dt_s)
         * f64::from(sim.params.far_every);
-    let substeps = (travel / f64::from(sim.params.far_travel_m))
-        .ceil()
-        .max(1.0);
+    let travel = travel / f64::from(sim.params.far_travel_m);
+    let travel = if travel.is_finite() {
+        travel.max(0.0)
+    } else {
+        0.0
+    };
     FarWork {
         area: if area.is_finite() { area.max(0.0) } else { 0.0 },
-        substeps: if substeps.is_finite() { substeps } else { 1.0 },
+        substeps: substeps_of(travel),
+        travel,
     }
+}
+
+/// The sub-steps of a turn that travels `travel` (in `far_travel_m`): its
+/// ceiling, at least 1.
+fn substeps_of(travel: f64) -> f64 {
+    travel.ceil().max(1.0)
 }
 
 /// How many bodies the far passes of `passes` step (every pass but the
@@ -306,4 +376,35 @@ pub fn far_work(sim: &Simulation, body: &Body) -> FarWork {
 #[must_use]
 pub fn far_bodies(passes: &[Pass]) -> u32 {
     passes.iter().skip(1).map(Pass::bodies).sum::<usize>() as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn work(travel: f64) -> FarWork {
+        FarWork {
+            area: 1.0,
+            substeps: substeps_of(travel),
+            travel,
+        }
+    }
+
+    /// A body keeps its turn while its sub-steps stay those it was given
+    /// it with, and also while its travel stays within the band: float
+    /// noise across a whole number of sub-steps (3 → 3 + 1e-12: 3 → 4
+    /// sub-steps) does not move it, a change of speed does.
+    #[test]
+    fn a_turn_holds_within_its_sub_steps_or_the_travel_band() {
+        let given = |travel| FarTurn { turn: 0, travel };
+        assert!(given(3.0).holds(&work(3.0)));
+        assert!(given(3.0).holds(&work(3.0 + 1e-12)), "noise across 3");
+        assert!(given(3.0 + 1e-12).holds(&work(3.0)), "noise across 3");
+        assert!(given(2.1).holds(&work(2.9)), "the same 3 sub-steps");
+        assert!(!given(3.0).holds(&work(3.3)), "sped up: 3 → 4 sub-steps");
+        assert!(!given(3.3).holds(&work(2.9)), "slowed down: 4 → 3");
+        assert!(given(0.0).holds(&work(0.9)), "stopped to slow: 1 sub-step");
+        assert!(!given(0.0).holds(&work(1.5)), "stopped to moving: 1 → 2");
+        assert!(!given(1.5).holds(&work(0.0)), "moving to stopped: 2 → 1");
+    }
 }

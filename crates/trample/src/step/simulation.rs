@@ -283,10 +283,11 @@ impl Simulation {
     pub fn begin_step(&mut self, dt: f32) -> Result<Vec<Pass>, SimError> {
         check_dt(dt)?;
         self.field.clear_changes();
-        let turns = super::passes::far_turns(self);
+        let schedule = super::passes::far_schedule(self);
+        let turns: Vec<Option<u32>> = schedule.iter().map(|s| s.map(|s| s.turn)).collect();
         let passes = plan_passes_with(self, dt, &turns);
-        for (body, turn) in self.bodies.iter_mut().zip(turns) {
-            body.far_turn = turn;
+        for (body, s) in self.bodies.iter_mut().zip(schedule) {
+            body.far_turn = s;
         }
         for pass in &passes {
             let plan = pass.plan;
