@@ -586,6 +586,82 @@ path = { kind = "keyframes", keys = [
     );
 }
 
+/// A body standing still costs a far pass a quarter of one moving over the
+/// same ground (`sim.reuse_at_rest` compares the blades it kept instead of
+/// testing them; `step::passes::AT_REST_SHARE`), and the turns count it so:
+/// three big balls parked and two smaller ones rolling by, all far, at
+/// `far_every = 2`. Counted at their whole ground, the parked balls
+/// outweighed the rolling ones, two took one turn and one the other, and
+/// both rolling balls joined the lone parked one (this test failed so).
+/// Counted at a quarter, each turn takes one rolling ball.
+#[test]
+fn far_turns_count_parked_bodies_at_what_standing_still_costs() {
+    let parked = |name: &str, z: f32| {
+        format!(
+            r#"
+[[objects]]
+name = "{name}"
+shape = {{ kind = "sphere", radius_m = 1.0 }}
+path = {{ kind = "static", position = [-3.5, 1.0, {z}] }}
+"#
+        )
+    };
+    let rolling = |name: &str, z: f32| {
+        format!(
+            r#"
+[[objects]]
+name = "{name}"
+shape = {{ kind = "sphere", radius_m = 0.5 }}
+orientation = "rolling"
+path = {{ kind = "line", from = [-1.0, 0.5, {z}], to = [5.0, 0.5, {z}], duration_s = 6.0 }}
+"#
+        )
+    };
+    let objects = [
+        parked("parked0", -4.0),
+        parked("parked1", 0.0),
+        parked("parked2", 4.0),
+        rolling("rolling3", -2.0),
+        rolling("rolling4", 2.0),
+    ]
+    .concat();
+    let mut sim = field_12m(400.0, "far_every = 2", &objects);
+    let dt = sim.params.dt_s;
+    let work: Vec<_> = sim
+        .bodies
+        .iter()
+        .map(|b| trample::step::passes::far_work(&sim, b))
+        .collect();
+    assert!(work[..3].iter().all(|w| w.still), "{work:?}");
+    assert!(
+        work[3..].iter().all(|w| !w.still && w.substeps == 1.0),
+        "{work:?}"
+    );
+    assert!(
+        work[0].area > work[3].area,
+        "parked balls reach more ground"
+    );
+    let (mut reused, mut bodies) = (Vec::new(), Vec::new());
+    for step in 0..12 {
+        let t = sim.step(dt).unwrap().clone();
+        // From each parked ball's second turn on.
+        if step >= 4 {
+            reused.push(t.reused_tiles);
+            bodies.push(t.far_bodies);
+        }
+    }
+    let turns: Vec<u32> = trample::step::passes::far_turns(&sim)
+        .into_iter()
+        .map(|t| t.expect("all five are far"))
+        .collect();
+    println!("turns {turns:?}; bodies a step {bodies:?}; tiles reused a step: {reused:?}");
+    assert_ne!(turns[3], turns[4], "one rolling ball a turn: {turns:?}");
+    assert!(
+        reused.iter().all(|&r| r > 0),
+        "the parked balls' work is reused: {reused:?}"
+    );
+}
+
 /// `scenes/NAME` built with `far_every = k`, every body counting as far
 /// (`far_beyond_m = 1`: the scenes' cameras are metres away) and a far
 /// turn cut into sub-steps of 3 cm (`far_travel_m`: several a turn).

@@ -69,8 +69,7 @@ impl RestKey {
         press: f32,
         reach: f32,
     ) -> Self {
-        let still = pose.velocity == Vec3::ZERO && pose.angular_velocity == Vec3::ZERO;
-        let h = if still { 0.0 } else { h };
+        let h = if is_still(pose) { 0.0 } else { h };
         let mut bits = [0; 18];
         let values = pose
             .position
@@ -89,6 +88,20 @@ impl RestKey {
             tree: (std::ptr::from_ref(tree) as usize, tree.nodes.len()),
         }
     }
+}
+
+/// Whether a collider at `pose` neither moves nor spins (its velocity and
+/// angular velocity are zero): its [`RestKey`] does not depend on the
+/// sub-step's length, and it stays the same from one sub-step to the next.
+pub(crate) fn is_still(pose: &Pose) -> bool {
+    pose.velocity == Vec3::ZERO && pose.angular_velocity == Vec3::ZERO
+}
+
+/// Whether `body`'s colliders are keyed ([`RestKey`]) under `params`: with
+/// `reuse_at_rest`, in the track-everywhere mode, and not animated (an
+/// animated body's tree is refitted in place).
+pub(crate) fn may_reuse(params: &super::SimParams, body: &super::Body) -> bool {
+    params.reuse_at_rest && params.track_everywhere && body.object.animated.is_none()
 }
 
 /// What a collider kept from its latest sub-steps: while at rest, its

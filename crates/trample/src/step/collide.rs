@@ -62,19 +62,17 @@ impl<'a> ColliderNarrow<'a> {
         let tree = collider.tree;
         let inverse = pose.rotation.inverse();
         let params = &sim.params;
-        let key =
-            (params.reuse_at_rest && params.track_everywhere && body.object.animated.is_none())
-                .then(|| {
-                    RestKey::new(
-                        &pose,
-                        tree,
-                        h,
-                        params.precision,
-                        shell,
-                        body.object.track.press,
-                        sim.field.max_blade_length + shell,
-                    )
-                });
+        let key = super::at_rest::may_reuse(params, body).then(|| {
+            RestKey::new(
+                &pose,
+                tree,
+                h,
+                params.precision,
+                shell,
+                body.object.track.press,
+                sim.field.max_blade_length + shell,
+            )
+        });
         Self {
             tree,
             pose,

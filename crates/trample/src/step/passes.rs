@@ -13,7 +13,8 @@
 //! or fewer sub-steps than when it was given it (it sped up, slowed down,
 //! stopped or started), and kept otherwise: the one whose far pass has the
 //! least work with it ([`far_work`]: the pass's sub-steps, its fastest
-//! body's, times the ground its bodies reach), so that each step carries
+//! body's, times the ground its bodies reach, a body standing still
+//! counting [`AT_REST_SHARE`] of its ground), so that each step carries
 //! about `1/k` of the far bodies' work and not only of their number (the
 //! herd at `k = 16`, two cores, 240 steps: by body id, a turn's steps took
 //! 10.9 to 22.5 ms on average and 31–36 steps took over 20 ms; by each
@@ -48,6 +49,7 @@
 //! passes planned here (STYLE rule 9): the CPU in
 //! [`super::Simulation::step`], the GPU path in its own outer loop.
 
+use super::at_rest::is_still;
 use super::body::Body;
 use super::simulation::Simulation;
 use super::stages::{SubstepPlan, plan_substeps_of};
@@ -194,6 +196,9 @@ pub struct FarTurn {
     /// those of this travel, or its travel stays within
     /// [`FAR_TRAVEL_BAND`] of it.
     pub travel: f64,
+    /// Whether it stood still when it was given `turn` ([`FarWork::still`]):
+    /// it keeps `turn` while that stays so.
+    pub still: bool,
 }
 
 /// How far, in sub-steps, a far body's travel a turn may drift from what
@@ -206,8 +211,9 @@ pub const FAR_TRAVEL_BAND: f64 = 0.25;
 impl FarTurn {
     /// Whether a body given this turn, now with `work`, keeps it.
     fn holds(&self, work: &FarWork) -> bool {
-        work.substeps == substeps_of(self.travel)
-            || (work.travel - self.travel).abs() < FAR_TRAVEL_BAND
+        work.still == self.still
+            && (work.substeps == substeps_of(self.travel)
+                || (work.travel - self.travel).abs() < FAR_TRAVEL_BAND)
     }
 }
 
@@ -252,14 +258,14 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
                 turns[i] = Some(t);
                 let t = t.turn;
                 substeps[t as usize] = substeps[t as usize].max(work.substeps);
-                ground[t as usize] += work.area;
+                ground[t as usize] += work.ground();
             }
             _ => placing.push((work, i, kept)),
         }
     }
     placing.sort_by(|a, b| b.0.cost().total_cmp(&a.0.cost()).then(a.1.cmp(&b.1)));
     for (work, i, had) in placing {
-        let load = |t: usize| substeps[t].max(work.substeps) * (ground[t] + work.area);
+        let load = |t: usize| substeps[t].max(work.substeps) * (ground[t] + work.ground());
         let moved = |t: usize| had.is_none_or(|h| h.turn != t as u32);
         let t = (0..every as usize)
             .min_by(|&a, &b| {
@@ -270,10 +276,11 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
             })
             .expect("far_every > 1 turns");
         substeps[t] = substeps[t].max(work.substeps);
-        ground[t] += work.area;
+        ground[t] += work.ground();
         turns[i] = Some(FarTurn {
             turn: t as u32,
             travel: work.travel,
+            still: work.still,
         });
     }
     turns
@@ -304,13 +311,36 @@ pub struct FarWork {
     /// The travel of a turn at its speed now, in `far_travel_m`: finite,
     /// ≥ 0; `substeps` is its ceiling, at least 1.
     pub travel: f64,
+    /// Whether it stands still now, so that its narrow phase and contact
+    /// response take their answers from the sub-step before
+    /// (`sim.reuse_at_rest`): every collider's velocity and spin zero, and
+    /// not animated. Such a body's ground counts at [`AT_REST_SHARE`].
+    pub still: bool,
 }
 
+/// What a body standing still costs a sub-step against one moving over the
+/// same ground (`sim.reuse_at_rest`: it compares the blades it kept instead
+/// of testing them): the herd parked steps in 22.2 ms where the herd
+/// moving takes 92.4 ms (every object every step, two cores: 0.24;
+/// BENCHMARKS.md, session 30).
+pub const AT_REST_SHARE: f64 = 0.25;
+
 impl FarWork {
-    /// `area · substeps`: the ground its narrow phase tests over a turn.
+    /// The ground it counts for in its pass's load: its `area`, at
+    /// [`AT_REST_SHARE`] when it stands still.
+    #[must_use]
+    pub fn ground(&self) -> f64 {
+        if self.still {
+            self.area * AT_REST_SHARE
+        } else {
+            self.area
+        }
+    }
+
+    /// `ground · substeps`: the ground its narrow phase tests over a turn.
     #[must_use]
     pub fn cost(&self) -> f64 {
-        self.area * self.substeps
+        self.ground() * self.substeps
     }
 }
 
@@ -358,10 +388,13 @@ pub fn far_work(sim: &Simulation, body: &Body) -> FarWork {
     } else {
         0.0
     };
+    let still =
+        super::at_rest::may_reuse(&sim.params, body) && body.colliders().all(|c| is_still(c.pose));
     FarWork {
         area: if area.is_finite() { area.max(0.0) } else { 0.0 },
         substeps: substeps_of(travel),
         travel,
+        still,
     }
 }
 
@@ -387,24 +420,36 @@ mod tests {
             area: 1.0,
             substeps: substeps_of(travel),
             travel,
+            still: false,
         }
     }
 
     /// A body keeps its turn while its sub-steps stay those it was given
     /// it with, and also while its travel stays within the band: float
     /// noise across a whole number of sub-steps (3 → 3 + 1e-12: 3 → 4
-    /// sub-steps) does not move it, a change of speed does.
+    /// sub-steps) does not move it, a change of speed does, and so does
+    /// coming to a standstill (its work falls to [`AT_REST_SHARE`]).
     #[test]
     fn a_turn_holds_within_its_sub_steps_or_the_travel_band() {
-        let given = |travel| FarTurn { turn: 0, travel };
+        let given = |travel| FarTurn {
+            turn: 0,
+            travel,
+            still: false,
+        };
         assert!(given(3.0).holds(&work(3.0)));
         assert!(given(3.0).holds(&work(3.0 + 1e-12)), "noise across 3");
         assert!(given(3.0 + 1e-12).holds(&work(3.0)), "noise across 3");
         assert!(given(2.1).holds(&work(2.9)), "the same 3 sub-steps");
         assert!(!given(3.0).holds(&work(3.3)), "sped up: 3 → 4 sub-steps");
         assert!(!given(3.3).holds(&work(2.9)), "slowed down: 4 → 3");
-        assert!(given(0.0).holds(&work(0.9)), "stopped to slow: 1 sub-step");
+        assert!(given(0.0).holds(&work(0.9)), "1 sub-step either way");
         assert!(!given(0.0).holds(&work(1.5)), "stopped to moving: 1 → 2");
         assert!(!given(1.5).holds(&work(0.0)), "moving to stopped: 2 → 1");
+        let parked = FarWork {
+            still: true,
+            ..work(0.0)
+        };
+        assert!(!given(0.0).holds(&parked), "to still: reused, cheaper");
+        assert_eq!(parked.cost(), AT_REST_SHARE);
     }
 }

@@ -36,7 +36,9 @@ pub struct StepTimings {
     pub pbg_blades: u32,
     /// Generations of propagation in the last sub-step.
     pub generations: u32,
-    /// Blades tested by the narrow phase.
+    /// Candidate blades of the narrow phase: those in the tiles it took up
+    /// ([`StepTimings::narrow_tiles`]), tested or reused, over the step's
+    /// sub-steps.
     pub narrow_candidates: u32,
     /// Tiles of blades (`TILE_CELLS`² cells) the narrow phase took up,
     /// tested or reused ([`StepTimings::reused_tiles`]), over the step's
