@@ -173,8 +173,10 @@ pub fn run(a: &Args) -> Result<()> {
     )?;
     outputs.commit()?;
     eprintln!(
-        "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (max {:.3}); {} blades touched ({} DBG, {} PBG only){}{}{}; wrote {}",
+        "trample: {frames} frames in {wall_s:.2} s; step median {:.3} ms (p90 {:.3}, p99 {:.3}, max {:.3}); {} blades touched ({} DBG, {} PBG only){}{}{}; wrote {}",
         summary.step_ms.median,
+        summary.step_ms.p90,
+        summary.step_ms.p99,
         summary.step_ms.max,
         summary.classes["direct"] + summary.classes["propagated"],
         summary.classes["direct"],

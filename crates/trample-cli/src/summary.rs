@@ -6,12 +6,17 @@ use trample::StepTimings;
 use trample::scene::Scene;
 use trample::step::{BladeClass, Simulation};
 
-/// min / median / mean / max of a series, milliseconds.
+/// min / median / mean / 90th and 99th percentiles / max of a series,
+/// milliseconds. The percentiles are nearest-rank (the smallest value with
+/// at least that share of the series at or below it): what a frame-time
+/// budget cares about, where a median hides the hitches.
 #[derive(Serialize, Debug, Default, Clone, Copy)]
 pub struct Stats {
     pub min: f64,
     pub median: f64,
     pub mean: f64,
+    pub p90: f64,
+    pub p99: f64,
     pub max: f64,
 }
 
@@ -28,10 +33,14 @@ impl Stats {
         } else {
             0.5 * (s[s.len() / 2 - 1] + s[s.len() / 2])
         };
+        // Nearest rank: the ⌈p·n⌉-th smallest, in integers (90·n / 100).
+        let rank = |percent: usize| s[(percent * s.len()).div_ceil(100).max(1) - 1];
         Self {
             min: s[0],
             median,
             mean: s.iter().sum::<f64>() / s.len() as f64,
+            p90: rank(90),
+            p99: rank(99),
             max: s[s.len() - 1],
         }
     }
@@ -204,6 +213,13 @@ mod tests {
         let s = Stats::of(&[3.0, 1.0, 2.0, 10.0]);
         assert_eq!((s.min, s.median, s.mean, s.max), (1.0, 2.5, 4.0, 10.0));
         assert_eq!(Stats::of(&[5.0]).median, 5.0);
+        assert_eq!((s.p90, s.p99), (10.0, 10.0));
+        // 1 … 200 ms: nearest rank 180 and 198.
+        let v: Vec<f64> = (1..=200).rev().map(f64::from).collect();
+        let s = Stats::of(&v);
+        assert_eq!((s.min, s.p90, s.p99, s.max), (1.0, 180.0, 198.0, 200.0));
+        let s = Stats::of(&[5.0]);
+        assert_eq!((s.p90, s.p99), (5.0, 5.0));
     }
 
     #[test]

@@ -77,8 +77,14 @@ fn simulate_writes_summary_and_dumps() {
     // zero, and their sum within the run's wall time (no speed is asserted).
     let ms = |key: &str| s["step_ms"][key].as_f64().unwrap();
     let (min, median, mean, max) = (ms("min"), ms("median"), ms("mean"), ms("max"));
+    let (p90, p99) = (ms("p90"), ms("p99"));
     assert!(
         min <= median && median <= max && min <= mean && mean <= max && max > 0.0,
+        "step_ms {}",
+        s["step_ms"]
+    );
+    assert!(
+        median <= p90 && p90 <= p99 && p99 <= max,
         "step_ms {}",
         s["step_ms"]
     );
