@@ -420,6 +420,54 @@ path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration
     );
 }
 
+/// A ball of radius `r` sliding along x from −5 to 5 m at `z` in
+/// `duration` seconds (a scene's `[[objects]]` block).
+fn line_ball(name: &str, r: f32, z: f32, duration: f32) -> String {
+    format!(
+        r#"
+[[objects]]
+name = "{name}"
+shape = {{ kind = "sphere", radius_m = {r} }}
+path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration_s = {duration} }}
+"#
+    )
+}
+
+/// Each body's sub-steps a far turn at its speed now.
+fn substeps(sim: &Simulation) -> Vec<f64> {
+    sim.bodies
+        .iter()
+        .map(|b| trample::step::passes::far_work(sim, b).substeps)
+        .collect()
+}
+
+/// Each body's far turn; every body must be far.
+fn all_far_turns(sim: &Simulation) -> Vec<u32> {
+    trample::step::passes::far_turns(sim)
+        .into_iter()
+        .enumerate()
+        .map(|(i, t)| t.unwrap_or_else(|| panic!("body {i} is far")))
+        .collect()
+}
+
+/// At `far_every = 2`: two bodies take their turn each step, and the
+/// blades the narrow phase tests differ from step to step by at most
+/// `ratio`.
+fn two_bodies_and_like_work_a_step(steps: &[trample::StepTimings], ratio: f64) {
+    let tested: Vec<u32> = steps.iter().map(|t| t.narrow_candidates).collect();
+    let bodies: Vec<u32> = steps.iter().map(|t| t.far_bodies).collect();
+    println!("bodies a step {bodies:?}; blades tested a step: {tested:?}");
+    let (lo, hi) = (*tested.iter().min().unwrap(), *tested.iter().max().unwrap());
+    assert!(
+        lo > 0 && f64::from(hi) <= ratio * f64::from(lo),
+        "blades tested a step: {tested:?}"
+    );
+    assert!(
+        bodies.iter().all(|&b| b == 2),
+        "two bodies a step: {bodies:?}"
+    );
+}
+
 /// The bodies of a far pass share its sub-steps (its fastest body's), and
 /// the turns count that ([`trample::step::passes::far_work`]): a big ball
 /// and a small one moving fast (4 sub-steps a turn), two big ones slowly
@@ -431,53 +479,26 @@ path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration
 /// fast balls share a turn and the slow ones the other: 1.7 times, 5.7 k.
 #[test]
 fn far_turns_count_the_sub_steps_a_pass_shares() {
-    let ball = |name: &str, r: f32, z: f32, duration: f32| {
-        format!(
-            r#"
-[[objects]]
-name = "{name}"
-shape = {{ kind = "sphere", radius_m = {r} }}
-path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration_s = {duration} }}
-"#
-        )
-    };
     let objects = [
-        ball("fast_big", 0.6, -4.0, 4.0),
-        ball("slow_big1", 1.0, -1.5, 40.0),
-        ball("fast_small", 0.1, 1.0, 4.0),
-        ball("slow_big3", 1.0, 3.5, 40.0),
+        line_ball("fast_big", 0.6, -4.0, 4.0),
+        line_ball("slow_big1", 1.0, -1.5, 40.0),
+        line_ball("fast_small", 0.1, 1.0, 4.0),
+        line_ball("slow_big3", 1.0, 3.5, 40.0),
     ]
     .concat();
     let mut sim = field_12m(400.0, "far_every = 2\nfar_travel_m = 0.025", &objects);
     let dt = sim.params.dt_s;
-    let subs: Vec<f64> = sim
-        .bodies
-        .iter()
-        .map(|b| trample::step::passes::far_work(&sim, b).substeps)
-        .collect();
-    assert_eq!(subs, [4.0, 1.0, 4.0, 1.0], "sub-steps a turn");
-    let (mut tested, mut bodies) = (Vec::new(), Vec::new());
+    assert_eq!(substeps(&sim), [4.0, 1.0, 4.0, 1.0], "sub-steps a turn");
+    let mut steps = Vec::new();
     for step in 0..12 {
-        let t = sim.step(dt).unwrap();
+        let t = sim.step(dt).unwrap().clone();
         if step >= 2 {
-            tested.push(t.narrow_candidates);
-            bodies.push(t.far_bodies);
+            steps.push(t);
         }
     }
-    let turns: Vec<u32> = trample::step::passes::far_turns(&sim)
-        .into_iter()
-        .map(|t| t.expect("all four are far"))
-        .collect();
-    let (lo, hi) = (*tested.iter().min().unwrap(), *tested.iter().max().unwrap());
-    println!("turns {turns:?}; bodies a step {bodies:?}; blades tested a step: {tested:?}");
-    assert!(
-        lo > 0 && f64::from(hi) <= 1.8 * f64::from(lo),
-        "blades tested a step: {tested:?}"
-    );
-    assert!(
-        bodies.iter().all(|&b| b == 2),
-        "two bodies a step: {bodies:?}"
-    );
+    let turns = all_far_turns(&sim);
+    println!("turns {turns:?}");
+    two_bodies_and_like_work_a_step(&steps, 1.8);
     assert_eq!(turns[0], turns[2], "the fast balls share a turn: {turns:?}");
     assert_eq!(turns[1], turns[3], "the slow balls share a turn: {turns:?}");
 }
@@ -494,16 +515,6 @@ path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration
 /// it has taken its own: 1.6 times, 5.8 k.
 #[test]
 fn a_far_body_that_speeds_up_moves_to_a_turn_of_its_speed() {
-    let ball = |name: &str, r: f32, z: f32, duration: f32| {
-        format!(
-            r#"
-[[objects]]
-name = "{name}"
-shape = {{ kind = "sphere", radius_m = {r} }}
-path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration_s = {duration} }}
-"#
-        )
-    };
     // 0.25 m/s for 0.2 s, then 2.5 m/s (the fast ball's speed).
     let speeding = r#"
 [[objects]]
@@ -516,41 +527,28 @@ path = { kind = "keyframes", keys = [
 ] }
 "#;
     let objects = [
-        ball("fast_big", 0.6, -4.0, 4.0),
-        ball("slow_big1", 1.0, -1.5, 40.0),
+        line_ball("fast_big", 0.6, -4.0, 4.0),
+        line_ball("slow_big1", 1.0, -1.5, 40.0),
         speeding.to_string(),
-        ball("slow_big3", 1.0, 3.5, 40.0),
+        line_ball("slow_big3", 1.0, 3.5, 40.0),
     ]
     .concat();
     let mut sim = field_12m(400.0, "far_every = 2\nfar_travel_m = 0.025", &objects);
     let dt = sim.params.dt_s;
-    let substeps = |sim: &Simulation| -> Vec<f64> {
-        sim.bodies
-            .iter()
-            .map(|b| trample::step::passes::far_work(sim, b).substeps)
-            .collect()
-    };
     assert_eq!(substeps(&sim), [4.0, 1.0, 1.0, 1.0], "sub-steps a turn");
-    let turns = |sim: &Simulation| -> Vec<u32> {
-        trample::step::passes::far_turns(sim)
-            .into_iter()
-            .map(|t| t.expect("all four are far"))
-            .collect()
-    };
-    let before = turns(&sim);
+    let before = all_far_turns(&sim);
     assert_eq!(
         before[1], before[2],
         "slow, it joins the slow pair: {before:?}"
     );
-    let (mut tested, mut bodies) = (Vec::new(), Vec::new());
+    let mut steps = Vec::new();
     for step in 0..40 {
         let t = sim.step(dt).unwrap().clone();
         if sim.time > 0.35 {
-            tested.push(t.narrow_candidates);
-            bodies.push(t.far_bodies);
+            steps.push(t);
         }
         if step == 0 {
-            assert_eq!(turns(&sim), before, "kept while its speed is kept");
+            assert_eq!(all_far_turns(&sim), before, "kept while its speed is kept");
         }
         // Given its turn again only after it took its own: no body waits
         // more than `far_every` steps.
@@ -565,25 +563,15 @@ path = { kind = "keyframes", keys = [
         }
     }
     assert_eq!(substeps(&sim), [4.0, 1.0, 4.0, 1.0], "it sped up");
-    let after = turns(&sim);
-    let (lo, hi) = (*tested.iter().min().unwrap(), *tested.iter().max().unwrap());
-    println!(
-        "turns {before:?} -> {after:?}; bodies a step {bodies:?}; blades tested a step: {tested:?}"
-    );
+    let after = all_far_turns(&sim);
+    println!("turns {before:?} -> {after:?}");
     assert_eq!(
         after[0], after[2],
         "it moved to the fast ball's turn: {after:?}"
     );
     assert_eq!(after[1], after[3], "the slow pair kept theirs: {after:?}");
     assert_eq!((after[1], after[3]), (before[1], before[3]));
-    assert!(
-        lo > 0 && f64::from(hi) <= 1.8 * f64::from(lo),
-        "blades tested a step: {tested:?}"
-    );
-    assert!(
-        bodies.iter().all(|&b| b == 2),
-        "two bodies a step: {bodies:?}"
-    );
+    two_bodies_and_like_work_a_step(&steps, 1.8);
 }
 
 /// A body standing still costs a far pass a quarter of one moving over the
@@ -650,10 +638,7 @@ path = {{ kind = "line", from = [-1.0, 0.5, {z}], to = [5.0, 0.5, {z}], duration
             bodies.push(t.far_bodies);
         }
     }
-    let turns: Vec<u32> = trample::step::passes::far_turns(&sim)
-        .into_iter()
-        .map(|t| t.expect("all five are far"))
-        .collect();
+    let turns = all_far_turns(&sim);
     println!("turns {turns:?}; bodies a step {bodies:?}; tiles reused a step: {reused:?}");
     assert_ne!(turns[3], turns[4], "one rolling ball a turn: {turns:?}");
     assert!(
