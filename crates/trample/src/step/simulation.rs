@@ -270,7 +270,8 @@ impl Simulation {
     /// run is written once): checks `dt`, plans the step's passes over the
     /// bodies ([`super::passes::plan_passes`]: the main pass, then a far
     /// pass per group of far bodies due this step when `sim.far_every > 1`,
-    /// each far body keeping its turn, [`super::passes::far_turns`])
+    /// each far body keeping its turn until its speed changes,
+    /// [`super::passes::far_schedule`])
     /// and each pass's sub-steps ([`stages::plan_substeps`]), forgets the
     /// blades and cells the last step changed, and, when a pass's plan is
     /// clamped, counts it ([`Simulation::substep_clamps`]) and keeps the
