@@ -437,7 +437,7 @@ path = {{ kind = "line", from = [-5.0, {r}, {z}], to = [5.0, {r}, {z}], duration
 fn substeps(sim: &Simulation) -> Vec<f64> {
     sim.bodies
         .iter()
-        .map(|b| trample::step::passes::far_work(sim, b).substeps)
+        .map(|b| trample::step::passes::far_work(sim, b).substeps())
         .collect()
 }
 
@@ -622,7 +622,7 @@ path = {{ kind = "line", from = [-1.0, 0.5, {z}], to = [5.0, 0.5, {z}], duration
         .collect();
     assert!(work[..3].iter().all(|w| w.still), "{work:?}");
     assert!(
-        work[3..].iter().all(|w| !w.still && w.substeps == 1.0),
+        work[3..].iter().all(|w| !w.still && w.substeps() == 1.0),
         "{work:?}"
     );
     assert!(

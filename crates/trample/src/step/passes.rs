@@ -212,7 +212,7 @@ impl FarTurn {
     /// Whether a body given this turn, now with `work`, keeps it.
     fn holds(&self, work: &FarWork) -> bool {
         work.still == self.still
-            && (work.substeps == substeps_of(self.travel)
+            && (work.substeps() == substeps_of(self.travel)
                 || (work.travel - self.travel).abs() < FAR_TRAVEL_BAND)
     }
 }
@@ -257,7 +257,7 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
             Some(t) if t.holds(&work) || body.stepped_to < sim.time => {
                 turns[i] = Some(t);
                 let t = t.turn;
-                substeps[t as usize] = substeps[t as usize].max(work.substeps);
+                substeps[t as usize] = substeps[t as usize].max(work.substeps());
                 ground[t as usize] += work.ground();
             }
             _ => placing.push((work, i, kept)),
@@ -265,7 +265,7 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
     }
     placing.sort_by(|a, b| b.0.cost().total_cmp(&a.0.cost()).then(a.1.cmp(&b.1)));
     for (work, i, had) in placing {
-        let load = |t: usize| substeps[t].max(work.substeps) * (ground[t] + work.ground());
+        let load = |t: usize| substeps[t].max(work.substeps()) * (ground[t] + work.ground());
         let moved = |t: usize| had.is_none_or(|h| h.turn != t as u32);
         let t = (0..every as usize)
             .min_by(|&a, &b| {
@@ -275,7 +275,7 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
                     .then(a.cmp(&b))
             })
             .expect("far_every > 1 turns");
-        substeps[t] = substeps[t].max(work.substeps);
+        substeps[t] = substeps[t].max(work.substeps());
         ground[t] += work.ground();
         turns[i] = Some(FarTurn {
             turn: t as u32,
@@ -286,8 +286,9 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
     turns
 }
 
-/// What a far body's turn is taken to cost ([`far_work`]): the ground its
-/// root box can reach, m², times the sub-steps of a turn at its speed.
+/// What a far body's turn is taken to cost ([`FarWork::cost`] of
+/// [`far_work`]): the ground its root box can reach, m² (a quarter of it
+/// standing still), times the sub-steps of a turn at its speed.
 /// An estimate from the pose alone, so the same on every machine and
 /// thread count.
 #[must_use]
@@ -305,11 +306,9 @@ pub struct FarWork {
     /// 1.8 times more ground turned 45° than along the world's axes).
     /// Finite, ≥ 0.
     pub area: f64,
-    /// The sub-steps of a turn at its speed now: `far_every` steps of the
-    /// scene's `dt_s` of travel, at most `far_travel_m` a sub-step; ≥ 1.
-    pub substeps: f64,
-    /// The travel of a turn at its speed now, in `far_travel_m`: finite,
-    /// ≥ 0; `substeps` is its ceiling, at least 1.
+    /// The travel of a turn at its speed now — `far_every` steps of the
+    /// scene's `dt_s` — in `far_travel_m`: finite, ≥ 0
+    /// ([`FarWork::substeps`]).
     pub travel: f64,
     /// Whether it stands still now, so that its narrow phase and contact
     /// response take their answers from the sub-step before
@@ -337,10 +336,17 @@ impl FarWork {
         }
     }
 
+    /// The sub-steps of a turn at its speed now, at most `far_travel_m` of
+    /// travel each: the ceiling of `travel`, at least 1.
+    #[must_use]
+    pub fn substeps(&self) -> f64 {
+        substeps_of(self.travel)
+    }
+
     /// `ground · substeps`: the ground its narrow phase tests over a turn.
     #[must_use]
     pub fn cost(&self) -> f64 {
-        self.ground() * self.substeps
+        self.ground() * self.substeps()
     }
 }
 
@@ -360,7 +366,7 @@ const FAR_HEADINGS: [(f32, f32); 8] = [
 ];
 
 /// What a far body does in a far pass (see [`FarWork`]): the turns of
-/// [`far_turns`] balance these, a pass's sub-steps being its fastest
+/// [`far_schedule`] balance these, a pass's sub-steps being its fastest
 /// body's. Measured on the herd at `far_every = 16` (BENCHMARKS.md,
 /// session 29): a turn's sub-steps times its bodies' ground follows the
 /// blades its narrow phase tests (correlation 0.99 over the 16 turns).
@@ -392,7 +398,6 @@ pub fn far_work(sim: &Simulation, body: &Body) -> FarWork {
         super::at_rest::may_reuse(&sim.params, body) && body.colliders().all(|c| is_still(c.pose));
     FarWork {
         area: if area.is_finite() { area.max(0.0) } else { 0.0 },
-        substeps: substeps_of(travel),
         travel,
         still,
     }
@@ -418,7 +423,6 @@ mod tests {
     fn work(travel: f64) -> FarWork {
         FarWork {
             area: 1.0,
-            substeps: substeps_of(travel),
             travel,
             still: false,
         }
