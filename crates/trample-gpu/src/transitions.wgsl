@@ -29,6 +29,17 @@ fn blade_offset(b: u32) -> vec3<f32> {
     return (chord - rest_chord) / rest_height;
 }
 
+// Eq. 9–11: off_g, the mean offset of cell c's blades. Read only by the
+// transitions that use it: a cell passing between billboard and texture
+// (most of the changes when the camera jumps) reads no blade.
+fn cell_offset(c: u32, bpc: u32) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
+        sum += blade_offset(b);
+    }
+    return sum / f32(max(bpc, 1u));
+}
+
 @compute @workgroup_size(64)
 fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
     let c = chunk_cell(gid);
@@ -42,16 +53,10 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let bpc = params.cells.y;
     let n = min(params.counts.y, MAX_VERTS - 1u);
-    // Eq. 9–11: off_g, the mean offset of the cell's blades.
-    var sum = vec3<f32>(0.0);
-    for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
-        sum += blade_offset(b);
-    }
-    let off_g = sum / f32(max(bpc, 1u));
     let origin = cell_rest[2u * c + 1u].xyz;
     if from_level == GEOMETRY {
         // Eq. 12: the billboard takes its blades' offset.
-        let sl = origin + off_g;
+        let sl = origin + cell_offset(c, bpc);
         slope[c] = vec4<f32>(sl, 0.0);
         if any(sl != origin) {
             cell_state[c] = s | BENT;
@@ -63,7 +68,7 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     // Eq. 13: what the billboard shows and the blades do not acts on their
     // last segment through Eq. 5 (`transition::bend_last_segment`).
-    let missing = (slope[c].xyz - origin) - off_g;
+    let missing = (slope[c].xyz - origin) - cell_offset(c, bpc);
     if dot3(missing, missing) < 1e-12 {
         return;
     }

@@ -7,7 +7,8 @@
 //! height map (200 each: the ground guard on terrain); the default scene
 //! for 32 and 120 frames and the contact scene for 120 (issue 12); the
 //! walker and the tractor for 120 (issue 13); the LOD scene with a camera
-//! that stops (levels left out for a still viewpoint); and a simulation
+//! that stops (levels left out for a still viewpoint), and in the paper's
+//! mode (billboards bent by Eq. 8 coming back to geometry, Eq. 13); a simulation
 //! handed to the GPU mid-run; a push carried into a patch the broad phase
 //! did not list. Reports the worst vertex and billboard-slope
 //! differences and the DBG/PBG and LOD differences; asserts them within
@@ -191,6 +192,18 @@ fn busy_scene_200_frames_matches_the_cpu() {
 #[test]
 fn moving_camera_with_billboards_and_transitions_300_frames_matches_the_cpu() {
     check_parity(&scenes::scene(scenes::LOD), 300);
+}
+
+/// The LOD scene in the paper's mode (`track_everywhere = false`): the
+/// crate bends billboards by Eq. 8, and the cells the camera comes to
+/// return to geometry with what their billboards showed on their blades'
+/// last segments (Eq. 13, `transitions.wgsl`'s second branch, which the
+/// scenes that track everywhere leave out).
+#[test]
+fn paper_mode_billboards_coming_back_to_geometry_300_frames_match_the_cpu() {
+    let text = scenes::LOD.replace("[sim]\n", "[sim]\ntrack_everywhere = false\n");
+    assert_ne!(text, scenes::LOD);
+    check_parity(&scenes::scene(&text), 300);
 }
 
 /// The LOD scene's camera moving for 2 s, then standing still for 1 s: the

@@ -36,14 +36,39 @@ impl ChangeSet {
     /// Records index `i` as written (once, however often it is written).
     /// Indices past the length given to [`ChangeSet::new`] grow the set.
     pub fn mark(&mut self, i: usize) {
-        let word = i / 64;
+        self.mark_word(i / 64, 1u64 << (i % 64));
+    }
+
+    /// Records every index of `indices` as [`ChangeSet::mark`] does, a
+    /// word at a time while they fall in one 64-index word (ascending runs,
+    /// as the level-of-detail classification lists its changes): the same
+    /// set, for any order.
+    pub fn mark_all(&mut self, indices: impl IntoIterator<Item = usize>) {
+        let mut word = usize::MAX;
+        let mut bits = 0u64;
+        for i in indices {
+            if i / 64 != word {
+                self.mark_word(word, bits);
+                word = i / 64;
+                bits = 0;
+            }
+            bits |= 1u64 << (i % 64);
+        }
+        self.mark_word(word, bits);
+    }
+
+    /// Sets `bits` in word `word` (none when `bits` is 0).
+    fn mark_word(&mut self, word: usize, bits: u64) {
+        if bits == 0 {
+            return;
+        }
         if word >= self.bits.len() {
             self.bits.resize(word + 1, 0);
         }
         if self.bits[word] == 0 {
             self.words.push(word as u32);
         }
-        self.bits[word] |= 1u64 << (i % 64);
+        self.bits[word] |= bits;
     }
 
     /// Forgets every index (costs what was written, not the length).
@@ -140,5 +165,41 @@ mod tests {
         s.mark(1130);
         assert_eq!(s.iter().collect::<Vec<_>>(), vec![1130]);
         assert!(s.contains(1130) && !s.contains(66));
+    }
+
+    /// Marking a list at once gives the set, and the order of its words
+    /// before sorting, that marking its indices one by one gives: ascending
+    /// runs (as the level-of-detail changes come), words revisited out of
+    /// order, index 0, and indices past the set's length (which grow it).
+    #[test]
+    fn marking_a_list_at_once_is_marking_it_index_by_index() {
+        let mut lists: Vec<Vec<usize>> = vec![
+            vec![],
+            vec![0],
+            (0..200).collect(),
+            (60..70).chain(5..9).chain(66..130).collect(),
+            vec![700, 2, 3, 700, 9, 2, 4, 63, 64, 130, 5000, 64, 0],
+        ];
+        // A deterministic scramble of indices (an LCG), some past the length.
+        let mut x = 12345u64;
+        lists.push(
+            (0..500)
+                .map(|_| {
+                    x = x
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    (x >> 33) as usize % 1500
+                })
+                .collect(),
+        );
+        for list in lists {
+            let mut one = ChangeSet::new(1000);
+            for &i in &list {
+                one.mark(i);
+            }
+            let mut all = ChangeSet::new(1000);
+            all.mark_all(list.iter().copied());
+            assert_eq!(one, all, "{list:?}");
+        }
     }
 }

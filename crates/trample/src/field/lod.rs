@@ -332,13 +332,14 @@ fn merge(
     changes: &mut Vec<LodChange>,
 ) -> LodCounts {
     let mut total = LodCounts::default();
+    // One allocation, not a doubling per part: a camera that jumps changes
+    // half a million cells at once.
+    changes.reserve(results.iter().map(|(_, l)| l.len()).sum());
     for (c, local) in results {
         total.geometry += c.geometry;
         total.billboard += c.billboard;
         total.texture += c.texture;
-        for ch in &local {
-            changed.mark(ch.cell as usize);
-        }
+        changed.mark_all(local.iter().map(|ch| ch.cell as usize));
         changes.extend(local);
     }
     total

@@ -256,10 +256,14 @@ pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
     for ch in changes {
         let c = ch.cell as usize;
         let blades_of_cell = c * bpc..(c + 1) * bpc;
-        let (off_g, _) = cell_offset_and_flatness(&sim.field.blades, blades_of_cell.clone());
-        let cells = &mut sim.field.cells;
+        // Eq. 9–11's mean offset, read from the cell's blades only where a
+        // transition uses it: a cell passing between billboard and texture
+        // (most of the changes when the camera jumps) reads nothing.
+        let off_g = || cell_offset_and_flatness(&sim.field.blades, blades_of_cell.clone()).0;
         match (ch.from, ch.to) {
             (Lod::Geometry, _) => {
+                let off_g = off_g();
+                let cells = &mut sim.field.cells;
                 cells.set_slope(c, slope_from_offset(cells.slope_origin[c], off_g));
                 if !cells.slope_at_rest(c) && !sim.scratch.bent_flag[c] {
                     sim.scratch.bent_flag[c] = true;
@@ -270,6 +274,8 @@ pub(crate) fn apply_transitions(sim: &mut Simulation, changes: &[LodChange]) {
             // billboard follows them), no guess from the slope (DESIGN §6).
             (_, Lod::Geometry) if sim.params.track_everywhere => {}
             (_, Lod::Geometry) => {
+                let off_g = off_g();
+                let cells = &sim.field.cells;
                 let missing = offset_from_slope(cells.slope[c], cells.slope_origin[c]) - off_g;
                 if missing.length_squared() < 1e-12 {
                     continue;

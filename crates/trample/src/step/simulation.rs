@@ -53,6 +53,10 @@ pub(crate) struct Scratch {
     /// Blades the step's far passes moved, whose cells follow them after
     /// the step's last pass ([`super::stages::far_cells`]).
     pub far_changed: Vec<u32>,
+    /// The cells whose level of detail changed in the latest sub-step
+    /// ([`crate::field::classify_cells`]), kept so that its memory is
+    /// reused.
+    pub lod_changes: Vec<crate::field::LodChange>,
 }
 
 impl Scratch {

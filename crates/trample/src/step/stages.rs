@@ -143,7 +143,10 @@ pub(crate) fn substep(sim: &mut Simulation, pass: &Pass, t: f32, h: f32, tm: &mu
 
     // LOD per cell from the camera eye.
     let clock = Instant::now();
-    let mut changes = Vec::new();
+    // The list's memory is kept from step to step (`Scratch::lod_changes`):
+    // a camera that jumps changes half a million cells.
+    let mut changes = std::mem::take(&mut sim.scratch.lod_changes);
+    changes.clear();
     if pass.main {
         sim.update_view(t);
         let eye = sim.eye();
@@ -314,6 +317,7 @@ pub(crate) fn substep(sim: &mut Simulation, pass: &Pass, t: f32, h: f32, tm: &mu
     if sim.params.transitions {
         apply_transitions(sim, &changes);
     }
+    sim.scratch.lod_changes = changes;
     tm.transitions_ms += ms(clock);
 
     // Recovery towards rest; then (ours) the billboards and the flatness of
