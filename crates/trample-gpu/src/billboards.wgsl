@@ -41,6 +41,10 @@ fn billboards(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let base = cell_rest[2u * c].xyz;
     let height = cell_rest[2u * c].w;
+    // A cell without grass (grass maps) has a billboard of height 0.
+    if !(height > 0.0) {
+        return;
+    }
     let origin = cell_rest[2u * c + 1u].xyz;
     var sl = slope[c].xyz;
     var bent = false;

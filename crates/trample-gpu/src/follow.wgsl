@@ -59,6 +59,10 @@ fn follow_cell(c: u32) {
     var flat = 0.0;
     var kf = 0u;
     for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
+        // Blades a grass map left out (`seg_len` 0) do not count.
+        if !(pos[vertex_at(0u, b)].w > 0.0) {
+            continue;
+        }
         let root = pos[vertex_at(0u, b)].xyz;
         let rest_root = rest[vertex_at(0u, b)].xyz;
         let chord = pos[vertex_at(n, b)].xyz - root;

@@ -539,7 +539,11 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
     let segments = min(field.y, MAX_SEGMENTS);
     let cell = b / max(obj.field.z, 1u);
     let everywhere = weighted && extra.y != 0u;
-    if everywhere || (cell_state[cell] & 3u) == LOD_GEOMETRY {
+    // The simulation's contacts leave out blades a grass map left out
+    // (`seg_len` 0 in vertex 0's w, `Blades::is_present`), as the CPU's
+    // blade lists do (`step::collide`); the plain test takes every blade.
+    let present = !weighted || pos[vertex_at(0u, b)].w > 0.0;
+    if present && (everywhere || (cell_state[cell] & 3u) == LOD_GEOMETRY) {
         var sum = vec3<f32>(0.0);
         var weights = 0.0;
         let shell = obj.contact.x;

@@ -34,10 +34,18 @@ fn blade_offset(b: u32) -> vec3<f32> {
 // (most of the changes when the camera jumps) reads no blade.
 fn cell_offset(c: u32, bpc: u32) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
+    var k = 0u;
     for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
-        sum += blade_offset(b);
+        // Blades a grass map left out (`seg_len` 0) do not count.
+        if pos[vertex_at(0u, b)].w > 0.0 {
+            sum += blade_offset(b);
+            k += 1u;
+        }
     }
-    return sum / f32(max(bpc, 1u));
+    if k == 0u {
+        return vec3<f32>(0.0);
+    }
+    return sum / f32(k);
 }
 
 @compute @workgroup_size(64)
@@ -73,7 +81,9 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     for (var b = c * bpc; b < (c + 1u) * bpc; b++) {
-        bend_last_segment(b, n, missing);
+        if pos[vertex_at(0u, b)].w > 0.0 {
+            bend_last_segment(b, n, missing);
+        }
     }
 }
 
