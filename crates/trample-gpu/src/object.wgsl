@@ -621,8 +621,73 @@ fn push_out_hinted(p: vec3<f32>, open_depth: f32, hint: u32) -> Pushed {
     }
     let depth = sqrt(side.s.distance_sq);
     if side.inside && depth > CONTACT_TOLERANCE_M {
-        let s = side.s.point;
-        return Pushed(vec4<f32>(s + (p - s) * (CONTACT_TOLERANCE_M / depth), 1.0), side.s.triangle);
+        let way = push_direction(p, depth, (side.s.point - p) / depth);
+        return Pushed(vec4<f32>(p + way * (depth - CONTACT_TOLERANCE_M), 1.0), side.s.triangle);
     }
     return Pushed(vec4<f32>(p, 0.0), side.s.triangle);
+}
+
+// `contact::PUSH_BLEND_M`.
+const PUSH_BLEND_M: f32 = 0.001;
+
+// `contact::push_direction`: the unit way out of p, `depth` from its
+// closest surface point — the ways to every triangle's closest point
+// within depth + PUSH_BLEND_M, weighted 1 − (distance − depth) /
+// PUSH_BLEND_M, summed in the walk's order (`closest_point::
+// for_points_within_sq`: nearer child first, the bound fixed);
+// `fallback` where the sum vanishes.
+fn push_direction(p: vec3<f32>, depth: f32, fallback: vec3<f32>) -> vec3<f32> {
+    let count = tree.x;
+    if !(depth > 0.0) || count == 0u {
+        return fallback;
+    }
+    let reach = depth + PUSH_BLEND_M;
+    let max_sq = reach * reach;
+    var sum = vec3<f32>(0.0);
+    cp_stack[0] = vec2<u32>(0u, bitcast<u32>(distance_sq_to_box(p, 0u)));
+    var len = 1u;
+    while len > 0u {
+        len -= 1u;
+        let i = cp_stack[len].x;
+        if i >= count || bitcast<f32>(cp_stack[len].y) > max_sq {
+            continue;
+        }
+        let n = node_at(i);
+        let l = n.children.x;
+        let r = n.children.y;
+        if l == NO_CHILD || l <= i || r <= i || len + 2u > STACK_SIZE {
+            for (var t = n.children.z; t < n.children.z + n.children.w; t++) {
+                let dv = closest_on_triangle(p, t).point - p;
+                let d = sqrt(dot3(dv, dv));
+                let w = min(1.0 - (d - depth) / PUSH_BLEND_M, 1.0);
+                if w > 0.0 && d > 0.0 {
+                    sum += dv * (w / d);
+                }
+            }
+        } else {
+            var dl = 3.0e38;
+            var dr = 3.0e38;
+            if l < count {
+                dl = distance_sq_to_box(p, l);
+            }
+            if r < count {
+                dr = distance_sq_to_box(p, r);
+            }
+            var near = vec2<u32>(l, bitcast<u32>(dl));
+            var far = vec2<u32>(r, bitcast<u32>(dr));
+            if dr < dl {
+                near = vec2<u32>(r, bitcast<u32>(dr));
+                far = vec2<u32>(l, bitcast<u32>(dl));
+            }
+            cp_stack[len] = far;
+            cp_stack[len + 1u] = near;
+            len += 2u;
+        }
+    }
+    // glam `Vec3::try_normalize`.
+    let rcp = 1.0 / sqrt(dot3(sum, sum));
+    if rcp < 3.0e38 && rcp > 0.0 {
+        return sum * rcp;
+    }
+    return fallback;
 }

@@ -234,6 +234,59 @@ pub fn closest_point_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32) -> Option<S
     best
 }
 
+/// Calls `f(point, distance_sq)` for every triangle of `tree` in a box
+/// within `sqrt(max_sq)` of `p` — the triangle's closest point to `p`
+/// ([`closest_point_on_triangle_region`]) and its squared distance, which
+/// may exceed `max_sq` (the caller filters) — in the order of
+/// [`closest_point_within_sq`]'s walk (nearer child first), with the bound
+/// fixed. The contact response's push direction
+/// ([`crate::collision::contact::push_out`]) blends the faces near the
+/// closest one with it. No allocation.
+pub fn for_points_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32, mut f: impl FnMut(Vec3, f32)) {
+    if tree.is_empty() || !p.is_finite() || max_sq.is_nan() || max_sq < 0.0 {
+        return;
+    }
+    let box_sq = |i: u32| {
+        tree.nodes
+            .get(i as usize)
+            .map_or(f32::INFINITY, |n| distance_sq_to_box(p, &n.obb))
+    };
+    let mut stack = [(0u32, 0.0f32); STACK_SIZE];
+    stack[0].1 = box_sq(0);
+    let mut len = 1;
+    while len > 0 {
+        len -= 1;
+        let (i, d_sq) = stack[len];
+        if d_sq > max_sq {
+            continue;
+        }
+        let Some(node) = tree.nodes.get(i as usize) else {
+            continue;
+        };
+        let [l, r] = node.children;
+        if node.is_leaf() || l <= i || r <= i || len + 2 > STACK_SIZE {
+            let (first, count) = (node.first_tri as usize, node.tri_count as usize);
+            let Some(tris) = tree.triangles.get(first..first.saturating_add(count)) else {
+                continue;
+            };
+            for tri in tris {
+                let (q, _) = closest_point_on_triangle_region(p, tri);
+                f(q, q.distance_squared(p));
+            }
+        } else {
+            let (dl, dr) = (box_sq(l), box_sq(r));
+            let (near, far) = if dr < dl {
+                ((r, dr), (l, dl))
+            } else {
+                ((l, dl), (r, dr))
+            };
+            stack[len] = far;
+            stack[len + 1] = near;
+            len += 2;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
