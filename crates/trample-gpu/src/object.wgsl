@@ -478,12 +478,56 @@ fn squared(x: f32) -> f32 {
     return x * x;
 }
 
+// `closest_point::NEAR_POINTS_MAX`.
+const NEAR_POINTS_MAX: u32 = 8u;
+
+// `closest_point::NearPoints`: (point, squared distance) and triangle, the
+// first `near_len` set (module scope: not zeroed per call).
+var<private> near_points: array<vec4<f32>, NEAR_POINTS_MAX>;
+var<private> near_tris: array<u32, NEAR_POINTS_MAX>;
+var<private> near_len: u32;
+
+// (d_sq, triangle) of a kept point before (a_d, a_t)?
+fn near_before(a_d: f32, a_t: u32, b_d: f32, b_t: u32) -> bool {
+    return a_d < b_d || (a_d == b_d && a_t < b_t);
+}
+
+// `NearPoints::add`: when all places are taken, the farthest (ties: the
+// higher triangle) gives its place to a nearer point.
+fn add_near(q: vec3<f32>, d_sq: f32, tri: u32) {
+    if near_len < NEAR_POINTS_MAX {
+        near_points[near_len] = vec4<f32>(q, d_sq);
+        near_tris[near_len] = tri;
+        near_len += 1u;
+        return;
+    }
+    var far = 0u;
+    for (var k = 1u; k < NEAR_POINTS_MAX; k++) {
+        if near_before(near_points[far].w, near_tris[far], near_points[k].w, near_tris[k]) {
+            far = k;
+        }
+    }
+    if near_before(d_sq, tri, near_points[far].w, near_tris[far]) {
+        near_points[far] = vec4<f32>(q, d_sq);
+        near_tris[far] = tri;
+    }
+}
+
 // `closest_point::closest_point_within_sq`: branch and bound, nearer child
 // first, each box's distance measured once (when it is pushed); ties keep
 // the first found. `max_sq`: only points within its square root count.
 fn closest_point_within_sq(p: vec3<f32>, max_sq: f32) -> SurfacePoint {
+    return closest_walk(p, max_sq, -1.0);
+}
+
+// `closest_point::walk`: with `reach` ≥ 0 (`closest_point_and_near`),
+// boxes are skipped only beyond `reach` past the best distance and every
+// point within that goes to `near_points` (cleared first).
+fn closest_walk(p: vec3<f32>, max_sq: f32, reach: f32) -> SurfacePoint {
     var best = SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u);
     var best_sq = max_sq;
+    var bound_sq = max_sq;
+    near_len = 0u;
     let count = tree.x;
     if count == 0u {
         return best;
@@ -494,7 +538,7 @@ fn closest_point_within_sq(p: vec3<f32>, max_sq: f32) -> SurfacePoint {
         len -= 1u;
         let i = cp_stack[len].x;
         // The bound may have shrunk since the node was pushed.
-        if i >= count || bitcast<f32>(cp_stack[len].y) > best_sq {
+        if i >= count || bitcast<f32>(cp_stack[len].y) > bound_sq {
             continue;
         }
         let n = node_at(i);
@@ -515,6 +559,13 @@ fn closest_point_within_sq(p: vec3<f32>, max_sq: f32) -> SurfacePoint {
                         unit = nrm * (1.0 / nl);
                     }
                     best = SurfacePoint(c.point, d, unit, c.region == FACE, true, t, c.region);
+                    bound_sq = d;
+                    if reach >= 0.0 {
+                        bound_sq = (sqrt(d) + reach) * (sqrt(d) + reach);
+                    }
+                }
+                if reach >= 0.0 && d <= bound_sq {
+                    add_near(c.point, d, t);
                 }
             }
         } else {
@@ -550,6 +601,12 @@ struct Side {
 }
 
 fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
+    return surface_and_side_near(p, open_depth, bound_sq, -1.0);
+}
+
+// `surface_and_side` with `near` (`reach` ≥ 0: PUSH_BLEND_M): the walk also
+// keeps the points within `reach` of the closest in `near_points`.
+fn surface_and_side_near(p: vec3<f32>, open_depth: f32, bound_sq: f32, reach: f32) -> Side {
     var out = Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), false);
     if tree.x == 0u {
         return out;
@@ -559,7 +616,7 @@ fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
         if known == 0u {
             return out;
         }
-        out.s = closest_point_within_sq(p, bound_sq);
+        out.s = closest_walk(p, bound_sq, reach);
         if !out.s.found {
             return out;
         }
@@ -577,7 +634,7 @@ fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
     if !(open_depth >= 0.0) {
         return out;
     }
-    out.s = closest_point_within_sq(p, min(open_depth * open_depth, bound_sq));
+    out.s = closest_walk(p, min(open_depth * open_depth, bound_sq), reach);
     out.inside = out.s.found && dot3(p - out.s.point, side_normal(out.s)) < 0.0;
     return out;
 }
@@ -613,9 +670,10 @@ fn push_out_hinted(p: vec3<f32>, open_depth: f32, hint: u32) -> Pushed {
         if sqrt(d) <= CONTACT_TOLERANCE_M {
             return Pushed(vec4<f32>(p, 0.0), hint);
         }
-        bound_sq = d;
+        // No farther than the hint and the blend past it (same answer).
+        bound_sq = (sqrt(d) + PUSH_BLEND_M) * (sqrt(d) + PUSH_BLEND_M);
     }
-    let side = surface_and_side(p, open_depth, bound_sq);
+    let side = surface_and_side_near(p, open_depth, bound_sq, PUSH_BLEND_M);
     if !side.s.found {
         return Pushed(vec4<f32>(p, 0.0), hint);
     }
@@ -631,57 +689,30 @@ fn push_out_hinted(p: vec3<f32>, open_depth: f32, hint: u32) -> Pushed {
 const PUSH_BLEND_M: f32 = 0.001;
 
 // `contact::push_direction`: the unit way out of p, `depth` from its
-// closest surface point — the ways to every triangle's closest point
-// within depth + PUSH_BLEND_M, weighted 1 − (distance − depth) /
-// PUSH_BLEND_M, summed in the walk's order (`closest_point::
-// for_points_within_sq`: nearer child first, the bound fixed);
-// `fallback` where the sum vanishes.
+// closest surface point — the ways to the points the walk kept
+// (`near_points`), weighted 1 − (distance − depth) / PUSH_BLEND_M, summed
+// in triangle order; `fallback` where the sum vanishes.
 fn push_direction(p: vec3<f32>, depth: f32, fallback: vec3<f32>) -> vec3<f32> {
-    let count = tree.x;
-    if !(depth > 0.0) || count == 0u {
+    if !(depth > 0.0) {
         return fallback;
     }
-    let reach = depth + PUSH_BLEND_M;
-    let max_sq = reach * reach;
     var sum = vec3<f32>(0.0);
-    cp_stack[0] = vec2<u32>(0u, bitcast<u32>(distance_sq_to_box(p, 0u)));
-    var len = 1u;
-    while len > 0u {
-        len -= 1u;
-        let i = cp_stack[len].x;
-        if i >= count || bitcast<f32>(cp_stack[len].y) > max_sq {
-            continue;
+    // In ascending triangle order (`NearPoints::in_triangle_order`).
+    let count = min(near_len, NEAR_POINTS_MAX);
+    var last = 0u;
+    for (var n = 0u; n < count; n++) {
+        var k = NEAR_POINTS_MAX;
+        for (var j = 0u; j < count; j++) {
+            if (n == 0u || near_tris[j] > last) && (k == NEAR_POINTS_MAX || near_tris[j] < near_tris[k]) {
+                k = j;
+            }
         }
-        let n = node_at(i);
-        let l = n.children.x;
-        let r = n.children.y;
-        if l == NO_CHILD || l <= i || r <= i || len + 2u > STACK_SIZE {
-            for (var t = n.children.z; t < n.children.z + n.children.w; t++) {
-                let dv = closest_on_triangle(p, t).point - p;
-                let d = sqrt(dot3(dv, dv));
-                let w = min(1.0 - (d - depth) / PUSH_BLEND_M, 1.0);
-                if w > 0.0 && d > 0.0 {
-                    sum += dv * (w / d);
-                }
-            }
-        } else {
-            var dl = 3.0e38;
-            var dr = 3.0e38;
-            if l < count {
-                dl = distance_sq_to_box(p, l);
-            }
-            if r < count {
-                dr = distance_sq_to_box(p, r);
-            }
-            var near = vec2<u32>(l, bitcast<u32>(dl));
-            var far = vec2<u32>(r, bitcast<u32>(dr));
-            if dr < dl {
-                near = vec2<u32>(r, bitcast<u32>(dr));
-                far = vec2<u32>(l, bitcast<u32>(dl));
-            }
-            cp_stack[len] = far;
-            cp_stack[len + 1u] = near;
-            len += 2u;
+        last = near_tris[k];
+        let dv = near_points[k].xyz - p;
+        let d = sqrt(near_points[k].w);
+        let w = min(1.0 - (d - depth) / PUSH_BLEND_M, 1.0);
+        if w > 0.0 && d > 0.0 {
+            sum += dv * (w / d);
         }
     }
     // glam `Vec3::try_normalize`.

@@ -169,10 +169,97 @@ pub fn closest_point_on_mesh(tree: &ObbTree, p: Vec3, max_distance: f32) -> Opti
 /// [`crate::collision::contact::push_out_hinted`] relies on.)
 #[must_use]
 pub fn closest_point_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32) -> Option<SurfacePoint> {
+    walk(tree, p, max_sq, None)
+}
+
+/// Most surface points [`closest_point_and_near`] keeps.
+pub const NEAR_POINTS_MAX: usize = 8;
+
+/// The triangles' closest points that [`closest_point_and_near`] met
+/// within its reach of the closest: `(point, squared distance, triangle)`.
+/// When more than [`NEAR_POINTS_MAX`] were met, the nearest are kept
+/// (ties: the lower triangle index), so what is kept does not depend on
+/// the order the walk met them, nor on its first bound. Some may lie
+/// farther than the reach of the final closest point (they were within it
+/// of a closer point found before): the caller weighs them.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NearPoints {
+    /// The points, object-local frame, their squared distances and their
+    /// triangles; the first `len` are set, in no particular order.
+    pub points: [(Vec3, f32, u32); NEAR_POINTS_MAX],
+    /// How many are set.
+    pub len: usize,
+}
+
+impl NearPoints {
+    fn add(&mut self, q: Vec3, d_sq: f32, tri: u32) {
+        if self.len < NEAR_POINTS_MAX {
+            self.points[self.len] = (q, d_sq, tri);
+            self.len += 1;
+            return;
+        }
+        let key = |e: &(Vec3, f32, u32)| (e.1, e.2);
+        let mut far = 0;
+        for k in 1..NEAR_POINTS_MAX {
+            if key(&self.points[k]) > key(&self.points[far]) {
+                far = k;
+            }
+        }
+        if (d_sq, tri) < key(&self.points[far]) {
+            self.points[far] = (q, d_sq, tri);
+        }
+    }
+
+    /// The set points in ascending triangle order (a sum over them does
+    /// not depend on the walk's order).
+    pub fn in_triangle_order(&self) -> impl Iterator<Item = (Vec3, f32)> + '_ {
+        let set = &self.points[..self.len.min(NEAR_POINTS_MAX)];
+        let mut last = None::<u32>;
+        std::iter::from_fn(move || {
+            let next = set
+                .iter()
+                .filter(|e| last.is_none_or(|l| e.2 > l))
+                .min_by_key(|e| e.2)?;
+            last = Some(next.2);
+            Some((next.0, next.1))
+        })
+    }
+}
+
+/// [`closest_point_within_sq`], the same answer bit for bit, and in `near`
+/// every triangle's closest point within `reach` metres farther than the
+/// closest (up to [`NEAR_POINTS_MAX`], the nearest kept): one walk whose boxes
+/// are skipped only beyond `reach` past the closest point found so far.
+/// For the contact response's way out
+/// ([`crate::collision::contact::push_direction`]); `max_sq` bounds the
+/// closest point as in [`closest_point_within_sq`] (pass the bound's
+/// distance plus `reach`, squared, to keep every near point).
+pub fn closest_point_and_near(
+    tree: &ObbTree,
+    p: Vec3,
+    max_sq: f32,
+    reach: f32,
+    near: &mut NearPoints,
+) -> Option<SurfacePoint> {
+    near.len = 0;
+    walk(tree, p, max_sq, Some((reach, near)))
+}
+
+/// The branch-and-bound walk of [`closest_point_within_sq`] and
+/// [`closest_point_and_near`]: with `keep` (reach, points), boxes are skipped beyond
+/// `reach` past the best distance (they hold no better point either, so
+/// the best is the same), and every point within that is kept.
+fn walk(
+    tree: &ObbTree,
+    p: Vec3,
+    max_sq: f32,
+    mut keep: Option<(f32, &mut NearPoints)>,
+) -> Option<SurfacePoint> {
     if tree.is_empty() || !p.is_finite() || max_sq.is_nan() || max_sq < 0.0 {
         return None;
     }
     let mut best_sq = max_sq;
+    let mut bound_sq = max_sq;
     let mut best: Option<SurfacePoint> = None;
     // (node, its box's squared distance, computed once when it is pushed).
     let mut stack = [(0u32, 0.0f32); STACK_SIZE];
@@ -185,7 +272,7 @@ pub fn closest_point_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32) -> Option<S
         len -= 1;
         let (i, box_sq) = stack[len];
         // The bound may have shrunk since the node was pushed.
-        if box_sq > best_sq {
+        if box_sq > bound_sq {
             continue;
         }
         let Some(node) = tree.nodes.get(i as usize) else {
@@ -209,6 +296,15 @@ pub fn closest_point_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32) -> Option<S
                         triangle: (first + k) as u32,
                         region,
                     });
+                    bound_sq = match &keep {
+                        Some((reach, _)) => (d.sqrt() + reach) * (d.sqrt() + reach),
+                        None => d,
+                    };
+                }
+                if let Some((_, points)) = keep.as_mut()
+                    && d <= bound_sq
+                {
+                    points.add(q, d, (first + k) as u32);
                 }
             }
         } else {
@@ -232,59 +328,6 @@ pub fn closest_point_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32) -> Option<S
         }
     }
     best
-}
-
-/// Calls `f(point, distance_sq)` for every triangle of `tree` in a box
-/// within `sqrt(max_sq)` of `p` — the triangle's closest point to `p`
-/// ([`closest_point_on_triangle_region`]) and its squared distance, which
-/// may exceed `max_sq` (the caller filters) — in the order of
-/// [`closest_point_within_sq`]'s walk (nearer child first), with the bound
-/// fixed. The contact response's push direction
-/// ([`crate::collision::contact::push_out`]) blends the faces near the
-/// closest one with it. No allocation.
-pub fn for_points_within_sq(tree: &ObbTree, p: Vec3, max_sq: f32, mut f: impl FnMut(Vec3, f32)) {
-    if tree.is_empty() || !p.is_finite() || max_sq.is_nan() || max_sq < 0.0 {
-        return;
-    }
-    let box_sq = |i: u32| {
-        tree.nodes
-            .get(i as usize)
-            .map_or(f32::INFINITY, |n| distance_sq_to_box(p, &n.obb))
-    };
-    let mut stack = [(0u32, 0.0f32); STACK_SIZE];
-    stack[0].1 = box_sq(0);
-    let mut len = 1;
-    while len > 0 {
-        len -= 1;
-        let (i, d_sq) = stack[len];
-        if d_sq > max_sq {
-            continue;
-        }
-        let Some(node) = tree.nodes.get(i as usize) else {
-            continue;
-        };
-        let [l, r] = node.children;
-        if node.is_leaf() || l <= i || r <= i || len + 2 > STACK_SIZE {
-            let (first, count) = (node.first_tri as usize, node.tri_count as usize);
-            let Some(tris) = tree.triangles.get(first..first.saturating_add(count)) else {
-                continue;
-            };
-            for tri in tris {
-                let (q, _) = closest_point_on_triangle_region(p, tri);
-                f(q, q.distance_squared(p));
-            }
-        } else {
-            let (dl, dr) = (box_sq(l), box_sq(r));
-            let (near, far) = if dr < dl {
-                ((r, dr), (l, dl))
-            } else {
-                ((l, dl), (r, dr))
-            };
-            stack[len] = far;
-            stack[len + 1] = near;
-            len += 2;
-        }
-    }
 }
 
 #[cfg(test)]

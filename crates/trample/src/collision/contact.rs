@@ -37,8 +37,8 @@
 use glam::Vec3;
 
 use super::closest_point::{
-    Feature, SurfacePoint, closest_point_on_triangle_region, closest_point_within_sq,
-    for_points_within_sq,
+    Feature, NearPoints, SurfacePoint, closest_point_and_near, closest_point_on_triangle_region,
+    closest_point_within_sq,
 };
 use super::exact::point_inside_by_ray;
 use crate::obb::ObbTree;
@@ -67,7 +67,7 @@ pub const PUSH_BLEND_M: f32 = 0.001;
 /// counts as inside). Non-finite `p` gives `None`. No allocation.
 #[must_use]
 pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f32)> {
-    match surface_and_side(tree, p, open_depth, f32::INFINITY) {
+    match surface_and_side(tree, p, open_depth, f32::INFINITY, None) {
         Some((s, true)) => Some((s.point, s.distance_sq.sqrt())),
         _ => None,
     }
@@ -80,13 +80,20 @@ pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f3
 /// from `p` to some point of the mesh, measured as the walk measures
 /// (`closest_point_on_triangle_region`, `distance_squared`), or infinity:
 /// the walk skips the boxes farther than it, with the same answer
-/// ([`closest_point_within_sq`]).
+/// ([`closest_point_within_sq`]). With `near`, the walk also keeps the
+/// points within [`PUSH_BLEND_M`] of the closest
+/// ([`closest_point_and_near`]; `bound_sq` then bounds those).
 fn surface_and_side(
     tree: &ObbTree,
     p: Vec3,
     open_depth: f32,
     bound_sq: f32,
+    near: Option<&mut NearPoints>,
 ) -> Option<(SurfacePoint, bool)> {
+    let closest = |max_sq: f32, near: Option<&mut NearPoints>| match near {
+        Some(n) => closest_point_and_near(tree, p, max_sq, PUSH_BLEND_M, n),
+        None => closest_point_within_sq(tree, p, max_sq),
+    };
     if tree.is_empty() || !p.is_finite() {
         return None;
     }
@@ -95,7 +102,7 @@ fn surface_and_side(
         if known == Some(false) {
             return None;
         }
-        let s = closest_point_within_sq(tree, p, bound_sq)?;
+        let s = closest(bound_sq, near)?;
         let inside = match (known, s.feature()) {
             (Some(true), _) => true,
             (_, Feature::Face) => (p - s.point).dot(s.normal) < 0.0,
@@ -106,7 +113,7 @@ fn surface_and_side(
         if open_depth.is_nan() || open_depth < 0.0 {
             return None;
         }
-        let s = closest_point_within_sq(tree, p, (open_depth * open_depth).min(bound_sq))?;
+        let s = closest((open_depth * open_depth).min(bound_sq), near)?;
         let inside = (p - s.point).dot(s.side_normal(tree)) < 0.0;
         Some((s, inside))
     }
@@ -144,41 +151,42 @@ pub fn push_out_hinted(tree: &ObbTree, p: Vec3, open_depth: f32, hint: &mut u32)
         if d.sqrt() <= CONTACT_TOLERANCE_M {
             return None;
         }
-        // The walk need not look farther than the hint (same answer).
-        bound_sq = d;
+        // The walk need not look farther than the hint and the blend past
+        // it (same answer).
+        bound_sq = (d.sqrt() + PUSH_BLEND_M) * (d.sqrt() + PUSH_BLEND_M);
     }
-    let (s, inside) = surface_and_side(tree, p, open_depth, bound_sq)?;
+    let mut near = NearPoints::default();
+    let (s, inside) = surface_and_side(tree, p, open_depth, bound_sq, Some(&mut near))?;
     *hint = s.triangle;
     let depth = s.distance_sq.sqrt();
     if !(inside && depth > CONTACT_TOLERANCE_M) {
         return None;
     }
-    let way = push_direction(tree, p, depth).unwrap_or((s.point - p) / depth);
+    let way = push_direction(&near, p, depth).unwrap_or((s.point - p) / depth);
     Some(p + way * (depth - CONTACT_TOLERANCE_M))
 }
 
 /// The unit way out of vertex `p` (object-local frame), `depth` metres from
-/// its closest surface point: the mean of the unit ways to each
-/// triangle's closest point, weighted by `1 − (its distance − depth) /`
-/// [`PUSH_BLEND_M`] (the closest point's at 1, those [`PUSH_BLEND_M`]
-/// farther or more at 0), summed in the tree walk's order
-/// ([`for_points_within_sq`]). Continuous in `p` where the sum does not
-/// vanish (it would only deep inside, between faces across the object);
-/// `None` there, or for `depth` not positive.
+/// its closest surface point: the mean of the unit ways to the triangles'
+/// closest points in `near` ([`closest_point_and_near`]), each weighted by
+/// `1 − (its distance − depth) /` [`PUSH_BLEND_M`] (the closest point's at
+/// 1, those [`PUSH_BLEND_M`] farther or more at 0), summed in triangle
+/// order (the same bits whatever bound the walk started from). Continuous in `p` where the sum does not vanish (it would only
+/// deep inside, between faces across the object); `None` there, or for
+/// `depth` not positive.
 #[must_use]
-pub fn push_direction(tree: &ObbTree, p: Vec3, depth: f32) -> Option<Vec3> {
-    if !(depth > 0.0) {
+pub fn push_direction(near: &NearPoints, p: Vec3, depth: f32) -> Option<Vec3> {
+    if depth.is_nan() || depth <= 0.0 {
         return None;
     }
-    let reach = depth + PUSH_BLEND_M;
     let mut sum = Vec3::ZERO;
-    for_points_within_sq(tree, p, reach * reach, |q, d_sq| {
+    for (q, d_sq) in near.in_triangle_order() {
         let d = d_sq.sqrt();
         let w = (1.0 - (d - depth) / PUSH_BLEND_M).min(1.0);
         if w > 0.0 && d > 0.0 {
             sum += (q - p) * (w / d);
         }
-    });
+    }
     sum.try_normalize()
 }
 
