@@ -352,22 +352,18 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     }
     // No final-depth box met: wholly outside, or wholly inside the mesh.
     if acc.max_w == 0.0 && tree.y != 0u && deepest > 0u && point_inside((p0 + p1) * 0.5) {
-        let a = penetration(p0, 0.0);
-        let b = penetration(p1, 0.0);
+        // `contact::way_out` of the deeper end.
+        let a = way_out(p0, 0.0);
+        let b = way_out(p1, 0.0);
         var q = p0;
-        var pen = a;
+        var out = a;
         if b.w >= 0.0 && b.w >= a.w {
             q = p1;
-            pen = b;
+            out = b;
         }
-        if pen.w >= 0.0 {
-            let away = pen.xyz - q;
-            let l2 = dot3(away, away);
-            let rcp = 1.0 / sqrt(l2);
-            if rcp < 3.0e38 && rcp > 0.0 {
-                let w = min((pen.w + shell) / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0);
-                weighted_add(&acc, w, away * rcp, q, vec3<f32>(0.0));
-            }
+        if out.w >= 0.0 {
+            let w = min((out.w + shell) / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0);
+            weighted_add(&acc, w, out.xyz, q, vec3<f32>(0.0));
         }
     }
     if acc.max_w == 0.0 {

@@ -650,6 +650,28 @@ fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
     return vec4<f32>(side.s.point, sqrt(side.s.distance_sq));
 }
 
+// `contact::way_out`: the unit way out (`push_direction`, else the way to
+// the closest point) in xyz and the depth in w when p is inside the
+// object; w < 0 when it is outside or has no way out.
+fn way_out(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
+    let side = surface_and_side_near(p, open_depth, squared(3.0e38), PUSH_BLEND_M);
+    if !side.s.found || !side.inside {
+        return vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    }
+    let depth = sqrt(side.s.distance_sq);
+    let away = side.s.point - p;
+    let rcp = 1.0 / sqrt(dot3(away, away));
+    var fallback = vec3<f32>(0.0);
+    if rcp < 3.0e38 && rcp > 0.0 {
+        fallback = away * rcp;
+    }
+    let way = push_direction(p, depth, fallback);
+    if all(way == vec3<f32>(0.0)) {
+        return vec4<f32>(0.0, 0.0, 0.0, -1.0);
+    }
+    return vec4<f32>(way, depth);
+}
+
 // `contact::push_out_hinted`: where p must go to lie no deeper than the
 // contact tolerance (`to`, w = 1 when it must move, 0 when it stays),
 // trying triangle `hint` first (NONE: none): within the tolerance of it, p

@@ -73,6 +73,26 @@ pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f3
     }
 }
 
+/// [`penetration`] with the way out of [`push_out`]: `Some((way, depth))`
+/// when `p` lies inside, `way` the unit [`push_direction`] (the way to the
+/// closest surface point blended with the faces about as near), `depth`
+/// metres to the closest point; `None` when it is outside, or on the
+/// surface with no way out. The narrow phase's push on a segment wholly
+/// inside a closed mesh (`contact_segment`) takes it: with the closest
+/// point alone its push turned by up to a face's angle for 1e-7 m.
+#[must_use]
+pub fn way_out(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f32)> {
+    let mut near = NearPoints::default();
+    match surface_and_side(tree, p, open_depth, f32::INFINITY, Some(&mut near)) {
+        Some((s, true)) => {
+            let depth = s.distance_sq.sqrt();
+            let way = push_direction(&near, p, depth).or_else(|| (s.point - p).try_normalize())?;
+            Some((way, depth))
+        }
+        _ => None,
+    }
+}
+
 /// The closest surface point that [`penetration`] measured `p` against and
 /// whether `p` is inside (see the module docs); `None` when no point was
 /// needed (empty tree, non-finite `p`, a voxel known outside, nothing

@@ -46,7 +46,7 @@
 use glam::{Vec3, Vec3A, Vec4};
 
 use super::broad_phase::AabbFaces;
-use super::contact::penetration;
+use super::contact::{penetration, way_out};
 use super::exact::{STACK_SIZE, point_inside};
 use super::segment_obb::{
     centred, segment_depth_in_obb, segment_hits_obb_centred, segment_hits_obb_inflated,
@@ -178,8 +178,9 @@ pub fn collide_segment(
 /// segment crossing the surface of a finely split mesh is barely inside any
 /// one thin box; this weighs it by how deep it really goes. A segment of a
 /// closed mesh that meets no final box but lies inside the mesh (then at
-/// least a shell deep) pushes towards the nearest surface
-/// ([`super::contact::penetration`]) with `w = min(1, (depth + shell) /
+/// least a shell deep) pushes out the contact response's way
+/// ([`super::contact::way_out`]: towards the nearest surface, blended
+/// over the faces about as near) with `w = min(1, (depth + shell) /
 /// (shell + ramp))`. And `ramp_j` = [`LocalMotion::ramp_at`] the point `c_j` of the
 /// segment closest to the node's centre: [`RAMP_TRAVELS`] times how far
 /// the object's surface there travels in the sub-step (at least in
@@ -289,8 +290,8 @@ fn contact_node(
 /// deepest node it hit, 0 if none; `acc`: its final nodes): when no
 /// final-depth box (grown by the shell) was met, the segment crosses no
 /// triangle and is wholly outside a closed mesh, or wholly inside it, at
-/// least a shell deep; then its deeper end pushes towards the nearest
-/// surface.
+/// least a shell deep; then its deeper end pushes out towards the nearest
+/// surface ([`super::contact::way_out`]).
 fn contact_finish(
     tree: &ObbTree,
     (p0, p1): (Vec3, Vec3),
@@ -302,11 +303,9 @@ fn contact_finish(
     if acc.max == 0.0 && tree.closed && deepest > 0 && point_inside(tree, (p0 + p1) * 0.5) {
         let deeper = [p0, p1]
             .into_iter()
-            .filter_map(|q| penetration(tree, q, 0.0).map(|(s, d)| (q, s, d)))
+            .filter_map(|q| way_out(tree, q, 0.0).map(|(out, d)| (q, out, d)))
             .max_by(|a, b| a.2.total_cmp(&b.2));
-        if let Some((q, surface, depth)) = deeper
-            && let Some(out) = (surface - q).try_normalize()
-        {
+        if let Some((q, out, depth)) = deeper {
             let w = ((depth + shell) / (shell + motion.ramp_at(q, Vec3::ZERO))).min(1.0);
             acc.add(w, out, q, Vec3::ZERO);
         }
@@ -1008,6 +1007,54 @@ mod tests {
     use crate::object::shapes::{cuboid, knot, sphere};
     use crate::test_rng::XorShift;
     use glam::Quat;
+
+    /// A segment wholly inside a tessellated ball (5 cm deep: no final box
+    /// of precision 7 met, so its deeper end pushes out, `contact_finish`),
+    /// moved in steps of 1e-6 m across the plane halfway between two faces
+    /// that share an edge, at eight edges: its push turns smoothly. With
+    /// the way to the closest point alone it turned by a face's angle in
+    /// one step (this test failed then: 0.10 in one step at the first
+    /// edge; `contact::way_out`).
+    #[test]
+    fn a_segment_inside_is_pushed_out_a_way_that_turns_smoothly() {
+        let tree = ObbTree::build(&sphere(1.0, 3), 7);
+        let tris = &tree.triangles;
+        let normal = |t: &[Vec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+        let mut edges = 0;
+        for (i, a) in tris.iter().enumerate().step_by(41) {
+            let Some(b) = tris.iter().skip(i + 1).find(|b| {
+                b.iter().any(|v| v.distance(a[0]) < 1e-6)
+                    && b.iter().any(|v| v.distance(a[1]) < 1e-6)
+            }) else {
+                continue;
+            };
+            let (na, nb) = (normal(a), normal(b));
+            let inward = -(na + nb).normalize();
+            let mid = (a[0] + a[1]) * 0.5 + inward * 0.05;
+            let across = (na - nb).normalize();
+            let step = 1e-6;
+            let (mut worst, mut last) = (0.0f32, None::<Vec3>);
+            for k in -200..=200 {
+                let p0 = mid + across * (k as f32 * step);
+                let p1 = p0 + inward * 0.01;
+                let c = contact_segment(p0, p1, &tree, 7, 0.01, &LocalMotion::STILL)
+                    .expect("a segment 5 cm inside is pushed");
+                if let Some(prev) = last {
+                    worst = worst.max(c.dir.distance(prev));
+                }
+                last = Some(c.dir);
+            }
+            assert!(
+                worst < 1e-3,
+                "edge of triangle {i}: the push turned by {worst} in one step"
+            );
+            edges += 1;
+            if edges == 8 {
+                break;
+            }
+        }
+        assert_eq!(edges, 8);
+    }
 
     /// Random numbers in [-1, 1).
     struct Rng(XorShift);
