@@ -246,9 +246,10 @@ pub fn closest_point_and_near(
 }
 
 /// The branch-and-bound walk of [`closest_point_within_sq`] and
-/// [`closest_point_and_near`]: with `keep` (reach, points), boxes are skipped beyond
-/// `reach` past the best distance (they hold no better point either, so
-/// the best is the same), and every point within that is kept.
+/// [`closest_point_and_near`]: with `keep` (reach, points), boxes are
+/// skipped beyond `reach` past the best distance (they hold no better
+/// point either, so the best is the same), and every point within that is
+/// kept.
 fn walk(
     tree: &ObbTree,
     p: Vec3,

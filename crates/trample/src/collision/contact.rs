@@ -191,9 +191,10 @@ pub fn push_out_hinted(tree: &ObbTree, p: Vec3, open_depth: f32, hint: &mut u32)
 /// closest points in `near` ([`closest_point_and_near`]), each weighted by
 /// `1 − (its distance − depth) /` [`PUSH_BLEND_M`] (the closest point's at
 /// 1, those [`PUSH_BLEND_M`] farther or more at 0), summed in triangle
-/// order (the same bits whatever bound the walk started from). Continuous in `p` where the sum does not vanish (it would only
-/// deep inside, between faces across the object); `None` there, or for
-/// `depth` not positive.
+/// order (the same bits whatever bound the walk started from). Continuous
+/// in `p` where the sum does not vanish (it would only deep inside,
+/// between faces across the object); `None` there, or for `depth` not
+/// positive.
 #[must_use]
 pub fn push_direction(near: &NearPoints, p: Vec3, depth: f32) -> Option<Vec3> {
     if depth.is_nan() || depth <= 0.0 {
