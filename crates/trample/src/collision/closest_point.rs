@@ -433,6 +433,89 @@ mod tests {
         }
     }
 
+    /// [`closest_point_and_near`] answers [`closest_point_within_sq`]'s
+    /// closest point bit for bit (point, distance, triangle, region), for
+    /// any reach and bound, and keeps exactly the triangles whose closest
+    /// points lie within the reach of it (the nearest
+    /// [`NEAR_POINTS_MAX`] when more do), found by brute force over every
+    /// triangle: points near the surface of a ball, the knot and a box
+    /// (whose corners and edges make ties).
+    #[test]
+    fn the_near_walk_answers_the_closest_point_bit_for_bit_and_keeps_the_near_ones() {
+        use crate::object::shapes::cuboid;
+        let mut rng = XorShift(0x6a09_e667_f3bc_c908);
+        let (mut checked, mut several, mut full) = (0, 0, 0);
+        for mesh in [sphere(1.0, 3), knot(2.4), cuboid(Vec3::new(0.5, 0.2, 0.9))] {
+            let tree = ObbTree::build(&mesh, 32);
+            let n = tree.triangles.len();
+            for k in 0..1500 {
+                let t = tree.triangles[(rng.next_u64() % n as u64) as usize];
+                let on = match k % 3 {
+                    0 => t[0],
+                    1 => (t[0] + t[1]) * 0.5,
+                    _ => (t[0] + t[1] + t[2]) / 3.0,
+                };
+                let p = on + rng.vec(-1.0, 1.0) * [0.001, 0.01, 0.05][k % 3];
+                let want = closest_point_within_sq(&tree, p, f32::INFINITY).unwrap();
+                let reach = [0.0005, 0.001, 0.01][k % 3];
+                for max_sq in [
+                    f32::INFINITY,
+                    (want.distance_sq.sqrt() + reach).powi(2) * 1.01,
+                ] {
+                    let mut near = NearPoints::default();
+                    let got = closest_point_and_near(&tree, p, max_sq, reach, &mut near).unwrap();
+                    assert_eq!(
+                        got.point.to_array().map(f32::to_bits),
+                        want.point.to_array().map(f32::to_bits),
+                        "{p}"
+                    );
+                    assert_eq!(
+                        (got.triangle, got.region, got.distance_sq.to_bits()),
+                        (want.triangle, want.region, want.distance_sq.to_bits()),
+                        "{p}"
+                    );
+                    // Every triangle within the reach of the closest point
+                    // is kept (the nearest when there are more than fit).
+                    let limit = want.distance_sq.sqrt() + reach;
+                    let mut within: Vec<(f32, u32)> = tree
+                        .triangles
+                        .iter()
+                        .enumerate()
+                        .map(|(i, t)| {
+                            let q = closest_point_on_triangle_region(p, t).0;
+                            (q.distance_squared(p), i as u32)
+                        })
+                        .filter(|&(d, _)| d.sqrt() <= limit * (1.0 - 1e-6))
+                        .collect();
+                    within.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                    let kept: Vec<u32> = near.points[..near.len].iter().map(|e| e.2).collect();
+                    for &(_, tri) in within.iter().take(NEAR_POINTS_MAX) {
+                        assert!(
+                            kept.contains(&tri),
+                            "{p}: triangle {tri} not kept: {kept:?}"
+                        );
+                    }
+                    assert!(kept.contains(&want.triangle), "{p}");
+                    // The kept points are the triangles' own closest points.
+                    for &(q, d, tri) in &near.points[..near.len] {
+                        let own =
+                            closest_point_on_triangle_region(p, &tree.triangles[tri as usize]).0;
+                        assert_eq!(
+                            q.to_array().map(f32::to_bits),
+                            own.to_array().map(f32::to_bits)
+                        );
+                        assert_eq!(d.to_bits(), own.distance_squared(p).to_bits());
+                    }
+                    checked += 1;
+                    several += usize::from(within.len() > 1);
+                    full += usize::from(within.len() > NEAR_POINTS_MAX);
+                }
+            }
+        }
+        assert_eq!(checked, 9000);
+        assert!(several > 1000 && full > 10, "{several} {full}");
+    }
+
     /// The walk's order written plainly (both children pushed, the nearer
     /// popped next): the order the GPU twin (`object.wgsl`) keeps, whose
     /// first found triangle wins a tie.
