@@ -37,7 +37,6 @@
 //! detail also decides what is tested).
 
 use super::collide::BladeHit;
-use crate::field::MAX_SEGMENTS;
 use crate::obb::ObbTree;
 use crate::object::Pose;
 use glam::{Vec3, Vec3A};
@@ -135,18 +134,33 @@ struct NarrowMemo {
 #[derive(Clone, Debug)]
 struct ContactMemo {
     key: RestKey,
-    /// Ascending.
-    blades: Vec<u32>,
-    entries: Vec<RestingBlade>,
+    kept: RestingBlades,
 }
 
-/// A blade the contact response left as it found it.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct RestingBlade {
-    first: u32,
-    seg_len: u32,
-    moved: bool,
-    verts: [Vec3; MAX_SEGMENTS + 1],
+/// The blades the contact response left as it found it, to keep
+/// ([`ColliderMemo::keep_blades`]): per blade, ascending, its lowest
+/// touched segment, its segment length's bits, whether it counted as
+/// moved, and its `stride` vertices. Flat lists whose memory a collider
+/// keeps from one sub-step to the next
+/// ([`ColliderMemo::resting_buffers`]): a parked herd keeps ~19 k blades
+/// a step.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct RestingBlades {
+    blades: Vec<u32>,
+    meta: Vec<(u32, u32, bool)>,
+    verts: Vec<Vec3>,
+    stride: usize,
+}
+
+impl RestingBlades {
+    /// Adds blade `b` (after every blade added before), its lowest touched
+    /// segment `first`, segment length `seg_len`, whether it `moved`, and
+    /// its vertices `verts` (`stride` of them).
+    pub(crate) fn push(&mut self, b: u32, first: u32, seg_len: f32, moved: bool, verts: &[Vec3A]) {
+        self.blades.push(b);
+        self.meta.push((first, seg_len.to_bits(), moved));
+        self.verts.extend(verts.iter().map(|&v| Vec3::from(v)));
+    }
 }
 
 /// A tile tested this sub-step, to keep: its vertices (as kept, see
@@ -293,39 +307,36 @@ impl ColliderMemo {
         verts: &[Vec3A],
     ) -> Option<bool> {
         let m = self.contact.as_ref().filter(|m| Some(m.key) == key)?;
-        let e = &m.entries[m.blades.binary_search(&b).ok()?];
-        (e.first == first
-            && e.seg_len == seg_len.to_bits()
-            && same_vertices(verts.iter().copied(), &e.verts[..verts.len()]))
-        .then_some(e.moved)
+        let kept = &m.kept;
+        if verts.len() != kept.stride {
+            return None;
+        }
+        let i = kept.blades.binary_search(&b).ok()?;
+        let (kept_first, kept_len, moved) = kept.meta[i];
+        let kept_verts = kept.verts.get(i * kept.stride..(i + 1) * kept.stride)?;
+        (kept_first == first
+            && kept_len == seg_len.to_bits()
+            && same_vertices(verts.iter().copied(), kept_verts))
+        .then_some(moved)
     }
 
-    /// A blade at its fixed point, to keep ([`ColliderMemo::keep_blades`]).
-    pub(crate) fn resting(first: u32, seg_len: f32, moved: bool, verts: &[Vec3A]) -> RestingBlade {
-        let mut kept = [Vec3::ZERO; MAX_SEGMENTS + 1];
-        for (k, v) in kept.iter_mut().zip(verts) {
-            *k = Vec3::from(*v);
-        }
-        RestingBlade {
-            first,
-            seg_len: seg_len.to_bits(),
-            moved,
-            verts: kept,
-        }
+    /// Empty lists for the blades to keep this sub-step, of `stride`
+    /// vertices each, in the memory of those kept before (taken from this
+    /// memo, which keeps nothing until [`ColliderMemo::keep_blades`]).
+    pub(crate) fn resting_buffers(&mut self, stride: usize) -> RestingBlades {
+        let mut kept = self.contact.take().map(|m| m.kept).unwrap_or_default();
+        kept.blades.clear();
+        kept.meta.clear();
+        kept.verts.clear();
+        kept.stride = stride;
+        kept
     }
 
     /// Keeps the contact response's blades at their fixed point
     /// (`resting`, ascending by blade) for a collider keyed `key` (`None`:
     /// nothing kept).
-    pub(crate) fn keep_blades(&mut self, key: Option<RestKey>, resting: Vec<(u32, RestingBlade)>) {
-        self.contact = key.map(|key| {
-            let (blades, entries) = resting.into_iter().unzip();
-            ContactMemo {
-                key,
-                blades,
-                entries,
-            }
-        });
+    pub(crate) fn keep_blades(&mut self, key: Option<RestKey>, resting: RestingBlades) {
+        self.contact = key.map(|key| ContactMemo { key, kept: resting });
     }
 
     /// The key under which this collider is at rest this sub-step: its key

@@ -231,8 +231,10 @@ pub(crate) fn narrow_phase(
     memos: &mut [ColliderMemo],
     tm: &mut StepTimings,
 ) -> (Vec<Vec<BladeHit>>, Vec<Option<RestKey>>) {
+    // Each collider's candidate blades and tiles, colliders in parallel
+    // (listed in collider order: the same lists on any thread count).
     let jobs: Vec<ColliderNarrow> = colliders
-        .iter()
+        .par_iter()
         .zip(patches)
         .map(|(&(i, k), p)| ColliderNarrow::new(sim, &sim.bodies[i], k, p, h))
         .collect();
@@ -240,8 +242,8 @@ pub(crate) fn narrow_phase(
     // Colliders at rest take the kept hits of the tiles whose blades did
     // not change (`super::at_rest`).
     let plans: Vec<NarrowPlan> = jobs
-        .iter()
-        .zip(memos.iter_mut())
+        .par_iter()
+        .zip(memos.par_iter_mut())
         .map(|(job, memo)| memo.plan(job.key, &job.candidates, &job.tiles))
         .collect();
     let work: Vec<(usize, usize)> = jobs

@@ -3,7 +3,7 @@
 //! paper's mode; from their blades, Eq. 9–12, otherwise) and the
 //! transitions between levels of detail (Eq. 9–13).
 
-use super::at_rest::{ColliderMemo, RestKey};
+use super::at_rest::{ColliderMemo, RestKey, RestingBlades};
 use super::contact_hints::ContactHints;
 use super::simulation::Simulation;
 use super::stages::{mark_displaced, reach_rect};
@@ -110,7 +110,7 @@ pub(crate) fn resolve_contacts(
             list.extend_from_slice(&touched[lo..hi]);
         }
         if list.is_empty() {
-            memo.keep_blades(None, Vec::new());
+            memo.keep_blades(None, RestingBlades::default());
             memo.hints = ContactHints::default();
             continue;
         }
@@ -165,7 +165,7 @@ pub(crate) fn resolve_contacts(
                 });
                 *moved = (m, fixed, false);
             });
-        let mut resting = Vec::new();
+        let mut resting = memo.resting_buffers(n + 1);
         let mut stored = Vec::new();
         for (i, ((v, &b), &(m, fixed, skipped))) in
             work.chunks_exact(n + 1).zip(&list).zip(&moved).enumerate()
@@ -178,7 +178,7 @@ pub(crate) fn resolve_contacts(
             if fixed {
                 let first = sim.scratch.mask[b as usize].trailing_zeros();
                 let seg_len = sim.field.blades.seg_len[b as usize];
-                resting.push((b, ColliderMemo::resting(first, seg_len, m, v)));
+                resting.push(b, first, seg_len, m, v);
             }
         }
         sim.field.blades.store_slots(&stored, &work);
