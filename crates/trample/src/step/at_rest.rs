@@ -37,6 +37,7 @@
 //! detail also decides what is tested).
 
 use super::collide::BladeHit;
+use crate::field::{BladeVertex, Blades};
 use crate::obb::ObbTree;
 use crate::object::Pose;
 use glam::{Vec3, Vec3A};
@@ -125,8 +126,9 @@ struct NarrowMemo {
     candidates: Vec<u32>,
     tiles: Vec<(u32, u32)>,
     /// The candidates' vertices, world, as tested, tile by tile: each
-    /// tile's `n + 1` vertices, each over the tile's blades.
-    verts: Vec<Vec3>,
+    /// tile's `n + 1` vertices, each over the tile's blades, as stored
+    /// (padding included, so that a vertex compares as one 16-byte word).
+    verts: Vec<BladeVertex>,
     /// Each tile's hits.
     hits: Vec<Vec<BladeHit>>,
 }
@@ -165,7 +167,7 @@ impl RestingBlades {
 
 /// A tile tested this sub-step, to keep: its vertices (as kept, see
 /// [`ColliderMemo::kept_tile`]) and its hits.
-pub(crate) type TestedTile = (Vec<Vec3>, Vec<BladeHit>);
+pub(crate) type TestedTile = (Vec<BladeVertex>, Vec<BladeHit>);
 
 /// How a collider's narrow phase runs this sub-step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -187,7 +189,43 @@ fn same_bits(a: Vec3A, b: Vec3) -> bool {
         && a.z.to_bits() == b.z.to_bits()
 }
 
-/// Whether `verts` (a blade's or a tile's vertices now) are `kept`, bit for bit.
+/// The vertices of `tile`'s blades as a collider at rest keeps them:
+/// vertex by vertex, each over the tile's blades — the field's own
+/// vertex-major order, so that comparing them ([`same_tile`]) streams
+/// through memory.
+pub(crate) fn tile_vertices(blades: &Blades, tile: &[u32]) -> Vec<BladeVertex> {
+    let mut out = Vec::with_capacity((blades.segments + 1) * tile.len());
+    for k in 0..=blades.segments {
+        out.extend(
+            tile.iter()
+                .map(|&b| blades.pos[k * blades.count + b as usize]),
+        );
+    }
+    out
+}
+
+/// Whether the vertices of `tile`'s blades in `blades` are `kept`
+/// ([`tile_vertices`]), bit for bit: each vertex as stored, padding
+/// included, compared as one 16-byte word (a padding that is not 0, which
+/// nothing writes, only makes a tile tested again).
+fn same_tile(blades: &Blades, tile: &[u32], kept: &[BladeVertex]) -> bool {
+    let word = |v: &BladeVertex| bytemuck::cast::<BladeVertex, u128>(*v);
+    if tile.is_empty() || kept.len() != (blades.segments + 1) * tile.len() {
+        return false;
+    }
+    kept.chunks_exact(tile.len())
+        .enumerate()
+        .all(|(k, kept_row)| {
+            let Some(row) = blades.pos.get(k * blades.count..(k + 1) * blades.count) else {
+                return false;
+            };
+            tile.iter()
+                .zip(kept_row)
+                .all(|(&b, kept)| row.get(b as usize).is_some_and(|v| word(v) == word(kept)))
+        })
+}
+
+/// Whether `verts` (a blade's vertices now) are `kept`, bit for bit.
 pub(crate) fn same_vertices(verts: impl IntoIterator<Item = Vec3A>, kept: &[Vec3]) -> bool {
     let mut n = 0;
     for (v, k) in verts.into_iter().zip(kept) {
@@ -230,21 +268,18 @@ impl ColliderMemo {
         }
     }
 
-    /// The kept hits of tile `t` when its vertices `now` are the kept bits
-    /// (plan [`NarrowPlan::Reuse`], under which the tiles are the kept
-    /// ones); a tile's vertices are kept vertex by vertex, each over the
-    /// tile's blades (the field's vertex-major order,
-    /// [`crate::field::Blades::pos`]).
-    pub(crate) fn kept_tile(
-        &self,
-        t: usize,
-        segments: usize,
-        now: impl IntoIterator<Item = Vec3A>,
-    ) -> Option<&[BladeHit]> {
+    /// The kept hits of tile `t`, whose blades are `tile`, when their
+    /// vertices in `blades` are the kept bits (plan [`NarrowPlan::Reuse`],
+    /// under which the tiles are the kept ones); a tile's vertices are kept
+    /// vertex by vertex, each over the tile's blades (the field's
+    /// vertex-major order, [`crate::field::Blades::pos`]), as
+    /// [`tile_vertices`] copies them.
+    pub(crate) fn kept_tile(&self, t: usize, blades: &Blades, tile: &[u32]) -> Option<&[BladeHit]> {
         let m = self.narrow.as_ref()?;
-        let (start, end) = m.tiles[t];
-        let kept = &m.verts[start as usize * (segments + 1)..end as usize * (segments + 1)];
-        same_vertices(now, kept).then_some(m.hits[t].as_slice())
+        let (start, end) = *m.tiles.get(t)?;
+        let per = blades.segments + 1;
+        let kept = m.verts.get(start as usize * per..end as usize * per)?;
+        same_tile(blades, tile, kept).then_some(m.hits[t].as_slice())
     }
 
     /// Keeps what the narrow phase found under `plan`: for

@@ -1,7 +1,7 @@
 //! Stages 4–5 of a sub-step (DESIGN §7): the narrow phase of one object over
 //! the blades the broad phase kept, and the forces of Eq. 2 it gives.
 
-use super::at_rest::{ColliderMemo, NarrowPlan, RestKey, TestedTile};
+use super::at_rest::{ColliderMemo, NarrowPlan, RestKey, TestedTile, tile_vertices};
 use super::body::Body;
 use super::simulation::Simulation;
 use super::stages::{DBG_WEIGHT, reach_rect};
@@ -10,7 +10,7 @@ use crate::collision::narrow_phase::{
     BladeContacts, LocalMotion, NearBounds, box_clear_of, box_outside, contact_blade,
     contact_blade_near, final_nodes_near, near_bounds,
 };
-use crate::field::{Blades, Lod};
+use crate::field::{BladeVertex, Lod};
 use crate::force::eqf::eqf;
 use crate::obb::ObbTree;
 use crate::object::Pose;
@@ -254,7 +254,7 @@ pub(crate) fn narrow_phase(
     let blades = &sim.field.blades;
     let n = blades.segments;
     let kept: &[ColliderMemo] = memos;
-    let found: Vec<(Vec<BladeHit>, Option<Vec<Vec3>>, bool)> = work
+    let found: Vec<(Vec<BladeHit>, Option<Vec<BladeVertex>>, bool)> = work
         .par_iter()
         .map_init(
             || (BladeContacts::default(), TileScratch::default()),
@@ -263,13 +263,12 @@ pub(crate) fn narrow_phase(
                 let (start, end) = jobs[j].tiles[t];
                 let tile = &jobs[j].candidates[start as usize..end as usize];
                 if plan == NarrowPlan::Reuse
-                    && let Some(hits) = kept[j].kept_tile(t, n, tile_vertices(blades, tile))
+                    && let Some(hits) = kept[j].kept_tile(t, blades, tile)
                 {
                     return (hits.to_vec(), None, true);
                 }
                 let hits = jobs[j].tile_hits(sim, t, contacts, scratch);
-                let copy = (plan != NarrowPlan::Plain)
-                    .then(|| tile_vertices(blades, tile).map(Vec3::from).collect());
+                let copy = (plan != NarrowPlan::Plain).then(|| tile_vertices(blades, tile));
                 (hits, copy, false)
             },
         )
@@ -297,14 +296,6 @@ pub(crate) fn narrow_phase(
         .map(|(memo, &plan)| memo.rest_key(plan))
         .collect();
     (per_collider, keys)
-}
-
-/// The vertices of a tile's blades as a collider at rest keeps them
-/// ([`super::at_rest`]): vertex by vertex, each over the tile's blades —
-/// the field's own vertex-major order, so that comparing them streams
-/// through memory.
-fn tile_vertices<'a>(blades: &'a Blades, tile: &'a [u32]) -> impl Iterator<Item = Vec3A> + 'a {
-    (0..=blades.segments).flat_map(move |k| tile.iter().map(move |&b| blades.vertex(b as usize, k)))
 }
 
 /// Whether the blades of `tile` surely have no contact with `tree` (posed
