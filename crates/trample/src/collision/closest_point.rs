@@ -357,6 +357,20 @@ mod tests {
         assert!(q.distance(Vec3::new(0.5, 0.5, 0.0)) < 1e-6);
     }
 
+    /// `got` is `want` bit for bit: point, triangle, region and distance.
+    fn assert_same_point(got: &SurfacePoint, want: &SurfacePoint, p: Vec3) {
+        assert_eq!(
+            got.point.to_array().map(f32::to_bits),
+            want.point.to_array().map(f32::to_bits),
+            "{p}"
+        );
+        assert_eq!(
+            (got.triangle, got.region, got.distance_sq.to_bits()),
+            (want.triangle, want.region, want.distance_sq.to_bits()),
+            "{p}"
+        );
+    }
+
     #[test]
     fn tree_query_equals_brute_force() {
         let mut rng = XorShift(0x9e37_79b9_7f4a_7c15u64);
@@ -415,16 +429,7 @@ mod tests {
                         .distance_squared(p);
                     let got = closest_point_within_sq(&tree, p, d)
                         .expect("the bound's triangle is within it");
-                    assert_eq!(
-                        got.point.to_array().map(f32::to_bits),
-                        want.point.to_array().map(f32::to_bits),
-                        "{p}"
-                    );
-                    assert_eq!(
-                        (got.triangle, got.region, got.distance_sq.to_bits()),
-                        (want.triangle, want.region, want.distance_sq.to_bits()),
-                        "{p}"
-                    );
+                    assert_same_point(&got, &want, p);
                     checked += 1;
                     tight += usize::from(k == own);
                 }
@@ -464,16 +469,7 @@ mod tests {
                 ] {
                     let mut near = NearPoints::default();
                     let got = closest_point_and_near(&tree, p, max_sq, reach, &mut near).unwrap();
-                    assert_eq!(
-                        got.point.to_array().map(f32::to_bits),
-                        want.point.to_array().map(f32::to_bits),
-                        "{p}"
-                    );
-                    assert_eq!(
-                        (got.triangle, got.region, got.distance_sq.to_bits()),
-                        (want.triangle, want.region, want.distance_sq.to_bits()),
-                        "{p}"
-                    );
+                    assert_same_point(&got, &want, p);
                     // Every triangle within the reach of the closest point
                     // is kept (the nearest when there are more than fit).
                     let limit = want.distance_sq.sqrt() + reach;
