@@ -172,8 +172,21 @@ pub(crate) fn resolve_contacts(
         {
             *reused += u32::from(skipped);
             if m {
-                stored.push((b, i as u32));
                 out.push(b);
+                // A blade the response pushed back to its own bits is not
+                // stored again: the step would list it as changed
+                // (`Field::changed_blades`) and a host upload it for
+                // nothing (3–4 k blades a step under the parked herd).
+                let blades = &sim.field.blades;
+                let same = v.iter().enumerate().all(|(k, v)| {
+                    blades.pos[k * blades.count + b as usize]
+                        .pos
+                        .map(f32::to_bits)
+                        == v.to_array().map(f32::to_bits)
+                });
+                if !same {
+                    stored.push((b, i as u32));
+                }
             }
             if fixed {
                 let first = sim.scratch.mask[b as usize].trailing_zeros();
