@@ -44,6 +44,23 @@ path = { kind = "line", from = [-2.1, 0.3, -5.5], to = [-2.1, 0.3, -0.5], durati
     )
 }
 
+/// [`parked_field`] with recovery off and the crate alone, after 180
+/// steps: settled under it.
+fn settled_crate(reuse: bool) -> Simulation {
+    let mut parked = parked_field(reuse, "inf");
+    for name in ["ball", "passer", "grazer"] {
+        let id = parked
+            .bodies
+            .iter()
+            .find(|b| b.object.name == name)
+            .unwrap()
+            .id;
+        parked.remove_body(id).unwrap();
+    }
+    parked.run(180).unwrap();
+    parked
+}
+
 /// The first difference between two simulations' blades, classes and
 /// track owners, in words (`None`: the same bits).
 fn first_difference(a: &Simulation, b: &Simulation) -> Option<String> {
@@ -150,17 +167,7 @@ fn parked_stopping_and_passing_objects_give_the_same_bits_with_reuse() {
 /// is tested again); bodies that keep moving reuse nothing.
 #[test]
 fn a_settled_parked_body_reuses_its_work_and_moving_ones_none() {
-    let mut parked = parked_field(true, "inf");
-    for name in ["ball", "passer", "grazer"] {
-        let id = parked
-            .bodies
-            .iter()
-            .find(|b| b.object.name == name)
-            .unwrap()
-            .id;
-        parked.remove_body(id).unwrap();
-    }
-    parked.run(180).unwrap();
+    let mut parked = settled_crate(true);
     for _ in 0..10 {
         parked.step(parked.params.dt_s).unwrap();
         let t = &parked.timings;
@@ -191,26 +198,10 @@ fn a_settled_parked_body_reuses_its_work_and_moving_ones_none() {
 #[test]
 fn a_settled_parked_body_lists_no_blade_it_left_as_it_was() {
     for reuse in [true, false] {
-        let mut parked = parked_field(reuse, "inf");
-        for name in ["ball", "passer", "grazer"] {
-            let id = parked
-                .bodies
-                .iter()
-                .find(|b| b.object.name == name)
-                .unwrap()
-                .id;
-            parked.remove_body(id).unwrap();
-        }
-        parked.run(180).unwrap();
+        let mut parked = settled_crate(reuse);
         let mut pushed = 0;
         for f in 0..10 {
-            let before: Vec<[u32; 3]> = parked
-                .field
-                .blades
-                .pos
-                .iter()
-                .map(|v| v.pos.map(f32::to_bits))
-                .collect();
+            let before = position_bits(&parked);
             parked.step(parked.params.dt_s).unwrap();
             pushed += parked.timings.contact_blades;
             let bl = &parked.field.blades;

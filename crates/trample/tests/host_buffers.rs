@@ -37,13 +37,7 @@ fn every_blade_and_cell_a_step_changes_is_listed_once_in_order() {
     let dt = sim.params.dt_s;
     let (mut blades_changed, mut cells_changed, mut steps_with_slopes) = (0, 0, 0);
     for frame in 0..150 {
-        let pos: Vec<[u32; 3]> = sim
-            .field
-            .blades
-            .pos
-            .iter()
-            .map(|v| v.pos.map(f32::to_bits))
-            .collect();
+        let pos = position_bits(&sim);
         let slope: Vec<Vec3> = sim.field.cells.slope.clone();
         let lod = sim.field.cells.lod.clone();
         sim.step(dt).unwrap();

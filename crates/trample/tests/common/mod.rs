@@ -61,6 +61,17 @@ look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
     ))
 }
 
+/// Every blade vertex's position bits, in storage order (what a step's
+/// changed blades are checked against).
+pub fn position_bits(sim: &Simulation) -> Vec<[u32; 3]> {
+    sim.field
+        .blades
+        .pos
+        .iter()
+        .map(|v| v.pos.map(f32::to_bits))
+        .collect()
+}
+
 /// Height of blade `b`'s tip above its root.
 pub fn tip_height(sim: &Simulation, b: usize) -> f32 {
     let bl = &sim.field.blades;
