@@ -176,14 +176,17 @@ pub(crate) fn resolve_contacts(
                 // A blade the response pushed back to its own bits is not
                 // stored again: the step would list it as changed
                 // (`Field::changed_blades`) and a host upload it for
-                // nothing (3–4 k blades a step under the parked herd).
+                // nothing (3–4 k blades a step under the parked herd). A
+                // blade found at its fixed point (or taken from the memo)
+                // is known to be; any other is compared with what is stored.
                 let blades = &sim.field.blades;
-                let same = v.iter().enumerate().all(|(k, v)| {
-                    blades.pos[k * blades.count + b as usize]
-                        .pos
-                        .map(f32::to_bits)
-                        == v.to_array().map(f32::to_bits)
-                });
+                let same = fixed
+                    || v.iter().enumerate().all(|(k, v)| {
+                        blades.pos[k * blades.count + b as usize]
+                            .pos
+                            .map(f32::to_bits)
+                            == v.to_array().map(f32::to_bits)
+                    });
                 if !same {
                     stored.push((b, i as u32));
                 }
