@@ -97,6 +97,18 @@ fn expm1(y: f32) -> f32 {
     return exp(y) - 1.0;
 }
 
+// `recovery::RECOVERY_TAIL_M`: within this of rest (m) a blade recovers at
+// a constant speed.
+const RECOVERY_TAIL_M: f32 = 0.01;
+
+// `recovery::tail_fraction`.
+fn tail_fraction(q: f32, deviation: f32) -> f32 {
+    if deviation > 0.0 && deviation < RECOVERY_TAIL_M {
+        return min(q * (RECOVERY_TAIL_M / deviation), 1.0);
+    }
+    return q;
+}
+
 // `recovery::recovered_fraction`.
 fn recovered_fraction(dt: f32, tau: f32) -> f32 {
     if dt > 0.0 && tau > 0.0 {

@@ -1,6 +1,7 @@
 // Recovery of displaced blades towards rest (ours, DESIGN §6; the paper's
 // future work): `trample::step::recover` / `recovery::recover_blade`. Each
-// displaced vertex moves the fraction 1 − exp(−h'/τ) of the way back, τ =
+// displaced vertex moves the fraction 1 − exp(−h'/τ) of the way back
+// (more within 1 cm of rest: `tail_fraction`, the same speed), τ =
 // recovery_s · (1 + trail · flatness) with the settings of the blade's
 // track owner, h' = h · (1 − min(1, contact weight)): a blade an object
 // holds does not recover. Then lengths are restored; a blade within 1e-4 m
@@ -77,10 +78,13 @@ fn recover_blade(b: u32) {
     var v: array<vec3<f32>, MAX_VERTS>;
     var r: array<vec3<f32>, MAX_VERTS>;
     var same = true;
+    var deviation2 = 0.0;
     for (var k = 0u; k <= n; k++) {
         v[k] = pos[vertex_at(k, b)].xyz;
         r[k] = rest[vertex_at(k, b)].xyz;
         same = same && all(v[k] == r[k]);
+        let d = v[k] - r[k];
+        deviation2 = max(deviation2, dot(d, d));
     }
     if same {
         displaced[b] = 0u;
@@ -91,7 +95,7 @@ fn recover_blade(b: u32) {
     let free = 1.0 - min(force[b].w, 1.0);
     var q = 0.0;
     if owner.x > 0.0 {
-        q = recovered_fraction(params.a.x * free, time_constant(owner.x, owner.y, flat));
+        q = tail_fraction(recovered_fraction(params.a.x * free, time_constant(owner.x, owner.y, flat)), sqrt(deviation2));
     }
     if q == 0.0 {
         atomicAdd(&state.displaced, 1u);

@@ -26,7 +26,7 @@ fn recover_slopes(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let h = normalize_or_zero(sl).y;
     let rest_h = normalize_or_zero(origin).y;
-    let q = recovered_fraction(params.a.x, time_constant(params.b.y, params.b.z, flatness(h, rest_h)));
+    let q = tail_fraction(recovered_fraction(params.a.x, time_constant(params.b.y, params.b.z, flatness(h, rest_h))), sqrt(distance2(sl, origin)));
     if q == 0.0 {
         return;
     }

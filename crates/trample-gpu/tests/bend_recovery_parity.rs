@@ -12,7 +12,7 @@ use glam::{Vec3, Vec3A};
 use trample::deform::bend::{bend_blade, weights};
 use trample::field::generate::GROUND_CLEARANCE_M;
 use trample::field::{Field, FieldParams, MAX_SEGMENTS, Terrain};
-use trample::recovery::{RecoveryParams, recover_blade};
+use trample::recovery::{RECOVERY_TAIL_M, RecoveryParams, recover_blade};
 use trample_gpu::{GpuCounters, GpuField, GpuForce, GpuStepParams};
 use wgpu::util::DeviceExt;
 
@@ -104,6 +104,8 @@ fn bent_then_recovered_blades_match_the_cpu() {
 
     let bl = &field.blades;
     let (mut worst_bent, mut worst_recovered, mut flattened) = (0.0f32, 0.0f32, 0);
+    // Blades recovering within the tail (`recovery::RECOVERY_TAIL_M`).
+    let mut in_tail = 0;
     for (b, f) in forces.iter().enumerate() {
         let mut v = [Vec3A::ZERO; MAX_SEGMENTS + 1];
         let mut rest = [Vec3A::ZERO; MAX_SEGMENTS + 1];
@@ -136,6 +138,10 @@ fn bent_then_recovered_blades_match_the_cpu() {
         };
         worst_bent = worst_bent.max(diff(&bent, &v));
         if f.num > 0.0 {
+            let deviation = (0..=n)
+                .map(|k| v[k].distance(rest[k]))
+                .fold(0.0f32, f32::max);
+            in_tail += usize::from(f.num < 1.0 && deviation < RECOVERY_TAIL_M);
             // Held by its contact weight (`step::recover`).
             recover_blade(
                 &mut v[..=n],
@@ -150,9 +156,10 @@ fn bent_then_recovered_blades_match_the_cpu() {
         worst_recovered = worst_recovered.max(diff(&recovered, &v));
     }
     eprintln!(
-        "{} forced blades ({flattened} flattened below half height): worst vertex difference {worst_bent:e} m after bending, {worst_recovered:e} m after recovery",
+        "{} forced blades ({flattened} flattened below half height, {in_tail} recovering within the tail): worst vertex difference {worst_bent:e} m after bending, {worst_recovered:e} m after recovery",
         count.div_ceil(3)
     );
     assert!(flattened > 10, "the ground guard was hardly exercised");
+    assert!(in_tail > 10, "the recovery's tail was hardly exercised");
     assert!(worst_bent <= TOLERANCE_M && worst_recovered <= TOLERANCE_M);
 }

@@ -8,6 +8,19 @@
 //! recover more slowly, leaving a trail: `τ = recovery_s · (1 + trail ·
 //! flatness)`. `recovery_s = ∞` is the paper's behaviour.
 //!
+//! **The tail** ([`RECOVERY_TAIL_M`]): within a centimetre of rest a blade
+//! goes on at the speed the exponential has there (`RECOVERY_TAIL_M / τ`)
+//! instead of slowing down for ever, so it is back at rest about `τ` after
+//! it came within the centimetre, not `τ · ln(1 cm / REST_EPSILON)` ≈ 4.6 `τ`
+//! after. The speed is continuous where the two laws meet. A blade that is
+//! within a centimetre of rest is not seen to move (less than a pixel
+//! wherever blades are drawn as geometry), but until it is at rest it is
+//! relaxed, its cell recomputed and its vertices listed for upload
+//! (`Simulation::changed_blades`) every step: with the exponential alone, a
+//! crowd walking over a meadow with `recovery_s = 6` kept ~270 k blades
+//! recovering after a minute, most of them within a centimetre of rest
+//! (BENCHMARKS.md, "Session 34").
+//!
 //! Positions are blended vertex by vertex and the segment lengths are then
 //! restored with the same length preservation as the bending
 //! ([`preserve_lengths`], Fig. 7). When the largest deviation falls below
@@ -44,6 +57,28 @@ pub struct RecoveryParams {
 /// unit height (so at most `REST_EPSILON · height` metres at a billboard's
 /// top).
 pub const REST_EPSILON: f32 = 1e-4;
+
+/// Deviation from rest, metres, below which a blade recovers at a constant
+/// speed ([`tail_fraction`]): 1 cm, the deviation at which the exponential's
+/// speed `deviation / τ` is kept. [`recover_slope`] uses the same number per
+/// unit height, as it does [`REST_EPSILON`].
+pub const RECOVERY_TAIL_M: f32 = 0.01;
+
+/// The fraction of its way back to rest that a blade `deviation` metres
+/// from rest recovers in a step whose exponential fraction is `q`: `q` at
+/// [`RECOVERY_TAIL_M`] or more; closer, the fraction that moves it as far
+/// as a blade [`RECOVERY_TAIL_M`] from rest moves, `q · RECOVERY_TAIL_M /
+/// deviation` (at most 1): a constant speed, continuous in `deviation` and
+/// `q`, and frame-rate independent as `q` is to first order. `q = 0` (a held
+/// blade, `recovery_s = ∞`) stays 0.
+#[must_use]
+pub fn tail_fraction(q: f32, deviation: f32) -> f32 {
+    if deviation > 0.0 && deviation < RECOVERY_TAIL_M {
+        (q * (RECOVERY_TAIL_M / deviation)).min(1.0)
+    } else {
+        q
+    }
+}
 
 /// The fraction of a deviation from rest that remains after `dt` seconds of
 /// recovery with time constant `tau` seconds: `exp(−dt/τ)`.
@@ -106,7 +141,9 @@ pub(crate) fn flatness(height: f32, rest_height: f32) -> f32 {
 ///
 /// Each vertex above the root moves towards its rest position by the
 /// recovered fraction `1 − exp(−dt/τ)` ([`recovery_factor`]), with `τ` from
-/// [`RecoveryParams`] and the blade's flatness; then [`preserve_lengths`]
+/// [`RecoveryParams`] and the blade's flatness, raised within
+/// [`RECOVERY_TAIL_M`] of rest by [`tail_fraction`] (the deviation: the
+/// largest distance of a vertex from its rest position); then [`preserve_lengths`]
 /// restores the segment lengths and the ground guard. When no vertex is
 /// farther than [`REST_EPSILON`] from rest, the blade is set to `rest`.
 ///
@@ -145,6 +182,13 @@ pub fn recover_blade(
     if q == 0.0 {
         return false;
     }
+    let deviation = verts
+        .iter()
+        .zip(rest)
+        .map(|(v, r)| v.distance_squared(*r))
+        .fold(0.0, f32::max)
+        .sqrt();
+    let q = tail_fraction(q, deviation);
     for (v, r) in verts.iter_mut().zip(rest).skip(1) {
         *v += (*r - *v) * q;
     }
@@ -160,7 +204,8 @@ pub fn recover_blade(
 }
 
 /// Relaxes a billboard's slope (Eq. 8, 12) towards its rest slope for `dt`
-/// seconds, with the same law as [`recover_blade`]; returns `true` when the
+/// seconds, with the same law as [`recover_blade`] (its tail within
+/// [`RECOVERY_TAIL_M`] per unit height of rest); returns `true` when the
 /// slope is now exactly `slope_origin`.
 ///
 /// Flatness of a slope: `1 − ŝ.y / ô.y` (`ŝ`, `ô` the normalised slope and
@@ -182,6 +227,7 @@ pub fn recover_slope(slope: &mut Vec3, slope_origin: Vec3, dt: f32, p: &Recovery
     if q == 0.0 {
         return false;
     }
+    let q = tail_fraction(q, slope.distance(slope_origin));
     *slope += (slope_origin - *slope) * q;
     let at_rest = slope.distance_squared(slope_origin) < REST_EPSILON * REST_EPSILON;
     if at_rest {

@@ -7,7 +7,7 @@ use glam::{Vec3, Vec3A};
 use trample::deform::bend::{bend_blade, weights};
 use trample::field::Terrain;
 use trample::recovery::{
-    REST_EPSILON, RecoveryParams, recover_blade, recover_slope, recovery_factor,
+    RECOVERY_TAIL_M, RecoveryParams, recover_blade, recover_slope, recovery_factor, tail_fraction,
 };
 
 const SEG: f32 = 0.1;
@@ -124,15 +124,111 @@ fn blade_returns_to_rest_and_snaps_bit_exactly() {
         steps += 1;
         assert!(steps < 1000, "never reached rest");
     }
-    // τ · ln(deviation / ε) · 60 ≈ 0.3 · ln(0.4 / 1e-4) · 60 ≈ 150 steps.
-    assert!((100..250).contains(&steps), "{steps} steps");
-    assert!(dev < 5.0 * REST_EPSILON);
+    // The exponential down to the tail, τ · ln(deviation / RECOVERY_TAIL_M)
+    // · 60 ≈ 0.3 · ln(0.4 / 0.01) · 60 ≈ 66 steps, then the last centimetre
+    // at the tail's constant speed, about τ · 60 = 18 steps (the
+    // exponential alone would take τ · ln(0.4 / 1e-4) · 60 ≈ 150).
+    assert!((60..100).contains(&steps), "{steps} steps");
+    // The last step before rest moved at most the tail's speed.
+    let q = 1.0 - recovery_factor(1.0 / 60.0, 0.3);
+    assert!(dev <= RECOVERY_TAIL_M * q * 1.01, "{dev}");
     assert_eq!(bits(&v), bits(&rest));
     assert!(
         recover_blade(&mut v, &rest, SEG, 1.0 / 60.0, &p, &flat, 0.0),
         "stays at rest"
     );
     assert_eq!(bits(&v), bits(&rest));
+}
+
+/// Within `RECOVERY_TAIL_M` of rest a blade goes on at the speed the
+/// exponential has there and reaches rest in finite time: a blade brushed
+/// 8 mm aside is back in about `deviation / (RECOVERY_TAIL_M / τ)` = 0.4 s
+/// (τ = 0.5 s), where the exponential alone took τ · ln(8 mm / 0.1 mm) ≈
+/// 2.2 s. Frame-rate independent as the exponential is.
+#[test]
+fn the_last_centimetre_is_recovered_at_a_constant_speed() {
+    let rest = rest_blade();
+    let flat = Terrain::Flat(0.0);
+    let p = params(0.5, 0.0);
+    let brushed = bent_blade(Vec3::new(0.0065, 0.0, 0.0));
+    let start = max_deviation(&brushed, &rest);
+    assert!(
+        (0.005..RECOVERY_TAIL_M).contains(&start),
+        "brushed within the tail: {start}"
+    );
+    let speed = RECOVERY_TAIL_M / p.recovery_s;
+    // At 60 steps a second: every step takes about the same distance off.
+    let mut v = brushed.clone();
+    let (mut dev, mut steps) = (start, 0u32);
+    while !recover_blade(&mut v, &rest, SEG, 1.0 / 60.0, &p, &flat, 0.0) {
+        let now = max_deviation(&v, &rest);
+        let took = dev - now;
+        assert!(
+            (took - speed / 60.0).abs() < 0.05 * speed / 60.0,
+            "step {steps}: {took} m off, the tail's speed gives {}",
+            speed / 60.0
+        );
+        dev = now;
+        steps += 1;
+        assert!(steps < 1000, "never reached rest");
+    }
+    assert_eq!(bits(&v), bits(&rest));
+    let expected = start / speed * 60.0;
+    assert!(
+        (f64::from(steps) - f64::from(expected)).abs() <= 2.0,
+        "{steps} steps, about {expected} expected"
+    );
+    // The same 0.2 s at 30 and at 144 steps a second.
+    let after = |rate: u32| {
+        let mut v = brushed.clone();
+        for _ in 0..(rate / 5) {
+            recover_blade(&mut v, &rest, SEG, 1.0 / rate as f32, &p, &flat, 0.0);
+        }
+        max_deviation(&v, &rest)
+    };
+    let (slow, fast) = (after(30), after(144));
+    assert!(
+        (slow - fast).abs() < 0.02 * start,
+        "{slow} at 30 steps a second, {fast} at 144"
+    );
+    assert!((start - slow - 0.2 * speed).abs() < 0.05 * start, "{slow}");
+    // A billboard's slope, with the same law per unit height.
+    let origin = Vec3::Y;
+    let mut slope = Vec3::new(0.006, 1.0, 0.0);
+    let mut steps = 0u32;
+    while !recover_slope(&mut slope, origin, 1.0 / 60.0, &p) {
+        steps += 1;
+        assert!(steps < 1000, "never reached rest");
+    }
+    let expected = 0.006 / speed * 60.0;
+    assert!(
+        (f64::from(steps) - f64::from(expected)).abs() <= 2.0,
+        "slope: {steps} steps, about {expected} expected"
+    );
+}
+
+/// The tail's fraction is continuous where it meets the exponential and
+/// leaves a held blade held.
+#[test]
+fn the_tail_meets_the_exponential_without_a_jump() {
+    let q = 1.0 - recovery_factor(1.0 / 60.0, 2.0);
+    for d in [
+        RECOVERY_TAIL_M * (1.0 - 1e-6),
+        RECOVERY_TAIL_M,
+        RECOVERY_TAIL_M * (1.0 + 1e-6),
+    ] {
+        let t = tail_fraction(q, d);
+        assert!((t - q).abs() <= 2e-6 * q, "{d}: {t} against {q}");
+    }
+    // The distance moved, fraction times deviation, is the same below.
+    for d in [1e-3f32, 3e-3, 9e-3] {
+        let moved = tail_fraction(q, d) * d;
+        assert!((moved - q * RECOVERY_TAIL_M).abs() < 1e-6 * RECOVERY_TAIL_M);
+    }
+    assert_eq!(tail_fraction(0.0, 1e-3), 0.0, "held");
+    assert_eq!(tail_fraction(q, 1e-9), 1.0, "at most the whole way");
+    assert_eq!(tail_fraction(q, 0.0), q);
+    assert_eq!(tail_fraction(q, 0.5), q);
 }
 
 #[test]
