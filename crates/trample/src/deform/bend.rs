@@ -163,41 +163,74 @@ pub(crate) fn preserve_from(
     } else {
         0.0
     };
+    // The unit direction of the segment below, the fallback of the next
+    // one's: normalised only when a fallback is taken (a segment of zero
+    // length, or a vertical one the guard must lift), which is rare — the
+    // same bits as normalising it every segment, for half the square roots
+    // and divisions of the chain (BENCHMARKS.md, "Session 34").
     let mut last_dir = if first >= 2 {
-        unit_or(verts[first - 1] - verts[first - 2], Vec3A::Y)
+        LastDir {
+            d: verts[first - 1] - verts[first - 2],
+            fallback: Vec3A::Y,
+        }
     } else {
-        Vec3A::Y
+        LastDir {
+            d: Vec3A::Y,
+            fallback: Vec3A::Y,
+        }
     };
     for i in first..verts.len() {
         let from = verts[i - 1];
-        let dir = unit_or(verts[i] - from, last_dir);
-        let end = guarded_end(from, dir, seg_len, terrain, clearance, last_dir);
-        last_dir = unit_or(end - from, dir);
+        let dir = unit_or_else(verts[i] - from, || last_dir.unit());
+        let end = guarded_end(from, dir, seg_len, terrain, clearance, || last_dir.unit());
+        last_dir = LastDir {
+            d: end - from,
+            fallback: dir,
+        };
         verts[i] = end;
+    }
+}
+
+/// A direction not yet normalised: `unit_or(d, fallback)` when asked
+/// ([`preserve_from`]).
+#[derive(Clone, Copy)]
+struct LastDir {
+    d: Vec3A,
+    fallback: Vec3A,
+}
+
+impl LastDir {
+    fn unit(self) -> Vec3A {
+        unit_or(self.d, self.fallback)
     }
 }
 
 /// `d` normalised, or `fallback` where `d` is (nearly) zero or not finite.
 fn unit_or(d: Vec3A, fallback: Vec3A) -> Vec3A {
+    unit_or_else(d, || fallback)
+}
+
+/// [`unit_or`] with the fallback computed only when it is taken.
+fn unit_or_else(d: Vec3A, fallback: impl FnOnce() -> Vec3A) -> Vec3A {
     let len2 = d.length_squared();
     if len2.is_finite() && len2 > 1e-24 {
         d / len2.sqrt()
     } else {
-        fallback
+        fallback()
     }
 }
 
 /// The end of a segment of length `len` from `from` along unit `dir`, lifted
 /// above the ground guard `terrain + clearance` by rotating it upward in its
 /// vertical plane (see [`preserve_lengths`]). `fallback` gives the
-/// horizontal direction when `dir` is vertical.
+/// horizontal direction when `dir` is vertical (asked only then).
 pub(crate) fn guarded_end(
     from: Vec3A,
     dir: Vec3A,
     len: f32,
     terrain: &Terrain,
     clearance: f32,
-    fallback: Vec3A,
+    fallback: impl FnOnce() -> Vec3A,
 ) -> Vec3A {
     let clears = |p: Vec3A| p.y >= terrain.height_at(p.x, p.z) + clearance;
     let end = from + dir * len;
@@ -207,7 +240,7 @@ pub(crate) fn guarded_end(
     let horizontal = |d: Vec3A| unit_or(Vec3A::new(d.x, 0.0, d.z), Vec3A::ZERO);
     let mut h = horizontal(dir);
     if h == Vec3A::ZERO {
-        h = horizontal(fallback);
+        h = horizontal(fallback());
     }
     if h == Vec3A::ZERO {
         h = Vec3A::X;
@@ -238,4 +271,93 @@ pub(crate) fn guarded_end(
         }
     }
     at(hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::XorShift;
+
+    /// `preserve_from` as it was before its fallback direction became lazy:
+    /// the previous segment's unit direction normalised at every segment.
+    fn preserve_from_eager(
+        verts: &mut [Vec3A],
+        first: usize,
+        seg_len: f32,
+        terrain: &Terrain,
+        clearance: f32,
+    ) {
+        if first == 0 || first >= verts.len() || !valid_blade(verts, seg_len) {
+            return;
+        }
+        let clearance = if clearance.is_finite() {
+            clearance
+        } else {
+            0.0
+        };
+        let mut last_dir = if first >= 2 {
+            unit_or(verts[first - 1] - verts[first - 2], Vec3A::Y)
+        } else {
+            Vec3A::Y
+        };
+        for i in first..verts.len() {
+            let from = verts[i - 1];
+            let dir = unit_or(verts[i] - from, last_dir);
+            let end = guarded_end(from, dir, seg_len, terrain, clearance, || last_dir);
+            last_dir = unit_or(end - from, dir);
+            verts[i] = end;
+        }
+    }
+
+    /// The lazy fallback gives the eager one's bits, on blades whose
+    /// fallbacks are taken: segments of zero length (a vertex on the one
+    /// below it), vertical segments driven into the ground (the guard
+    /// lifts them along the segment below's direction), vertices below
+    /// the ground, on flat and hilly ground, from every first vertex.
+    #[test]
+    fn the_lazy_fallback_direction_gives_the_eager_bits() {
+        let mut rng = XorShift(0x5eed_cafe_f00d_0001);
+        let hills = Terrain::Noise {
+            amplitude: 0.3,
+            wavelength: 2.0,
+            seed: 7,
+        };
+        let (mut zero_length, mut vertical_lifted) = (0, 0);
+        for case in 0..4000 {
+            let terrain = if case % 2 == 0 {
+                Terrain::Flat(0.0)
+            } else {
+                hills.clone()
+            };
+            let root = Vec3A::new(rng.range(-2.0, 2.0), 0.0, rng.range(-2.0, 2.0));
+            let root = root + Vec3A::Y * terrain.height_at(root.x, root.z);
+            let mut v = vec![root; 5];
+            for k in 1..5 {
+                v[k] = match rng.next_u64() % 5 {
+                    // On the vertex below: a zero-length segment.
+                    0 => {
+                        zero_length += 1;
+                        v[k - 1]
+                    }
+                    // Straight down from the vertex below, into the ground.
+                    1 => {
+                        vertical_lifted += 1;
+                        v[k - 1] - Vec3A::Y * rng.range(0.05, 0.5)
+                    }
+                    // Straight up.
+                    2 => v[k - 1] + Vec3A::Y * rng.range(0.0, 0.2),
+                    _ => v[k - 1] + Vec3A::from(rng.vec(-0.2, 0.2)),
+                };
+            }
+            let first = 1 + (case % 4);
+            let (mut lazy, mut eager) = (v.clone(), v.clone());
+            preserve_from(&mut lazy, first, 0.1, &terrain, 0.002);
+            preserve_from_eager(&mut eager, first, 0.1, &terrain, 0.002);
+            let bits = |v: &[Vec3A]| -> Vec<[u32; 3]> {
+                v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+            };
+            assert_eq!(bits(&lazy), bits(&eager), "case {case}: {v:?}");
+        }
+        assert!(zero_length > 1000 && vertical_lifted > 1000);
+    }
 }

@@ -99,5 +99,5 @@ pub fn billboard_top(
     } else {
         0.0
     };
-    guarded_end(base.into(), dir, height, terrain, clearance, Vec3A::X).into()
+    guarded_end(base.into(), dir, height, terrain, clearance, || Vec3A::X).into()
 }
