@@ -35,7 +35,8 @@ use glam::{Vec3, Vec3A};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RecoveryParams {
     /// Time constant `τ` of the exponential return to rest, seconds: after
-    /// `τ` a blade keeps `1/e` of its deviation. `f32::INFINITY` is the
+    /// `τ` a blade keeps `1/e` of its deviation (down to
+    /// [`RECOVERY_TAIL_M`], then the tail's constant speed). `f32::INFINITY` is the
     /// paper's behaviour (a lasting track, no recovery); `≤ 0` snaps back at
     /// once; NaN means no recovery.
     pub recovery_s: f32,

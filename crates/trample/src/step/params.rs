@@ -26,8 +26,9 @@ pub struct SimParams {
     /// n = 4 the tip moves 1.24× the offset-base vector, the root segment 0.12×.
     pub weight_b: f32,
     /// Recovery time constant, seconds (ours; the paper's future work). A
-    /// bent blade relaxes towards rest as exp(−t/τ). Default `inf`: the
-    /// paper's lasting track.
+    /// bent blade relaxes towards rest as exp(−t/τ), and within
+    /// [`crate::recovery::RECOVERY_TAIL_M`] of rest at the speed it has
+    /// there. Default `inf`: the paper's lasting track.
     pub recovery_s: f32,
     /// How much more slowly a flattened blade recovers: τ·(1 + trail·flatness).
     /// Default 2: a flattened trail lingers three times as long.
