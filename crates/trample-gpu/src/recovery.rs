@@ -35,6 +35,9 @@ pub const OWNERS: usize = 256;
 pub struct Recovery {
     kernel: Kernel,
     owners: wgpu::Buffer,
+    /// Per patch: this step's recovery time as a multiple of `h`
+    /// (`Simulation::recovery_scale`), read when far patches take turns.
+    turns: wgpu::Buffer,
     no_broad: NoBroad,
 }
 
@@ -50,11 +53,12 @@ impl Recovery {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Uniform, Read, Read, Read,
-                    Read, Uniform, Uniform, ReadWrite,
+                    Read, Uniform, Uniform, ReadWrite, Read,
                 ],
                 &["recover", "recover_active"],
             ),
             no_broad: NoBroad::new(device),
+            turns: turns_buffer(device, 16),
             owners: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu track owners"),
                 size: (OWNERS * 16) as u64,
@@ -90,6 +94,36 @@ impl Recovery {
         table.iter().any(|p| p.recovery_s.is_finite())
     }
 
+    /// Writes this step's recovery time of every patch
+    /// (`Simulation::recovery_scale`: far patches in turns) at this point of
+    /// `encoder`'s commands, before the step's recovery is recorded.
+    /// When patches take turns the step uniform says so (`b.w` = 2,
+    /// `recovery.wgsl`); nothing is written when they do not (`None`).
+    pub fn write_turns(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        uploads: &mut crate::upload::Uploads,
+        encoder: &mut wgpu::CommandEncoder,
+        scale: Option<&[f32]>,
+    ) {
+        let Some(scale) = scale else {
+            return;
+        };
+        let bytes = std::mem::size_of_val(scale) as u64;
+        if self.turns.size() < bytes {
+            self.turns = turns_buffer(device, bytes);
+        }
+        uploads.upload(
+            device,
+            queue,
+            encoder,
+            &self.turns,
+            0,
+            bytemuck::cast_slice(scale),
+        );
+    }
+
     /// Records the recovery of every displaced blade, one dispatch per
     /// chunk: over `broad`'s active recover lists (the active patches'
     /// `record_lists` recorded before in the sub-step, told that recovery
@@ -121,6 +155,7 @@ impl Recovery {
                     &self.owners,
                     broad_params,
                     lists,
+                    &self.turns,
                 ],
             );
             dispatch_listed(
@@ -133,4 +168,14 @@ impl Recovery {
             );
         }
     }
+}
+
+/// The per-patch turns table, `bytes` long (at least 16).
+fn turns_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("trample-gpu recovery turns"),
+        size: bytes.max(16).div_ceil(16) * 16,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }

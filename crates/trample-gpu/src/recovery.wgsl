@@ -4,7 +4,9 @@
 // (more within 1 cm of rest: `tail_fraction`, the same speed), τ =
 // recovery_s · (1 + trail · flatness) with the settings of the blade's
 // track owner, h' = h · (1 − min(1, contact weight)): a blade an object
-// holds does not recover. Then lengths are restored; a blade within 1e-4 m
+// holds does not recover. With far patches in turns (`params.b.w` = 2,
+// `trample::step::recovery_turns`), h' is also multiplied by the blade's
+// patch's entry of `turns` (0: it waits for its turn). Then lengths are restored; a blade within 1e-4 m
 // of rest snaps to it and leaves the displaced set. With recovery off for
 // every owner (all recovery_s = ∞) the pass only counts the displaced
 // blades. It also counts the blades the contact pass moved.
@@ -30,6 +32,9 @@
 // broad_params.wgsl, prepended), for `recover_active`.
 @group(0) @binding(11) var<uniform> broad: BroadParams;
 @group(0) @binding(12) var<storage, read_write> lists: array<atomic<u32>>;
+// Per patch: this step's recovery time as a multiple of h
+// (`Simulation::recovery_scale`), read when `params.b.w` is 2.
+@group(0) @binding(13) var<storage, read> turns: array<f32>;
 
 @compute @workgroup_size(64)
 fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -53,6 +58,15 @@ fn recover_active(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     if displaced[b] != 0u {
         atomicStore(&lists[active_word(ACTIVE_KEEP, b / max(broad.dispatch.x, 1u))], 1u);
     }
+}
+
+// The sub-step's recovery time for blade b: h, times its patch's turn
+// when far patches take turns (`trample::step::recover`).
+fn recovery_h(b: u32) -> f32 {
+    if params.b.w == 2.0 {
+        return params.a.x * turns[b / max(chunk.groups.w, 1u)];
+    }
+    return params.a.x;
 }
 
 fn recover_or_count(b: u32) {
@@ -95,7 +109,7 @@ fn recover_blade(b: u32) {
     let free = 1.0 - min(force[b].w, 1.0);
     var q = 0.0;
     if owner.x > 0.0 {
-        q = tail_fraction(recovered_fraction(params.a.x * free, time_constant(owner.x, owner.y, flat)), sqrt(deviation2));
+        q = tail_fraction(recovered_fraction(recovery_h(b) * free, time_constant(owner.x, owner.y, flat)), sqrt(deviation2));
     }
     if q == 0.0 {
         atomicAdd(&state.displaced, 1u);

@@ -444,8 +444,16 @@ impl GpuSimulation {
             + self.objects.params_bytes()
             + trees
             + 64;
+        let turns_bytes = self
+            .sim
+            .recovery_scale()
+            .map_or(0, |s| std::mem::size_of_val(s) as u64 + 16);
         self.uploads
-            .begin(device, per_substep * u64::from(substeps));
+            .begin(device, per_substep * u64::from(substeps) + turns_bytes);
+        // Far patches' blades recover in turns this step
+        // (`trample::step::recovery_turns`): the table goes up once, before
+        // the main pass's first recovery.
+        let in_turns = recovery_on && self.sim.recovery_scale().is_some();
         for (pass, i) in passes
             .iter()
             .flat_map(|p| (1..=p.plan.substeps).map(move |i| (p, i)))
@@ -497,6 +505,10 @@ impl GpuSimulation {
                 self.sim.update_view(t);
             }
             let mut params = self.step_params(h, groups.0, recovery_on);
+            if in_turns {
+                // Far patches' blades recover in turns (`recovery.wgsl`).
+                params.b[3] = 2.0;
+            }
             // Levels of detail (and the transitions they start) only where
             // the viewpoint or the distances changed (`lod_settle.rs`).
             let classify = pass.main && self.lod_settle.needs_classify(&params);
@@ -508,6 +520,15 @@ impl GpuSimulation {
                 Target::Submit => own.insert(new_encoder(device)),
                 Target::Host(e) => &mut **e,
             };
+            if in_turns && pass.main && i == 1 {
+                self.recovery.write_turns(
+                    device,
+                    queue,
+                    &mut self.uploads,
+                    encoder,
+                    self.sim.recovery_scale(),
+                );
+            }
             self.uploads.upload(
                 device,
                 queue,

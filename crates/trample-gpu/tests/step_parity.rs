@@ -388,8 +388,8 @@ path = { kind = "circle", center = [0.0, 0.0, 0.0], radius_m = 2.20, period_s = 
 /// `frames` frames on both paths. Checks that every sub-step's narrow
 /// phase and contact response are one dispatch each per chunk, whatever
 /// the object count, that most objects touch grass, and returns the worst
-/// vertex difference (m).
-fn herd_parity(frames: u32, far_every: u32) -> f32 {
+/// vertex difference (m). `recovery_s`: `[sim]`'s (the scene's is ∞).
+fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let mut scene = Scene::load(&dir.join("herd_small.toml")).expect("herd_small.toml");
     assert_eq!(scene.file.objects.len(), 128);
@@ -397,6 +397,7 @@ fn herd_parity(frames: u32, far_every: u32) -> f32 {
     scene.file.field.cells_per_patch = 8;
     scene.file.field.cell_size_m = 0.4;
     scene.file.sim.far_every = far_every;
+    scene.file.sim.recovery_s = recovery_s;
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
     let mut cpu = scenes::build(&scene);
@@ -405,9 +406,18 @@ fn herd_parity(frames: u32, far_every: u32) -> f32 {
     let chunks = g.field.chunks.len() as u32;
     let dt = cpu.params.dt_s;
     let (mut touched, mut substeps, mut far_passes) = (0u64, 0, 0);
+    // Blades displaced in far patches while they waited for their turn
+    // (`trample::step::recovery_turns`), summed over the steps.
+    let mut waited = 0u64;
+    let per_patch = cpu.field.layout.patch_list[0].blades as usize;
     for _ in 0..frames {
         far_passes += trample::step::passes::plan_passes(&cpu, dt).len() - 1;
         cpu.step(dt).unwrap();
+        if let Some(scale) = cpu.recovery_scale() {
+            waited += (0..cpu.field.blades.count)
+                .filter(|&b| scale[b / per_patch] == 0.0 && !cpu.field.blades.is_at_rest(b))
+                .count() as u64;
+        }
         substeps += g.step(device, queue, dt).unwrap();
         assert_eq!(
             g.object_dispatches(),
@@ -425,10 +435,15 @@ fn herd_parity(frames: u32, far_every: u32) -> f32 {
     }
     let owners: std::collections::BTreeSet<u8> = cpu.track_owner.iter().copied().collect();
     assert_eq!(far_passes > 0, far_every > 1, "{far_passes} far passes");
+    assert_eq!(
+        waited > 0,
+        far_every > 1,
+        "{waited} blades waited for their patch's turn to recover"
+    );
     eprintln!(
-        "herd, far_every = {far_every}: {objects} objects, {frames} frames ({substeps} sub-steps), {} blades, \
-         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s), {far_passes} far passes: \
-         worst vertex difference {worst:e} m",
+        "herd, far_every = {far_every}, recovery_s = {recovery_s}: {objects} objects, {frames} frames ({substeps} sub-steps), {} blades, \
+         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s), {far_passes} far passes, \
+         {waited} blade-steps waiting to recover: worst vertex difference {worst:e} m",
         bl.count,
         owners.len()
     );
@@ -455,7 +470,7 @@ fn herd_parity(frames: u32, far_every: u32) -> f32 {
 /// before either change.
 #[test]
 fn herd_of_128_objects_60_frames_matches_the_cpu() {
-    let worst = herd_parity(60, 1);
+    let worst = herd_parity(60, 1, f32::INFINITY);
     assert!(
         worst <= VERTEX_TOLERANCE_M,
         "worst vertex difference {worst} m"
@@ -469,7 +484,21 @@ fn herd_of_128_objects_60_frames_matches_the_cpu() {
 /// passes with only their bodies listed by the broad phase), 40 frames.
 #[test]
 fn herd_with_far_objects_every_fourth_frame_matches_the_cpu() {
-    let worst = herd_parity(40, 4);
+    let worst = herd_parity(40, 4, f32::INFINITY);
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+}
+
+/// Far patches' blades recovering in turns (`sim.far_every`, issue 16;
+/// `trample::step::recovery_turns`): the herd with trails that recover
+/// (`recovery_s` = 1 s), far objects and far patches every fourth frame;
+/// the GPU reads each step's per-patch turns (`recovery.wgsl`) and waits
+/// and catches up as the CPU does, 40 frames.
+#[test]
+fn herd_recovering_far_patches_in_turns_matches_the_cpu() {
+    let worst = herd_parity(40, 4, 1.0);
     assert!(
         worst <= VERTEX_TOLERANCE_M,
         "worst vertex difference {worst} m"

@@ -13,6 +13,7 @@ pub mod params;
 pub mod passes;
 pub mod query;
 mod recover;
+pub mod recovery_turns;
 pub mod rescan;
 pub mod rig;
 pub mod simulation;

@@ -85,11 +85,16 @@ pub struct SimParams {
     /// of them — and then over all the
     /// time since it last did: its track is the one the whole field gets
     /// stepped at `far_every · dt` (the displacement `F · h` of DESIGN §6
-    /// is frame-rate independent; [`crate::step::passes`]). Default 1: every
-    /// object every step. 1..=64.
+    /// is frame-rate independent; [`crate::step::passes`]). Likewise the
+    /// blades of a patch lying wholly beyond `far_beyond_m` recover
+    /// (`recovery_s`) every `far_every`-th step only, patches taking turns,
+    /// over all the time since the patch last did
+    /// ([`crate::step::recovery_turns`]). Default 1: every object and every
+    /// blade every step. 1..=64.
     pub far_every: u32,
     /// How far from the camera, metres (horizontally, to the nearest point
-    /// of a body's root box's bounding sphere), a body counts as far (see
+    /// of a body's root box's bounding sphere; to the nearest point of a
+    /// patch's box), a body or a patch counts as far (see
     /// [`SimParams::far_every`]). Default 30: the default level of detail's
     /// end of billboards, beyond which the grass is drawn as ground.
     /// Finite, >= 0.

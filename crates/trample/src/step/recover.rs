@@ -12,7 +12,10 @@ use rayon::prelude::*;
 /// settings of its [`Simulation::track_owner`], for `h` seconds times how
 /// free it is: `1 − min(1, contact weight)` — a blade an object holds does
 /// not recover (ours), one it barely grazes nearly fully (a continuous
-/// rule). In the paper's mode (`sim.track_everywhere = false`) bent
+/// rule). With `sim.params.far_every > 1`, far patches' blades recover in
+/// turns, each over the time its patch owes ([`super::recovery_turns`]):
+/// `h` times [`Simulation::recovery_scale`]; a blade waiting for its turn
+/// is not looked at. In the paper's mode (`sim.track_everywhere = false`) bent
 /// billboards recover too, with `[sim]`'s settings. Returns the blades that
 /// moved (ascending); blades back at rest leave the displaced set.
 pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
@@ -29,6 +32,9 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     let (weight, owner) = (&sim.scratch.weight, &sim.track_owner);
     // One work slot of n + 1 vertices per displaced blade (see bend_blades).
     let displaced = &sim.scratch.displaced;
+    let scale = sim.recovery_turns.scale();
+    let per_patch =
+        (sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize).max(1);
     let mut work = vec![Vec3A::ZERO; displaced.len() * (n + 1)];
     let mut state = vec![(false, false); displaced.len()];
     work.par_chunks_mut(n + 1)
@@ -36,6 +42,13 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
         .zip(displaced.par_iter())
         .for_each(|((v, state), &b)| {
             let bi = b as usize;
+            // This blade's recovery time: the sub-step's, or its patch's
+            // turn (0: waiting for it).
+            let h = scale.map_or(h, |s| h * s.get(bi / per_patch).copied().unwrap_or(1.0));
+            if h == 0.0 {
+                *state = (false, false);
+                return;
+            }
             let mut rest = [Vec3A::ZERO; MAX_SEGMENTS + 1];
             blades.load(bi, v);
             blades.load_rest(bi, &mut rest);

@@ -138,6 +138,9 @@ pub struct Simulation {
     /// `[sim]`'s `recovery_s` and `trail` (also for bodies past index 254).
     pub track_owner: Vec<u8>,
     pub(crate) scratch: Scratch,
+    /// Which patches recover this step, and over how long (far ones in
+    /// turns with `params.far_every > 1`; [`Simulation::recovery_scale`]).
+    pub(crate) recovery_turns: super::recovery_turns::RecoveryTurns,
     /// The host's camera, in charge of LOD and culling when set.
     pub(crate) host_view: Option<super::view::HostView>,
     /// The id the next added body gets.
@@ -222,6 +225,7 @@ impl Simulation {
                 bent_flag: vec![false; cells],
                 ..Scratch::default()
             },
+            recovery_turns: super::recovery_turns::RecoveryTurns::default(),
             host_view: None,
             next_body_id,
         };
@@ -275,7 +279,8 @@ impl Simulation {
     /// bodies ([`super::passes::plan_passes`]: the main pass, then a far
     /// pass per group of far bodies due this step when `sim.far_every > 1`,
     /// each far body keeping its turn until its speed changes,
-    /// [`super::passes::far_schedule`])
+    /// [`super::passes::far_schedule`]; and, likewise, which far patches'
+    /// blades recover this step, [`super::recovery_turns`])
     /// and each pass's sub-steps ([`stages::plan_substeps`]), forgets the
     /// blades and cells the last step changed, and, when a pass's plan is
     /// clamped, counts it ([`Simulation::substep_clamps`]) and keeps the
@@ -294,6 +299,15 @@ impl Simulation {
         for (body, s) in self.bodies.iter_mut().zip(schedule) {
             body.far_turn = s;
         }
+        self.recovery_turns.plan(
+            &self.field.layout,
+            self.eye(),
+            self.params.far_every,
+            self.params.far_beyond_m,
+            self.frame,
+            self.time,
+            dt,
+        );
         for pass in &passes {
             let plan = pass.plan;
             if plan.needed > plan.substeps {
@@ -368,6 +382,17 @@ impl Simulation {
             .iter()
             .filter(|&&b| !bl.is_at_rest(b as usize))
             .count()
+    }
+
+    /// Per patch, in storage order, this step's recovery time as a multiple
+    /// of each sub-step's `h` ([`super::recovery_turns`]: 1 near the
+    /// camera, 0 for a far patch waiting for its turn, on its turn the time
+    /// it owes over the step); `None` when every patch recovers every step
+    /// (`params.far_every = 1`, or no patch far). Planned by
+    /// [`Simulation::begin_step`].
+    #[must_use]
+    pub fn recovery_scale(&self) -> Option<&[f32]> {
+        self.recovery_turns.scale()
     }
 
     /// The recovery parameters of a blade whose [`Simulation::track_owner`]
