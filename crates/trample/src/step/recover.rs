@@ -30,25 +30,31 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     let n = blades.segments;
     let terrain = &sim.field.terrain;
     let (weight, owner) = (&sim.scratch.weight, &sim.track_owner);
-    // One work slot of n + 1 vertices per displaced blade (see bend_blades).
     let displaced = &sim.scratch.displaced;
     let scale = sim.recovery_turns.scale();
     let per_patch =
         (sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize).max(1);
-    let mut work = vec![Vec3A::ZERO; displaced.len() * (n + 1)];
-    let mut state = vec![(false, false); displaced.len()];
+    // The blades due this step, with their recovery time: the sub-step's,
+    // or their patch's turn's (every displaced blade unless far patches
+    // take turns; a blade waiting for its patch's turn is not looked at).
+    let due: Vec<(u32, f32)> = match scale {
+        None => displaced.iter().map(|&b| (b, h)).collect(),
+        Some(s) => displaced
+            .par_iter()
+            .filter_map(|&b| {
+                let hb = h * s.get(b as usize / per_patch).copied().unwrap_or(1.0);
+                (hb != 0.0).then_some((b, hb))
+            })
+            .collect(),
+    };
+    // One work slot of n + 1 vertices per blade due (see bend_blades).
+    let mut work = vec![Vec3A::ZERO; due.len() * (n + 1)];
+    let mut state = vec![(false, false); due.len()];
     work.par_chunks_mut(n + 1)
         .zip(state.par_iter_mut())
-        .zip(displaced.par_iter())
-        .for_each(|((v, state), &b)| {
+        .zip(due.par_iter())
+        .for_each(|((v, state), &(b, h))| {
             let bi = b as usize;
-            // This blade's recovery time: the sub-step's, or its patch's
-            // turn (0: waiting for it).
-            let h = scale.map_or(h, |s| h * s.get(bi / per_patch).copied().unwrap_or(1.0));
-            if h == 0.0 {
-                *state = (false, false);
-                return;
-            }
             let mut rest = [Vec3A::ZERO; MAX_SEGMENTS + 1];
             blades.load(bi, v);
             blades.load_rest(bi, &mut rest);
@@ -70,7 +76,13 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     let mut still = Vec::with_capacity(displaced.len());
     let mut moved = Vec::new();
     let mut stored = Vec::new();
-    for (i, (&(done, changed), &b)) in state.iter().zip(displaced).enumerate() {
+    // `due` is in the set's order: walk both, the blades not due staying.
+    let mut next = due.iter().zip(&state).enumerate().peekable();
+    for &b in displaced {
+        let Some((i, (_, &(done, changed)))) = next.next_if(|(_, (d, _))| d.0 == b) else {
+            still.push(b);
+            continue;
+        };
         if changed {
             stored.push((b, i as u32));
             moved.push(b);
