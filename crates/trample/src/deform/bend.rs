@@ -278,8 +278,11 @@ mod tests {
     use super::*;
     use crate::test_rng::XorShift;
 
-    /// `preserve_from` as it was before its fallback direction became lazy:
-    /// the previous segment's unit direction normalised at every segment.
+    /// `preserve_from`'s chain as it was before its fallback direction
+    /// became lazy: the previous segment's unit direction normalised at
+    /// every segment. Only the chain: the test's blades are valid, from
+    /// `first` in `1..len`, with a finite clearance (the prologue that
+    /// screens other input is `preserve_from`'s own).
     fn preserve_from_eager(
         verts: &mut [Vec3A],
         first: usize,
@@ -287,14 +290,6 @@ mod tests {
         terrain: &Terrain,
         clearance: f32,
     ) {
-        if first == 0 || first >= verts.len() || !valid_blade(verts, seg_len) {
-            return;
-        }
-        let clearance = if clearance.is_finite() {
-            clearance
-        } else {
-            0.0
-        };
         let mut last_dir = if first >= 2 {
             unit_or(verts[first - 1] - verts[first - 2], Vec3A::Y)
         } else {
