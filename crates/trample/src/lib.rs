@@ -36,6 +36,7 @@ pub mod obb;
 pub mod object;
 pub mod paths;
 pub mod recovery;
+pub mod recovery_wide;
 pub mod scene;
 pub mod step;
 #[cfg(test)]

@@ -167,21 +167,48 @@ pub fn recover_blade(
     terrain: &Terrain,
     clearance: f32,
 ) -> bool {
+    match recovery_start(verts, rest, dt, p) {
+        Start::Done(at_rest) => at_rest,
+        Start::Blend(q) => recovery_finish(verts, rest, seg_len, q, terrain, clearance),
+    }
+}
+
+/// How [`recover_blade`] goes on after its checks ([`recovery_start`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Start {
+    /// Nothing to blend: the blade was left as it is, or reset to rest when
+    /// it had a non-finite vertex; whether it is at rest.
+    Done(bool),
+    /// Blend each vertex above the root by this fraction of its way back
+    /// ([`recovery_finish`]).
+    Blend(f32),
+}
+
+/// [`recover_blade`]'s checks and its fraction: the blade at rest, not
+/// finite (reset to `rest` here), or not recovering this step (`q = 0`:
+/// held, `recovery_s = ∞`) is done; otherwise the fraction of its way back
+/// it recovers, [`tail_fraction`] of the exponential's.
+pub(crate) fn recovery_start(
+    verts: &mut [Vec3A],
+    rest: &[Vec3A],
+    dt: f32,
+    p: &RecoveryParams,
+) -> Start {
     if verts.len() != rest.len() || verts.is_empty() {
-        return false;
+        return Start::Done(false);
     }
     if verts == rest {
-        return true;
+        return Start::Done(true);
     }
     if !verts.iter().all(|v| v.is_finite()) {
         verts.copy_from_slice(rest);
-        return true;
+        return Start::Done(true);
     }
     let n = verts.len() - 1;
     let flat = flatness(verts[n].y - verts[0].y, rest[n].y - rest[0].y);
     let q = recovered_fraction(dt, time_constant(p, flat));
     if q == 0.0 {
-        return false;
+        return Start::Done(false);
     }
     let deviation = verts
         .iter()
@@ -189,7 +216,21 @@ pub fn recover_blade(
         .map(|(v, r)| v.distance_squared(*r))
         .fold(0.0, f32::max)
         .sqrt();
-    let q = tail_fraction(q, deviation);
+    Start::Blend(tail_fraction(q, deviation))
+}
+
+/// [`recover_blade`] after [`recovery_start`] gave `Blend(q)`: every vertex
+/// above the root moves the fraction `q` of its way to rest, the lengths are
+/// restored ([`preserve_lengths`]), and a blade within [`REST_EPSILON`] of
+/// rest is set to it. Returns whether it is at rest.
+pub(crate) fn recovery_finish(
+    verts: &mut [Vec3A],
+    rest: &[Vec3A],
+    seg_len: f32,
+    q: f32,
+    terrain: &Terrain,
+    clearance: f32,
+) -> bool {
     for (v, r) in verts.iter_mut().zip(rest).skip(1) {
         *v += (*r - *v) * q;
     }

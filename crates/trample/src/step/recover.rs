@@ -5,6 +5,7 @@ use super::simulation::Simulation;
 use crate::field::MAX_SEGMENTS;
 use crate::field::generate::GROUND_CLEARANCE_M;
 use crate::recovery::{recover_blade, recover_slope};
+use crate::recovery_wide::{LANES, Lane, recover_blades_wide};
 use glam::Vec3A;
 use rayon::prelude::*;
 
@@ -26,6 +27,7 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     }
     // Only here is the set walked: put in order the blades appended since.
     sim.scratch.sort_displaced();
+    let mut work = std::mem::take(&mut sim.scratch.recover_work);
     let blades = &sim.field.blades;
     let n = blades.segments;
     let terrain = &sim.field.terrain;
@@ -48,30 +50,61 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
             .collect(),
     };
     // One work slot of n + 1 vertices per blade due (see bend_blades).
-    let mut work = vec![Vec3A::ZERO; due.len() * (n + 1)];
+    if work.len() < due.len() * (n + 1) {
+        work.resize(due.len() * (n + 1), Vec3A::ZERO);
+    }
     let mut state = vec![(false, false); due.len()];
-    work.par_chunks_mut(n + 1)
-        .zip(state.par_iter_mut())
-        .zip(due.par_iter())
-        .for_each(|((v, state), &(b, h))| {
-            let bi = b as usize;
-            let mut rest = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-            blades.load(bi, v);
-            blades.load_rest(bi, &mut rest);
-            let mut before = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-            before[..=n].copy_from_slice(v);
-            let free = 1.0 - weight[bi].min(1.0);
-            let p = params.get(usize::from(owner[bi])).unwrap_or(&params[0]);
-            let done = recover_blade(
-                v,
-                &rest[..=n],
-                blades.seg_len[bi],
-                h * free,
-                p,
-                terrain,
-                GROUND_CLEARANCE_M,
-            );
-            *state = (done, v != &before[..=n]);
+    // Four blades at a time (`recovery_wide`: the same bits as one at a
+    // time), the last group's leftovers one by one.
+    let group = LANES * (n + 1);
+    work[..due.len() * (n + 1)]
+        .par_chunks_mut(group)
+        .zip(state.par_chunks_mut(LANES))
+        .zip(due.par_chunks(LANES))
+        .for_each(|((work, state), due)| {
+            let mut rest = [[Vec3A::ZERO; MAX_SEGMENTS + 1]; LANES];
+            let mut before = [[Vec3A::ZERO; MAX_SEGMENTS + 1]; LANES];
+            let mut dt = [0.0f32; LANES];
+            let slots = work.chunks_mut(n + 1).zip(due).zip(&mut rest);
+            for (l, ((v, &(b, h)), rest)) in slots.enumerate() {
+                let bi = b as usize;
+                blades.load(bi, v);
+                blades.load_rest(bi, rest);
+                before[l][..=n].copy_from_slice(v);
+                dt[l] = h * (1.0 - weight[bi].min(1.0));
+            }
+            let settings = |l: usize| {
+                let owner = usize::from(owner[due[l].0 as usize]);
+                params.get(owner).unwrap_or(&params[0])
+            };
+            let seg_len = |l: usize| blades.seg_len[due[l].0 as usize];
+            let mut done = [false; LANES];
+            if due.len() == LANES {
+                let mut slots = work.chunks_mut(n + 1);
+                let lanes = std::array::from_fn(|l| Lane {
+                    verts: slots.next().expect("a slot a lane"),
+                    rest: &rest[l][..=n],
+                    seg_len: seg_len(l),
+                    dt: dt[l],
+                    params: settings(l),
+                });
+                done = recover_blades_wide(lanes, terrain, GROUND_CLEARANCE_M);
+            } else {
+                for (l, v) in work.chunks_mut(n + 1).enumerate() {
+                    done[l] = recover_blade(
+                        v,
+                        &rest[l][..=n],
+                        seg_len(l),
+                        dt[l],
+                        settings(l),
+                        terrain,
+                        GROUND_CLEARANCE_M,
+                    );
+                }
+            }
+            for (l, (s, v)) in state.iter_mut().zip(work.chunks(n + 1)).enumerate() {
+                *s = (done[l], v != &before[l][..=n]);
+            }
         });
     let mut still = Vec::with_capacity(displaced.len());
     let mut moved = Vec::new();
@@ -94,6 +127,7 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
         }
     }
     sim.field.blades.store_slots(&stored, &work);
+    sim.scratch.recover_work = work;
     // In the order of the set: still in order.
     sim.scratch.displaced_sorted = still.len();
     sim.scratch.displaced = still;

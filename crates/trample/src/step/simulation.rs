@@ -9,12 +9,16 @@ use super::timings::StepTimings;
 use crate::camera::{Camera, CameraView};
 use crate::field::{Field, LodParams};
 use crate::force::propagation::NO_GENERATION;
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use std::time::Instant;
 
 /// Reusable per-blade and per-cell work memory of a step.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Scratch {
+    /// The recovery's work slots (`recover`), kept from step to step: a
+    /// slot is loaded before it is read, so the memory is not cleared (a
+    /// crowd's trails keep ~15 MB of it in use a step).
+    pub recover_work: Vec<Vec3A>,
     /// Force on each blade this sub-step (world, m/s); ZERO outside `touched`.
     pub force: Vec<Vec3>,
     /// Contact weight of each blade this sub-step: the sum over objects and
