@@ -11,7 +11,7 @@
 //! root, `from + dir · len` — so the results are the scalar ones bit for
 //! bit. A lane that leaves the common path (a segment of zero length, an end
 //! the ground guard must lift, an invalid blade) is finished by the scalar
-//! code from where [`recovery_start`] left it, as are lanes of different
+//! code from where `recovery_start` left it, as are lanes of different
 //! lengths.
 
 use glam::Vec3A;
