@@ -5,6 +5,7 @@
 //! frame ([`Simulation::move_body`]); a character standing still costs a
 //! comparison of the blades under it (`SimParams::reuse_at_rest`), and
 //! with `far_every` above 1 the ones far from the camera step in turns
+//! and so does the recovery of the trails far from it
 //! (`SimParams::far_every`). Every second it prints the step's median and
 //! 90th percentile, how many characters stand, how many stepped far, and
 //! how many blades a renderer would upload (`Simulation::changed_blades`).
