@@ -42,6 +42,7 @@ impl Bend {
                 &source(),
                 &[
                     Uniform, ReadWrite, Read, Read, ReadWrite, Uniform, Read, Uniform, ReadWrite,
+                    ReadWrite,
                 ],
                 &["bend", "bend_active"],
             ),
@@ -51,13 +52,16 @@ impl Bend {
 
     /// Records the bending of every forced blade, one dispatch per chunk:
     /// over `broad`'s active bend lists (the active patches' `record_lists`
-    /// recorded before, after propagation), or every blade without.
+    /// recorded before, after propagation), or every blade without. A far
+    /// pass counts the blades it moves from rest in `state` (the step's
+    /// counters, [`crate::GpuCounters`]).
     pub fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         field: &GpuField,
         params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
         broad: Option<&BroadPhase>,
     ) {
         let (broad_params, lists) = self.no_broad.or(broad);
@@ -74,6 +78,7 @@ impl Bend {
                     &field.ground,
                     broad_params,
                     lists,
+                    state,
                 ],
             );
             dispatch_listed(

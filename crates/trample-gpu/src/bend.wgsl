@@ -17,6 +17,9 @@
 // prepended), read by `bend_active`.
 @group(0) @binding(7) var<uniform> broad: BroadParams;
 @group(0) @binding(8) var<storage, read_write> lists: array<atomic<u32>>;
+// The step's counters: a far pass counts the blades it moves from rest
+// (the main pass's recovery counts the displaced set itself).
+@group(0) @binding(9) var<storage, read_write> state: State;
 
 // `bend::offset_base` (Eq. 5): the part of v1 perpendicular to AB, over num.
 fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: f32) -> vec3<f32> {
@@ -75,6 +78,9 @@ fn bend_blade(b: u32) {
     preserve_lengths(&v, n, pos[vertex_at(0u, b)].w);
     for (var k = 1u; k <= n; k++) {
         pos[vertex_at(k, b)] = vec4<f32>(v[k], 0.0);
+    }
+    if params.far.x != 0u && displaced[b] == 0u {
+        atomicAdd(&state.displaced, 1u);
     }
     displaced[b] = 1u;
 }

@@ -19,8 +19,11 @@ struct StepParams {
     // billboard_m, propagation's threshold fade-in (fraction of L), hold
     // weight (`PropagationParams`), unused
     lod: vec4<f32>,
-    // cell count, blades per cell, object count, unused
+    // cell count, blades per cell, object count, track everywhere
     cells: vec4<u32>,
+    // x: 1 in a far pass (its counts add to the step's), y: 1 on the
+    // step's first sub-step (`GpuStepParams::far`)
+    far: vec4<u32>,
 }
 
 // Layout-compatible with `GpuCounters` in step_params.rs.
@@ -36,8 +39,11 @@ struct State {
     transitions: atomic<u32>,
     // cells at each level after `classify`: geometry, billboard, texture
     lod: array<atomic<u32>, 3>,
-    // blades the contact response moved this sub-step
+    // blades the contact response moved this sub-step (and the far
+    // passes' before it)
     contact: atomic<u32>,
+    // the most generations of the step's sub-steps before this one
+    earlier_generations: u32,
 }
 
 const NO_GENERATION: u32 = 255u;

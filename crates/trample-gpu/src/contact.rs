@@ -51,6 +51,7 @@ impl Contact {
                 uniform_entry(4),
                 storage_entry(5, true),
                 storage_entry(6, true),
+                storage_entry(7, false),
             ],
         });
         let object_layout = crate::narrow_phase::object_layout(device);
@@ -77,6 +78,8 @@ impl Contact {
     /// Records the contact response of every object in `objects` (in
     /// order; their parameters as the narrow phase of the same sub-step
     /// wrote them) over the patches `broad` listed, after the bending.
+    /// Counts the blades it moves (and in a far pass those it moves from
+    /// rest) in `state`, the step's counters ([`crate::GpuCounters`]).
     /// Returns the number of dispatches recorded: one per chunk of patches.
     pub fn record(
         &self,
@@ -84,6 +87,7 @@ impl Contact {
         encoder: &mut wgpu::CommandEncoder,
         field: &GpuField,
         params: &wgpu::Buffer,
+        state: &wgpu::Buffer,
         objects: &GpuObjects,
         broad: &BroadPhase,
     ) -> u32 {
@@ -109,6 +113,7 @@ impl Contact {
                     entry(4, &chunk.uniform),
                     entry(5, &field.ground),
                     entry(6, &broad.lists),
+                    entry(7, state),
                 ],
             });
             pass.set_bind_group(0, &group, &[]);

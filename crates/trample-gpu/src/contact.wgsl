@@ -13,13 +13,16 @@
 // The chunk's vertices; vertex 0's w holds the blade's segment length.
 @group(0) @binding(1) var<storage, read_write> pos: array<vec4<f32>>;
 // x: segment mask of the blade this sub-step (0: untouched); w set to 1
-// when this pass moves the blade (counted by the recovery pass).
+// when this pass moves the blade (counted here, once a sub-step).
 @group(0) @binding(2) var<storage, read_write> touch: array<vec4<u32>>;
 @group(0) @binding(3) var<storage, read_write> displaced: array<u32>;
 @group(0) @binding(4) var<uniform> chunk: Chunk;
 @group(0) @binding(5) var<storage, read> ground: array<f32>;
 // The broad phase's lists and per-patch object masks (see narrow_phase.wgsl).
 @group(0) @binding(6) var<storage, read> lists: array<u32>;
+// The step's counters: the blades moved, and in a far pass those moved
+// from rest (the main pass's recovery counts the displaced set itself).
+@group(0) @binding(7) var<storage, read_write> state: State;
 
 // `deform::contact::CONTACT_ITERATIONS`, `LEAN_BIAS`, `PIN_HEIGHT`,
 // `FLAT_LEAN`, `FLAT_OUT`, `FLAT_FLOOR`.
@@ -168,7 +171,13 @@ fn contact_blade(b: u32) {
         for (var k = 1u; k <= n; k++) {
             pos[vertex_at(k, b)] = vec4<f32>(v[k], 0.0);
         }
+        if params.far.x != 0u && displaced[b] == 0u {
+            atomicAdd(&state.displaced, 1u);
+        }
         displaced[b] = 1u;
+        if touch[b].w == 0u {
+            atomicAdd(&state.contact, 1u);
+        }
         touch[b].w = 1u;
     }
 }

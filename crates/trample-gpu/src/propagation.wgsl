@@ -103,24 +103,34 @@ fn set_args(n: u32) {
     next_gather[2] = 1u;
 }
 
-// Reset the per-sub-step state.
+// Reset the per-sub-step state. The counts as the CPU's `StepTimings`
+// keeps them (`trample::step::stages`): a main-pass sub-step counts anew,
+// a far pass's adds to them (its generations: their largest); the
+// transitions add up over the step.
 @compute @workgroup_size(1)
 fn begin() {
     state.g = 0u;
     state.stop = 0u;
     atomicStore(&state.any, 0u);
+    if params.far.x != 0u {
+        state.earlier_generations = max(state.earlier_generations, state.generations);
+    } else {
+        state.earlier_generations = 0u;
+        atomicStore(&state.dbg, 0u);
+        atomicStore(&state.pbg, 0u);
+        atomicStore(&state.displaced, 0u);
+        atomicStore(&state.contact, 0u);
+    }
     state.generations = 0u;
-    atomicStore(&state.dbg, 0u);
-    atomicStore(&state.pbg, 0u);
-    atomicStore(&state.displaced, 0u);
-    atomicStore(&state.transitions, 0u);
+    if params.far.y != 0u {
+        atomicStore(&state.transitions, 0u);
+    }
     // Not classified this sub-step (lod_settle.rs): the last counts stand.
     if params.lod.w == 0.0 {
         atomicStore(&state.lod[0], 0u);
         atomicStore(&state.lod[1], 0u);
         atomicStore(&state.lod[2], 0u);
     }
-    atomicStore(&state.contact, 0u);
     atomicStore(&frontier[0], 0u);
     atomicStore(&frontier[1], 0u);
     next_gather[0] = 0u;

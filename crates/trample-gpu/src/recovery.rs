@@ -53,7 +53,7 @@ impl Recovery {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Uniform, Read, Read, Read,
-                    Read, Uniform, Uniform, ReadWrite, Read,
+                    Uniform, Uniform, ReadWrite, Read,
                 ],
                 &["recover", "recover_active"],
             ),
@@ -151,7 +151,6 @@ impl Recovery {
                     &field.ground,
                     &field.force,
                     &field.class,
-                    &field.touch,
                     &self.owners,
                     broad_params,
                     lists,

@@ -6,10 +6,11 @@
 // track owner, h' = h · (1 − min(1, contact weight)): a blade an object
 // holds does not recover. With far patches in turns (`params.b.w` = 2,
 // `trample::step::recovery_turns`), h' is also multiplied by the blade's
-// patch's entry of `turns` (0: it waits for its turn). Then lengths are restored; a blade within 1e-4 m
-// of rest snaps to it and leaves the displaced set. With recovery off for
-// every owner (all recovery_s = ∞) the pass only counts the displaced
-// blades. It also counts the blades the contact pass moved.
+// patch's entry of `turns` (0: it waits for its turn, counted as
+// displaced and not looked at, as on the CPU). Then lengths are restored;
+// a blade within 1e-4 m of rest snaps to it and leaves the displaced set.
+// With recovery off for every owner (all recovery_s = ∞) the pass only
+// counts the displaced blades.
 
 @group(0) @binding(0) var<uniform> params: StepParams;
 @group(0) @binding(1) var<storage, read_write> state: State;
@@ -23,18 +24,16 @@
 @group(0) @binding(7) var<storage, read> force: array<vec4<f32>>;
 // Bits 8–15: the blade's track owner.
 @group(0) @binding(8) var<storage, read> blade_class: array<u32>;
-// w: 1 when the contact pass moved the blade.
-@group(0) @binding(9) var<storage, read> touch: array<vec4<u32>>;
 // Per track owner (0: `[sim]`, i: body i − 1): recovery_s (0 for ∞), trail.
-@group(0) @binding(10) var<uniform> owners: array<vec4<f32>, 256>;
+@group(0) @binding(9) var<uniform> owners: array<vec4<f32>, 256>;
 // The broad phase's uniform and lists: the active patches' recover lists
 // and kept marks (`active_patches.wgsl`; `BroadParams` and the layout:
 // broad_params.wgsl, prepended), for `recover_active`.
-@group(0) @binding(11) var<uniform> broad: BroadParams;
-@group(0) @binding(12) var<storage, read_write> lists: array<atomic<u32>>;
+@group(0) @binding(10) var<uniform> broad: BroadParams;
+@group(0) @binding(11) var<storage, read_write> lists: array<atomic<u32>>;
 // Per patch: this step's recovery time as a multiple of h
 // (`Simulation::recovery_scale`), read when `params.b.w` is 2.
-@group(0) @binding(13) var<storage, read> turns: array<f32>;
+@group(0) @binding(12) var<storage, read> turns: array<f32>;
 
 @compute @workgroup_size(64)
 fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -70,13 +69,12 @@ fn recovery_h(b: u32) -> f32 {
 }
 
 fn recover_or_count(b: u32) {
-    if touch[b].w != 0u {
-        atomicAdd(&state.contact, 1u);
-    }
     if displaced[b] == 0u {
         return;
     }
-    if params.b.w == 0.0 {
+    // Recovery off, or a far patch waiting for its turn: the blade stays
+    // displaced, not looked at (the CPU's `recover` skips it too).
+    if params.b.w == 0.0 || (params.b.w == 2.0 && recovery_h(b) == 0.0) {
         atomicAdd(&state.displaced, 1u);
         return;
     }

@@ -348,6 +348,7 @@ impl GpuSimulation {
                 self.objects.len() as u32,
                 u32::from(p.track_everywhere),
             ],
+            far: [0, 1, 0, 0],
         }
     }
 
@@ -515,6 +516,8 @@ impl GpuSimulation {
             if !classify {
                 params.lod[3] = 1.0;
             }
+            // How the sub-step's counts join the step's (the CPU's).
+            params.far = [u32::from(!pass.main), u32::from(pass.main && i == 1), 0, 0];
             let mut own = None;
             let encoder = match &mut target {
                 Target::Submit => own.insert(new_encoder(device)),
@@ -620,6 +623,7 @@ impl GpuSimulation {
                     encoder,
                     &self.field,
                     &self.params,
+                    &self.state,
                     Some(&self.broad),
                 );
                 laps.lap(device, queue, encoder, Stage::Deformation);
@@ -629,6 +633,7 @@ impl GpuSimulation {
                         encoder,
                         &self.field,
                         &self.params,
+                        &self.state,
                         &self.objects,
                         &self.broad,
                     );
@@ -789,8 +794,9 @@ impl GpuSimulation {
     /// Copies the GPU state back into [`GpuSimulation::sim`], ready to go on
     /// on the CPU path: blade positions (and the sets of displaced blades and
     /// bent billboards), classes and generations, cell levels and billboard slopes,
-    /// and the last sub-step's counters into `sim.timings` (DBG, PBG,
-    /// generations, displaced blades, cells per level). For dumps and summaries at the end of
+    /// and the step's counters into `sim.timings` (DBG, PBG,
+    /// generations, displaced blades, cells per level, contact blades:
+    /// [`GpuSimulation::sync_counters`]). For dumps and summaries at the end of
     /// a run, not per frame.
     ///
     /// # Errors
@@ -841,9 +847,11 @@ impl GpuSimulation {
         Ok(())
     }
 
-    /// Reads back the counters of the last sub-step (32 + 16 bytes: DBG,
-    /// PBG, generations, displaced blades, transitions, cells per level)
-    /// into `sim.timings`; the field stays on the GPU. Cheap enough for
+    /// Reads back the step's counters (52 bytes: DBG, PBG, generations,
+    /// displaced blades, transitions, cells per level, contact blades,
+    /// counted as the CPU's `StepTimings` counts them, far passes
+    /// included: [`GpuCounters`]) into `sim.timings`; the field stays on
+    /// the GPU. Cheap enough for
     /// every frame of a viewer, but it waits for the step to finish.
     ///
     /// # Errors
@@ -858,8 +866,9 @@ impl GpuSimulation {
         Ok(k)
     }
 
-    /// Reads back the counters of the last sub-step (DBG, PBG, generations,
-    /// displaced blades). For tests and summaries; not per frame.
+    /// Reads back the step's counters ([`GpuCounters`]: DBG, PBG,
+    /// generations, displaced blades, …). For tests and summaries; not per
+    /// frame.
     ///
     /// # Errors
     /// [`GpuError::ReadBack`] when mapping fails.

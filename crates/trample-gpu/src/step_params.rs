@@ -29,10 +29,21 @@ pub struct GpuStepParams {
     /// the paper's geometric cells only (0) (per-chunk cell dispatches take
     /// their workgroups from the chunk's uniform).
     pub cells: [u32; 4],
+    /// How this sub-step's counts join the step's, as `trample::StepTimings`
+    /// counts them (`trample::step::stages`): x = 1 in a far pass
+    /// (`trample::step::passes`: its DBG, PBG, contact and newly displaced
+    /// blades add to the step's, its generations to their largest), 0 in
+    /// the main pass (each sub-step counts anew; the last one's stand);
+    /// y = 1 on the step's first sub-step (the transitions, summed over
+    /// the step's sub-steps, start from zero).
+    pub far: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 160);
+const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 176);
 
-/// Counters of the last sub-step. Layout-compatible with `State` in `blade.wgsl`.
+/// The step's counters so far: those of the main pass's last sub-step,
+/// plus the far passes' (see [`GpuStepParams::far`]), as the CPU's
+/// `trample::StepTimings` counts them. Layout-compatible with `State` in
+/// `blade.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq, Eq)]
 pub struct GpuCounters {
@@ -42,23 +53,28 @@ pub struct GpuCounters {
     pub stop: u32,
     /// Set by a gather pass that reached a blade.
     pub any: u32,
-    /// Generations of children created (PBG generations).
+    /// Generations of children created (PBG generations) this sub-step.
     pub generations: u32,
     /// DBG blades.
     pub dbg: u32,
     /// PBG blades.
     pub pbg: u32,
-    /// Blades still away from rest after recovery.
+    /// Blades away from rest: those left after the main pass's recovery,
+    /// plus those the far passes moved from rest.
     pub displaced: u32,
-    /// Cells that changed level of detail (transitions).
+    /// Cells that changed level of detail (transitions), over the step's
+    /// sub-steps.
     pub transitions: u32,
     /// Cells at each level of detail after the sub-step's classification:
     /// geometry, billboard, texture.
     pub lod: [u32; 3],
     /// Blades the contact response moved (ours, DESIGN §5).
     pub contact: u32,
+    /// The most generations of the step's sub-steps before this one
+    /// (from the main pass's last; 0 without far passes).
+    pub earlier_generations: u32,
 }
-const _: () = assert!(std::mem::size_of::<GpuCounters>() == 48);
+const _: () = assert!(std::mem::size_of::<GpuCounters>() == 52);
 
 impl GpuCounters {
     /// Writes the counts into a step's timings: DBG, PBG, generations,
@@ -66,7 +82,7 @@ impl GpuCounters {
     pub fn apply_to(&self, t: &mut trample::StepTimings) {
         t.dbg_blades = self.dbg;
         t.pbg_blades = self.pbg;
-        t.generations = self.generations;
+        t.generations = self.generations.max(self.earlier_generations);
         t.transitions = self.transitions;
         t.displaced_blades = self.displaced;
         t.contact_blades = self.contact;

@@ -75,6 +75,7 @@ fn bent_then_recovered_blades_match_the_cpu() {
         eye: [0.0; 4],
         lod: [0.0; 4],
         cells: [0; 4],
+        far: [0, 1, 0, 0],
     };
     let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
@@ -94,7 +95,7 @@ fn bent_then_recovered_blades_match_the_cpu() {
     let mut enc = device.create_command_encoder(&Default::default());
     propagation.record_reset(device, &mut enc, &g, &uniform, &state);
     propagation.record(device, &mut enc, &g, &uniform, &state, groups, 0, None);
-    bend.record(device, &mut enc, &g, &uniform, None);
+    bend.record(device, &mut enc, &g, &uniform, &state, None);
     queue.submit([enc.finish()]);
     let bent = g.read_positions(device, queue).unwrap();
     let mut enc = device.create_command_encoder(&Default::default());

@@ -117,6 +117,7 @@ fn run(
         eye: [0.0; 4],
         lod: [0.0, fade, hold, 0.0],
         cells: [0; 4],
+        far: [0, 1, 0, 0],
     };
     let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,

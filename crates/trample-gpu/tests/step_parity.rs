@@ -382,6 +382,13 @@ path = { kind = "circle", center = [0.0, 0.0, 0.0], radius_m = 2.20, period_s = 
     check_parity(&scenes::scene_in(text, &dir), 60);
 }
 
+/// How far the paths' counts of a step may differ (`GpuCounters` against
+/// `StepTimings`: DBG, PBG, generations, contact, displaced blades,
+/// transitions), blades, plus 1 % of the CPU's: a blade a few ulps from a
+/// threshold on one path (at `far_every` = 1 they differ by one blade or
+/// none on llvmpipe). Far passes add their counts to the step's on both.
+const COUNT_TOLERANCE: u32 = 2;
+
 /// `scenes/herd_small.toml` (128 balls, boxes, knots, cars and cows at
 /// precision 7) over its 102.4 m field at a sixteenth of the density
 /// (cells of 0.4 m: 65,536 blades, so that llvmpipe runs it in CI),
@@ -389,6 +396,8 @@ path = { kind = "circle", center = [0.0, 0.0, 0.0], radius_m = 2.20, period_s = 
 /// phase and contact response are one dispatch each per chunk, whatever
 /// the object count, that most objects touch grass, and returns the worst
 /// vertex difference (m). `recovery_s`: `[sim]`'s (the scene's is ∞).
+/// Checks too that the step's counts agree ([`COUNT_TOLERANCE`]), far
+/// passes included.
 fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let mut scene = Scene::load(&dir.join("herd_small.toml")).expect("herd_small.toml");
@@ -409,6 +418,11 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     // Blades displaced in far patches while they waited for their turn
     // (`trample::step::recovery_turns`), summed over the steps.
     let mut waited = 0u64;
+    // The step's counts on both paths (`GpuCounters`, far passes
+    // included): the largest difference of each over the frames, and
+    // of the displaced count relative to its size.
+    let mut count_worst = [0u32; 6];
+    let mut count_excess = 0u32;
     let per_patch = cpu.field.layout.patch_list[0].blades as usize;
     for _ in 0..frames {
         far_passes += trample::step::passes::plan_passes(&cpu, dt).len() - 1;
@@ -419,6 +433,28 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
                 .count() as u64;
         }
         substeps += g.step(device, queue, dt).unwrap();
+        let c = g.read_counters(device, queue).unwrap();
+        let t = &cpu.timings;
+        let gpu_counts = [
+            c.dbg,
+            c.pbg,
+            c.generations.max(c.earlier_generations),
+            c.contact,
+            c.displaced,
+            c.transitions,
+        ];
+        let cpu_counts = [
+            t.dbg_blades,
+            t.pbg_blades,
+            t.generations,
+            t.contact_blades,
+            t.displaced_blades,
+            t.transitions,
+        ];
+        for ((w, g), c) in count_worst.iter_mut().zip(gpu_counts).zip(cpu_counts) {
+            *w = (*w).max(g.abs_diff(c));
+            count_excess += u32::from(g.abs_diff(c) > COUNT_TOLERANCE + c / 100);
+        }
         assert_eq!(
             g.object_dispatches(),
             2 * chunks,
@@ -443,9 +479,14 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     eprintln!(
         "herd, far_every = {far_every}, recovery_s = {recovery_s}: {objects} objects, {frames} frames ({substeps} sub-steps), {} blades, \
          {touched} DBG blade-frames, {} track owners, {chunks} chunk(s), {far_passes} far passes, \
-         {waited} blade-steps waiting to recover: worst vertex difference {worst:e} m",
+         {waited} blade-steps waiting to recover: worst vertex difference {worst:e} m; \
+         counts (DBG, PBG, generations, contact, displaced, transitions) differ by at most {count_worst:?}",
         bl.count,
         owners.len()
+    );
+    assert_eq!(
+        count_excess, 0,
+        "the step's counts differ by more than {COUNT_TOLERANCE} + 1 % (largest differences: {count_worst:?})"
     );
     assert!(
         owners.len() > objects * 3 / 4,

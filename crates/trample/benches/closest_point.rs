@@ -40,13 +40,7 @@ fn meshes() -> Vec<(&'static str, TriMesh)> {
 /// `count` points near the surface of `tree` and the squared distance of
 /// the triangle each was made from (seeded xorshift).
 fn points(tree: &ObbTree, count: usize) -> Vec<(Vec3, f32)> {
-    let mut state = 0x1234_5678_9abc_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut next = common::uniform(0x1234_5678_9abc);
     let size = tree.nodes[0].obb.half.max_element();
     (0..count)
         .map(|_| {

@@ -22,13 +22,7 @@ const SEGMENTS: usize = 4;
 /// `count` displaced blades and their rest shapes, vertices of blade `b`
 /// at `b * (SEGMENTS + 1) ..` (seeded xorshift).
 fn blades(count: usize) -> (Vec<Vec3A>, Vec<Vec3A>) {
-    let mut state = 0x5eed_0035_u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut next = common::uniform(0x5eed_0035);
     let (mut now, mut rest) = (Vec::new(), Vec::new());
     for _ in 0..count {
         let root = Vec3A::new(next() * 100.0, 0.0, next() * 100.0);

@@ -30,6 +30,18 @@ pub fn scene(name: &str) -> Scene {
     s
 }
 
+/// A seeded xorshift generator of floats in [0, 1) (24 bits): the benches'
+/// random inputs, the same on every run.
+pub fn uniform(seed: u64) -> impl FnMut() -> f32 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
 /// Builds `scene(name)`.
 pub fn sim(name: &str) -> Simulation {
     scene(name).build().expect("scene builds")
