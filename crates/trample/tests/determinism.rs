@@ -253,3 +253,35 @@ fn a_far_crowd_stepped_every_third_frame_is_bit_identical_on_one_and_two_threads
         "far_every = 3 changed nothing"
     );
 }
+
+/// Far trails recovering in turns (`sim.far_every`, issue 16;
+/// `step::recovery_turns`) and four blades relaxed at a time
+/// (`recovery_wide`): the far crowd with `recovery_s = 0.3` gives the
+/// same bits on one and two threads — and not those of the crowd whose
+/// trails stay (the recovery did run). Every patch is far: all of them
+/// take turns.
+#[test]
+fn far_trails_recovering_in_turns_are_bit_identical_on_one_and_two_threads() {
+    let recovering = |far_every: u32, recovery_s: &str| {
+        crowd_toml(400.0, far_every)
+            .replace("[sim]\n", &format!("[sim]\nrecovery_s = {recovery_s}\n"))
+    };
+    let far = recovering(3, "0.3");
+    assert!(far.contains("recovery_s = 0.3"));
+    let one = crowd_hash_of(&far, 1, 40);
+    assert!(
+        one.2 > 100,
+        "the crowd's later objects own blades: {}",
+        one.2
+    );
+    assert_eq!(
+        crowd_hash_of(&far, 2, 40),
+        one,
+        "1 thread and 2 threads differ"
+    );
+    assert_ne!(
+        crowd_hash_of(&recovering(3, "inf"), 1, 40).0,
+        one.0,
+        "recovery_s = 0.3 changed nothing"
+    );
+}
