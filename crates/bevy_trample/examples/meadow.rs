@@ -202,6 +202,12 @@ fn setup(
         Transform::from_xyz(-12.0, 0.0, -6.0).with_rotation(Quat::from_rotation_y(0.6)),
         Trampler {
             precision: 6,
+            // The beetle has no floor: its hollow counts as inside by the
+            // mesh's winding number, so no grass stands in the car.
+            track: trample::object::TrackParams {
+                open_inside: trample::object::OpenInside::Winding,
+                ..default()
+            },
             ..default()
         },
     ));

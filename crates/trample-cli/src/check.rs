@@ -64,7 +64,12 @@ pub fn run(a: &Args) -> Result<()> {
             "    [{i}] {}: {} triangles{}, OBB tree depth {} ({} nodes){}",
             o.name,
             o.mesh.triangle_count(),
-            if o.closed { ", closed" } else { ", open" },
+            match (o.closed, o.track.open_inside) {
+                (true, _) => ", closed",
+                (false, trample::object::OpenInside::Sheet) => ", open",
+                (false, trample::object::OpenInside::Winding) =>
+                    ", open (inside by its winding number)",
+            },
             tree.max_depth,
             tree.nodes.len(),
             if dropped > 0 {

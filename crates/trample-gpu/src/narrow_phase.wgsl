@@ -264,7 +264,7 @@ var<private> pen_asked: u32;
 var<private> pen_segment: u32;
 
 fn pen_of(k: u32, q: vec3<f32>) -> f32 {
-    if tree.y == 0u {
+    if tree.y == 0u && !winds() {
         return -1.0;
     }
     let v = pen_segment + k;
@@ -350,8 +350,10 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
         }
         final_node(i, centre, half, p0, p1, shell, &acc);
     }
-    // No final-depth box met: wholly outside, or wholly inside the mesh.
-    if acc.max_w == 0.0 && tree.y != 0u && deepest > 0u && point_inside((p0 + p1) * 0.5) {
+    // No final-depth box met: wholly outside, or wholly inside the mesh (a
+    // winding open mesh's hollow: both ends asked).
+    let open = winds();
+    if acc.max_w == 0.0 && deepest > 0u && (open || point_inside((p0 + p1) * 0.5)) {
         // `contact::way_out` of the deeper end.
         let a = way_out(p0, 0.0);
         let b = way_out(p1, 0.0);
@@ -362,8 +364,14 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
             out = b;
         }
         if out.w >= 0.0 {
-            let w = min((out.w + shell) / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0);
-            weighted_add(&acc, w, out.xyz, q, vec3<f32>(0.0));
+            var reach = out.w + shell;
+            if open {
+                reach = out.w;
+            }
+            let w = min(reach / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0);
+            if w > 0.0 {
+                weighted_add(&acc, w, out.xyz, q, vec3<f32>(0.0));
+            }
         }
     }
     if acc.max_w == 0.0 {

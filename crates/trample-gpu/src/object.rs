@@ -11,8 +11,9 @@
 //! [`GpuObjectParams`] are the 16 words from `1 + 16 o`; its nodes
 //! ([`GpuNode`], 15 words each), triangles (3 words each, one a corner),
 //! an open mesh's pseudo-normals (6 words a triangle: edges `ab`, `bc`, `ca`,
-//! corners `a`, `b`, `c`; `trample::obb::pseudo_normals`) and a closed
-//! mesh's voxels (two bits each, 16 to a `u32`, 64 to a word) start at the
+//! corners `a`, `b`, `c`; `trample::obb::pseudo_normals`), its winding data
+//! when it winds (2 words a node, from the word `extra[2] − 1` counts from
+//! its first; `trample::collision::winding`) and a closed mesh's voxels (two bits each, 16 to a `u32`, 64 to a word) start at the
 //! words its `base` names. Only the parameters change during a run (one
 //! write of `16 · 16` bytes an object per sub-step).
 
@@ -98,7 +99,8 @@ pub struct GpuObjectParams {
     /// Contact shell (m), press (the Eq. 2 factor of its `track`), unused ×2.
     pub contact: [f32; 4],
     /// 1 + the object's index (its track owner id; 0 past 254), track
-    /// everywhere (1) or the paper's geometric cells only (0), unused ×2.
+    /// everywhere (1) or the paper's geometric cells only (0), 1 + the
+    /// first word of its winding data from its nodes' (0: none), unused.
     pub extra: [u32; 4],
     /// Where the object's nodes, triangles, voxels and pseudo-normals start
     /// in the object table, in 16-byte words.
@@ -180,6 +182,17 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
             .iter()
             .flat_map(|n| n.map(|v| words(v4(v)))),
     );
+    // An open mesh's winding data, when it winds
+    // (`trample::collision::winding`): per node, its area vector, then its
+    // dipole's centre and radius. `extra[2]`: 1 + their first word from
+    // the object's own first word (0: none, the sheet rule).
+    if tree.winds() {
+        params.extra[2] = out.len() as u32 + 1;
+        for (a, s) in tree.dipoles.iter().zip(&tree.dipole_spheres) {
+            out.push(words(v4(*a)));
+            out.push(words(s.to_array()));
+        }
+    }
     params.base[2] = out.len() as u32;
     params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 0];
     params.local_velocity[3] = 2.0 * tree.nodes.first().map_or(0.0, |n| n.obb.half.min_element());
@@ -202,10 +215,18 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
     (params, out)
 }
 
-/// Words of one object's nodes, triangles and pseudo-normals (what
-/// [`GpuObjects::write_tree`] uploads).
+/// Words of one object's nodes, triangles, pseudo-normals and winding
+/// data (what [`GpuObjects::write_tree`] uploads).
 fn mesh_words(tree: &ObbTree) -> usize {
-    tree.nodes.len() * NODE_WORDS + tree.triangles.len() * 3 + tree.feature_normals.len() * 6
+    let winding = if tree.winds() {
+        tree.dipoles.len() * 2
+    } else {
+        0
+    };
+    tree.nodes.len() * NODE_WORDS
+        + tree.triangles.len() * 3
+        + tree.feature_normals.len() * 6
+        + winding
 }
 
 /// The object table after its header: every object's parameters (their
@@ -309,7 +330,7 @@ impl TableLayout {
 }
 
 /// Bytes of the object table for `trees` (header, parameters, every
-/// object's nodes, triangles, pseudo-normals and voxels, identical ones
+/// object's nodes, triangles, pseudo-normals, winding data and voxels, identical ones
 /// once: see [`GpuObjects::new`]).
 #[must_use]
 pub fn table_bytes<'a>(trees: impl IntoIterator<Item = &'a ObbTree>) -> u64 {
@@ -333,7 +354,7 @@ pub struct GpuObjects {
 /// The error for an object table of `bytes` over the binding `limit`.
 fn too_large(bytes: u64, limit: u64) -> GpuError {
     GpuError::TooLarge {
-        what: "the objects' OBB trees, triangles, pseudo-normals and inside-test voxels (one buffer)",
+        what: "the objects' OBB trees, triangles, pseudo-normals, winding data and inside-test voxels (one buffer)",
         bytes,
         limit,
     }
@@ -467,7 +488,7 @@ impl GpuObjects {
         p.extra = [
             u8::try_from(i + 1).map_or(0, u32::from),
             u32::from(everywhere),
-            0,
+            p.extra[2],
             0,
         ];
     }

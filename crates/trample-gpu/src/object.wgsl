@@ -67,7 +67,8 @@ struct ObjectParams {
 // The object table (`object.rs`): word 0 = (objects, mask words per patch,
 // first mask word in the broad phase's lists, 0); object o's parameters at
 // words 1 + 16 o ..; its nodes (15 words each), triangles (3 words each),
-// pseudo-normals (6 words a triangle, open meshes) and voxels (4 to a word)
+// pseudo-normals (6 words a triangle, open meshes), winding data (2 words a
+// node, from `extra.z`; winding open meshes) and voxels (4 to a word)
 // from the words its `base` names. Floats by their bits.
 @group(1) @binding(0) var<storage, read> objects: array<vec4<u32>>;
 
@@ -128,6 +129,22 @@ fn corner(t: u32, k: u32) -> vec3<f32> {
 // triangle t (`trample::obb::pseudo_normals`; open meshes only).
 fn feature_normal(t: u32, k: u32) -> vec3<f32> {
     return word_f(obj.base.w + 6u * t + k).xyz;
+}
+
+// True when the object's open mesh takes its inside from its winding
+// number (`ObbTree::winds`): its winding data follow (`extra.z`).
+fn winds() -> bool {
+    return tree.y == 0u && extra.z != 0u;
+}
+
+// The area vector of node i of a winding mesh (`ObbTree::dipoles`).
+fn dipole(i: u32) -> vec3<f32> {
+    return word_f(obj.base.x + extra.z - 1u + 2u * i).xyz;
+}
+
+// Node i's dipole centre (xyz) and radius (w) (`ObbTree::dipole_spheres`).
+fn dipole_sphere(i: u32) -> vec4<f32> {
+    return word_f(obj.base.x + extra.z - 1u + 2u * i + 1u);
 }
 
 // The object's inside-grid voxel j (two bits each, 16 to a u32:
@@ -448,6 +465,92 @@ struct SurfacePoint {
     region: u32,
 }
 
+// `winding::FAR_LO`, `FAR_HI`, `WINDING_INSIDE_LO`, `_HI`, 1 / 4π.
+const FAR_LO: f32 = 2.0;
+const FAR_HI: f32 = 3.0;
+const WINDING_INSIDE_LO: f32 = 0.3;
+const WINDING_INSIDE_HI: f32 = 0.5;
+const INV_4PI: f32 = 0.07957747;
+
+// `winding::solid_angle`: the signed solid angle triangle t subtends at p.
+fn solid_angle(t: u32, p: vec3<f32>) -> f32 {
+    let a = corner(t, 0u) - p;
+    let b = corner(t, 1u) - p;
+    let c = corner(t, 2u) - p;
+    let la = sqrt(dot3(a, a));
+    let lb = sqrt(dot3(b, b));
+    let lc = sqrt(dot3(c, c));
+    let num = dot3(a, cross_scalar(b, c));
+    let den = la * lb * lc + dot3(a, b) * lc + dot3(a, c) * lb + dot3(b, c) * la;
+    return 2.0 * atan2(num, den);
+}
+
+// `winding::winding_number` of the loaded object's winding mesh at p
+// (object frame): down the tree, a node counting as its dipole from FAR_HI times
+// its half diagonal, opened nearer than FAR_LO, blended between.
+fn winding_number(p: vec3<f32>) -> f32 {
+    if tree.x == 0u || !all(abs(p) < vec3<f32>(3.0e38)) {
+        return 0.0;
+    }
+    var nodes: array<u32, STACK_SIZE>;
+    var weights: array<f32, STACK_SIZE>;
+    nodes[0] = 0u;
+    weights[0] = 1.0;
+    var len = 1u;
+    var sum = 0.0;
+    while len > 0u {
+        len -= 1u;
+        let i = nodes[len];
+        let weight = weights[len];
+        if i >= tree.x {
+            continue;
+        }
+        let n = node_at(i);
+        let sphere = dipole_sphere(i);
+        let to_centre = sphere.xyz - p;
+        let r = sqrt(dot3(to_centre, to_centre));
+        let radius = sphere.w;
+        var far = 0.0;
+        if r > 0.0 && r >= FAR_HI * radius {
+            far = 1.0;
+        } else if r > FAR_LO * radius {
+            far = (r / radius - FAR_LO) / (FAR_HI - FAR_LO);
+        }
+        if far > 0.0 {
+            sum += weight * far * (dot3(dipole(i), to_centre) / (r * r * r)) * INV_4PI;
+        }
+        let near = weight * (1.0 - far);
+        if !(near > 0.0) {
+            continue;
+        }
+        let l = n.children.x;
+        let rr = n.children.y;
+        if l == NO_CHILD || l <= i || rr <= i || len + 2u > STACK_SIZE {
+            var exact = 0.0;
+            for (var t = n.children.z; t < n.children.z + n.children.w; t++) {
+                exact += solid_angle(t, p);
+            }
+            sum += near * exact * INV_4PI;
+        } else {
+            nodes[len] = rr;
+            weights[len] = near;
+            nodes[len + 1u] = l;
+            weights[len + 1u] = near;
+            len += 2u;
+        }
+    }
+    return sum;
+}
+
+// `winding::inside_factor`.
+fn inside_factor(w: f32) -> f32 {
+    let s = (w - WINDING_INSIDE_LO) / (WINDING_INSIDE_HI - WINDING_INSIDE_LO);
+    if s != s {
+        return 0.0;
+    }
+    return clamp(s, 0.0, 1.0);
+}
+
 // `SurfacePoint::side_normal`: the face normal inside a face, else the
 // pseudo-normal of the edge or corner (open meshes; a closed one has none:
 // its pseudo-normals end where they start, at its voxels).
@@ -592,12 +695,14 @@ fn closest_walk(p: vec3<f32>, max_sq: f32, reach: f32) -> SurfacePoint {
 }
 
 // `contact::surface_and_side`: the closest surface point measured (found
-// false when none was needed: a voxel known outside, nothing within the
-// open depth or the bound) and whether p is inside. `bound_sq`: a squared
-// distance from p to some point of the mesh, or infinity (the same answer).
+// false when none was needed: a voxel known outside, an open mesh's
+// winding factor 0, nothing within the open depth or the bound) and how
+// much p is inside (1 or 0 for a closed mesh, the winding number's factor
+// for an open one). `bound_sq`: a squared distance from p to some point of
+// the mesh, or infinity (the same answer).
 struct Side {
     s: SurfacePoint,
-    inside: bool,
+    inside: f32,
 }
 
 fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
@@ -607,7 +712,7 @@ fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
 // `surface_and_side` with `near` (`reach` ≥ 0: PUSH_BLEND_M): the walk also
 // keeps the points within `reach` of the closest in `near_points`.
 fn surface_and_side_near(p: vec3<f32>, open_depth: f32, bound_sq: f32, reach: f32) -> Side {
-    var out = Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), false);
+    var out = Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), 0.0);
     if tree.x == 0u {
         return out;
     }
@@ -628,26 +733,37 @@ fn surface_and_side_near(p: vec3<f32>, open_depth: f32, bound_sq: f32, reach: f3
                 inside = inside_by_ray(p);
             }
         }
-        out.inside = inside;
+        out.inside = select(0.0, 1.0, inside);
         return out;
     }
     if !(open_depth >= 0.0) {
         return out;
     }
+    if winds() {
+        // Outside (factor 0) needs no closest point; no depth bound.
+        let inside = inside_factor(winding_number(p));
+        if !(inside > 0.0) {
+            return out;
+        }
+        out.s = closest_walk(p, bound_sq, reach);
+        out.inside = inside;
+        return out;
+    }
     out.s = closest_walk(p, min(open_depth * open_depth, bound_sq), reach);
-    out.inside = out.s.found && dot3(p - out.s.point, side_normal(out.s)) < 0.0;
+    out.inside = select(0.0, 1.0, out.s.found && dot3(p - out.s.point, side_normal(out.s)) < 0.0);
     return out;
 }
 
 // `contact::penetration`: (surface point, depth) in xyz and w when p is
-// inside the object, w < 0 when it is outside. `open_depth`: how far
-// behind an open mesh a point still counts as inside.
+// inside the object, w < 0 when it is outside (a winding mesh's depth: the
+// distance times its winding factor). `open_depth`: how far behind an
+// open mesh a point still counts as inside by the sheet rule.
 fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
     let side = surface_and_side(p, open_depth, squared(3.0e38));
-    if !side.s.found || !side.inside {
+    if !side.s.found || !(side.inside > 0.0) {
         return vec4<f32>(0.0, 0.0, 0.0, -1.0);
     }
-    return vec4<f32>(side.s.point, sqrt(side.s.distance_sq));
+    return vec4<f32>(side.s.point, sqrt(side.s.distance_sq) * side.inside);
 }
 
 // `contact::way_out`: the unit way out (`push_direction`, else the way to
@@ -655,7 +771,7 @@ fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
 // object; w < 0 when it is outside or has no way out.
 fn way_out(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
     let side = surface_and_side_near(p, open_depth, squared(3.0e38), PUSH_BLEND_M);
-    if !side.s.found || !side.inside {
+    if !side.s.found || !(side.inside > 0.0) {
         return vec4<f32>(0.0, 0.0, 0.0, -1.0);
     }
     let depth = sqrt(side.s.distance_sq);
@@ -669,7 +785,7 @@ fn way_out(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
     if all(way == vec3<f32>(0.0)) {
         return vec4<f32>(0.0, 0.0, 0.0, -1.0);
     }
-    return vec4<f32>(way, depth);
+    return vec4<f32>(way, depth * side.inside);
 }
 
 // `contact::push_out_hinted`: where p must go to lie no deeper than the
@@ -700,9 +816,11 @@ fn push_out_hinted(p: vec3<f32>, open_depth: f32, hint: u32) -> Pushed {
         return Pushed(vec4<f32>(p, 0.0), hint);
     }
     let depth = sqrt(side.s.distance_sq);
-    if side.inside && depth > CONTACT_TOLERANCE_M {
+    // An open mesh's depth is the distance times how much p is inside.
+    let deep = depth * side.inside;
+    if deep > CONTACT_TOLERANCE_M {
         let way = push_direction(p, depth, (side.s.point - p) / depth);
-        return Pushed(vec4<f32>(p + way * (depth - CONTACT_TOLERANCE_M), 1.0), side.s.triangle);
+        return Pushed(vec4<f32>(p + way * (deep - CONTACT_TOLERANCE_M), 1.0), side.s.triangle);
     }
     return Pushed(vec4<f32>(p, 0.0), side.s.triangle);
 }

@@ -476,6 +476,15 @@ fn cases() -> Vec<(&'static str, Want, String)> {
             ),
         ),
         e(
+            "track open_inside unknown",
+            outcome(
+                &object_scene(&format!(
+                    "{SPHERE}\n{STATIC}\ntrack = {{ open_inside = \"hollow\" }}"
+                )),
+                &[],
+            ),
+        ),
+        e(
             "duplicate object names",
             outcome(&format!("{SMALL}{GOOD_OBJECT}{GOOD_OBJECT}"), &[]),
         ),

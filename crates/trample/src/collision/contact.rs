@@ -13,12 +13,24 @@
 //!   triangle where it lies on a face's interior (exact: the point projects
 //!   onto the face along its normal), and the exact ray-parity test
 //!   ([`point_inside_by_ray`]) where it lies on an edge or a corner.
-//! - **Open meshes** have no inside: a vertex counts as inside when it lies
-//!   behind the surface (against the normal of its closest triangle's face,
-//!   or the angle-weighted pseudo-normal of the edge or corner its closest
-//!   point lies on: [`crate::obb::pseudo_normals`]) and
-//!   within `open_depth` of it (a blade cannot be deeper than that behind a
-//!   thin sheet it crossed; farther, "behind" means nothing).
+//! - **Open meshes** have no inside that parity can tell. Two rules:
+//!   - *sheets* (the default): a vertex counts as inside when it lies
+//!     behind the surface (against the normal of its closest triangle's
+//!     face, or the angle-weighted pseudo-normal of the edge or corner its
+//!     closest point lies on: [`crate::obb::pseudo_normals`]) and within
+//!     `open_depth` of it (a blade cannot be deeper than that behind a thin
+//!     sheet it crossed; farther, "behind" means nothing). The hollow of a
+//!     body with holes (a car with no floor) is outside.
+//!   - *winding* ([`ObbTree::enable_winding`]; an object's
+//!     `track.open_inside = "winding"`): how much a vertex is inside is the
+//!     [`inside_factor`] of the mesh's generalized winding number there
+//!     ([`super::winding`]: 1 inside a closed part, ½ in the plane of a
+//!     hole, 0 outside), and its depth is that factor times the distance to
+//!     its closest surface point, at any distance (`open_depth` is not
+//!     used). Off the surface the winding number is continuous, and on it
+//!     the distance is 0, so the depth is continuous everywhere, across
+//!     holes too. It costs a walk of the tree per query (BENCHMARKS.md,
+//!     "Session 37").
 //!
 //! The target is continuous in the vertex (ours, DESIGN §5 "continuous"):
 //! a vertex `d` deep goes to depth [`CONTACT_TOLERANCE_M`], i.e. it moves
@@ -41,6 +53,7 @@ use super::closest_point::{
     closest_point_within_sq,
 };
 use super::exact::point_inside_by_ray;
+use super::winding::{inside_factor, winding_number};
 use crate::obb::ObbTree;
 
 /// How deep, metres, the contact response leaves a vertex inside an object:
@@ -63,12 +76,14 @@ pub const PUSH_BLEND_M: f32 = 0.001;
 /// `tree`, and the surface point it is closest to: `Some((point, depth))`
 /// when it is inside (`depth` metres ≥ 0 to `point`), `None` when it is
 /// outside (see the module docs for what "inside" means for closed and open
-/// meshes; `open_depth`, metres: how far behind an open mesh a vertex still
-/// counts as inside). Non-finite `p` gives `None`. No allocation.
+/// meshes: with the winding rule `depth` is the distance times the
+/// [`inside_factor`]; `open_depth`, metres: how far behind an open mesh
+/// a vertex still counts as inside by the sheet rule). Non-finite `p`
+/// gives `None`. No allocation.
 #[must_use]
 pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f32)> {
     match surface_and_side(tree, p, open_depth, f32::INFINITY, None) {
-        Some((s, true)) => Some((s.point, s.distance_sq.sqrt())),
+        Some((s, inside)) if inside > 0.0 => Some((s.point, s.distance_sq.sqrt() * inside)),
         _ => None,
     }
 }
@@ -84,19 +99,20 @@ pub fn penetration(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f3
 pub fn way_out(tree: &ObbTree, p: Vec3, open_depth: f32) -> Option<(Vec3, f32)> {
     let mut near = NearPoints::default();
     match surface_and_side(tree, p, open_depth, f32::INFINITY, Some(&mut near)) {
-        Some((s, true)) => {
+        Some((s, inside)) if inside > 0.0 => {
             let depth = s.distance_sq.sqrt();
             let way = push_direction(&near, p, depth).or_else(|| (s.point - p).try_normalize())?;
-            Some((way, depth))
+            Some((way, depth * inside))
         }
         _ => None,
     }
 }
 
 /// The closest surface point that [`penetration`] measured `p` against and
-/// whether `p` is inside (see the module docs); `None` when no point was
-/// needed (empty tree, non-finite `p`, a voxel known outside, nothing
-/// within `open_depth` of an open mesh). `bound_sq`: a squared distance
+/// how much `p` is inside (see the module docs): 1 or 0 for a closed mesh,
+/// the [`inside_factor`] for an open one; `None` when no point was needed
+/// (empty tree, non-finite `p`, a voxel known outside, an open mesh's
+/// factor 0, nothing within `open_depth` of an open mesh). `bound_sq`: a squared distance
 /// from `p` to some point of the mesh, measured as the walk measures
 /// (`closest_point_on_triangle_region`, `distance_squared`), or infinity:
 /// the walk skips the boxes farther than it, with the same answer
@@ -109,7 +125,7 @@ fn surface_and_side(
     open_depth: f32,
     bound_sq: f32,
     near: Option<&mut NearPoints>,
-) -> Option<(SurfacePoint, bool)> {
+) -> Option<(SurfacePoint, f32)> {
     let closest = |max_sq: f32, near: Option<&mut NearPoints>| match near {
         Some(n) => closest_point_and_near(tree, p, max_sq, PUSH_BLEND_M, n),
         None => closest_point_within_sq(tree, p, max_sq),
@@ -128,14 +144,22 @@ fn surface_and_side(
             (_, Feature::Face) => (p - s.point).dot(s.normal) < 0.0,
             (_, Feature::EdgeOrVertex) => point_inside_by_ray(tree, p),
         };
-        Some((s, inside))
+        Some((s, if inside { 1.0 } else { 0.0 }))
     } else {
         if open_depth.is_nan() || open_depth < 0.0 {
             return None;
         }
+        if tree.winds() {
+            // Outside (factor 0) needs no closest point; no depth bound.
+            let inside = inside_factor(winding_number(tree, p));
+            if inside <= 0.0 {
+                return None;
+            }
+            return Some((closest(bound_sq, near)?, inside));
+        }
         let s = closest((open_depth * open_depth).min(bound_sq), near)?;
         let inside = (p - s.point).dot(s.side_normal(tree)) < 0.0;
-        Some((s, inside))
+        Some((s, if inside { 1.0 } else { 0.0 }))
     }
 }
 
@@ -179,11 +203,13 @@ pub fn push_out_hinted(tree: &ObbTree, p: Vec3, open_depth: f32, hint: &mut u32)
     let (s, inside) = surface_and_side(tree, p, open_depth, bound_sq, Some(&mut near))?;
     *hint = s.triangle;
     let depth = s.distance_sq.sqrt();
-    if !(inside && depth > CONTACT_TOLERANCE_M) {
+    // An open mesh's depth is the distance times how much p is inside.
+    let deep = depth * inside;
+    if !(deep > CONTACT_TOLERANCE_M) {
         return None;
     }
     let way = push_direction(&near, p, depth).unwrap_or((s.point - p) / depth);
-    Some(p + way * (depth - CONTACT_TOLERANCE_M))
+    Some(p + way * (deep - CONTACT_TOLERANCE_M))
 }
 
 /// The unit way out of vertex `p` (object-local frame), `depth` metres from
@@ -342,18 +368,65 @@ mod tests {
         }
     }
 
+    /// A lone open sheet. By the sheet rule, what lies behind it within the
+    /// open depth goes back to it. By the winding rule, what lies just
+    /// behind it goes back towards it by its winding number's factor (just under ½ there: nearly all the
+    /// way, and the rest in the next pushes), what lies in front or far
+    /// behind (`w` ≤ 0.3, half a metre behind this 2 m sheet) stays.
     #[test]
-    fn open_sheet_pushes_only_what_lies_just_behind_it() {
+    fn open_sheet_pushes_what_lies_behind_it_by_either_rule() {
         let mut mesh = cuboid(Vec3::ONE);
         // Keep the top face only (+y): an open sheet facing up.
         mesh.indices
             .retain(|t| t.iter().all(|&i| mesh.positions[i as usize].y > 0.5));
-        let tree = ObbTree::build(&mesh, 8);
+        let mut tree = ObbTree::build(&mesh, 8);
         assert!(!tree.closed);
+        // The sheet rule: just behind, within the open depth.
         let q = push_out(&tree, Vec3::new(0.2, 0.95, 0.1), 0.2).unwrap();
         assert!((q.y - (1.0 - CONTACT_TOLERANCE_M)).abs() < 1e-5, "{q}");
         assert!(push_out(&tree, Vec3::new(0.2, 1.05, 0.1), 0.2).is_none());
         assert!(push_out(&tree, Vec3::new(0.2, 0.5, 0.1), 0.2).is_none());
+        tree.enable_winding();
+        let mut p = Vec3::new(0.2, 0.95, 0.1);
+        let q = push_out(&tree, p, f32::INFINITY).unwrap();
+        assert!(q.y > 0.98 && q.y < 1.0 - CONTACT_TOLERANCE_M, "{q}");
+        // Each push leaves `tolerance / factor`: it closes in on it.
+        for _ in 0..30 {
+            let Some(q) = push_out(&tree, p, f32::INFINITY) else {
+                break;
+            };
+            p = q;
+        }
+        assert!((p.y - (1.0 - CONTACT_TOLERANCE_M)).abs() < 2e-4, "{p}");
+        assert!(push_out(&tree, Vec3::new(0.2, 1.05, 0.1), f32::INFINITY).is_none());
+        assert!(push_out(&tree, Vec3::new(0.2, 0.5, 0.1), f32::INFINITY).is_none());
+    }
+
+    /// The beetle (an open mesh: no floor, open seams): a point in the
+    /// middle of its body, farther than a blade segment from every sheet,
+    /// is inside by the winding rule and goes out. By the sheet rule
+    /// ("behind the closest sheet, within a segment of it") it is outside,
+    /// and grass stands in the car.
+    #[test]
+    fn the_hollow_of_an_open_car_body_is_inside() {
+        let dir = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../scenes/meshes/beetle.obj"
+        );
+        let Ok(mesh) = crate::object::obj::load_obj(std::path::Path::new(dir)) else {
+            panic!("{dir} not readable");
+        };
+        let mut tree = ObbTree::build(&mesh, 12);
+        assert!(!tree.closed);
+        let (lo, hi) = mesh.bounds().unwrap();
+        let middle = (lo + hi) * 0.5;
+        assert!(penetration(&tree, middle, 0.05 * (hi - lo).max_element()).is_none());
+        tree.enable_winding();
+        let (_, depth) = penetration(&tree, middle, f32::INFINITY).expect("inside the car");
+        assert!(depth > 0.05 * (hi - lo).min_element(), "{depth}");
+        assert!(push_out(&tree, middle, f32::INFINITY).is_some());
+        // Well outside: nothing.
+        assert!(penetration(&tree, hi + (hi - lo), f32::INFINITY).is_none());
     }
 
     /// A tent: two sheets meeting at a sharp ridge along x (40° apart at

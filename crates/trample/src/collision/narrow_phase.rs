@@ -241,10 +241,11 @@ pub fn contact_segment(
     contact_finish(tree, ends, shell, motion, deepest, acc)
 }
 
-/// How deep point `q` lies inside `tree`'s closed mesh (`None` outside, or
-/// for an open mesh): what `below_patch` asks.
+/// How deep point `q` lies inside `tree`'s mesh (`None` outside, or for an
+/// open mesh by the sheet rule; by the winding rule the depth
+/// [`penetration`] gives): what `below_patch` asks.
 fn end_depth(tree: &ObbTree, q: Vec3) -> Option<f32> {
-    if !tree.closed {
+    if !(tree.closed || tree.winds()) {
         return None;
     }
     penetration(tree, q, 0.0).map(|(_, d)| d)
@@ -291,7 +292,11 @@ fn contact_node(
 /// final-depth box (grown by the shell) was met, the segment crosses no
 /// triangle and is wholly outside a closed mesh, or wholly inside it, at
 /// least a shell deep; then its deeper end pushes out towards the nearest
-/// surface ([`super::contact::way_out`]).
+/// surface ([`super::contact::way_out`]). An open mesh's hollow (a car
+/// body with no floor; by the winding rule, [`ObbTree::winds`]) is asked
+/// of both ends, and
+/// the weight is their depth (the winding number's factor times the
+/// distance) over the ramp, so it fades out across a hole with the factor.
 fn contact_finish(
     tree: &ObbTree,
     (p0, p1): (Vec3, Vec3),
@@ -300,14 +305,21 @@ fn contact_finish(
     deepest: u32,
     mut acc: Weighted,
 ) -> Option<SegmentContact> {
-    if acc.max == 0.0 && tree.closed && deepest > 0 && point_inside(tree, (p0 + p1) * 0.5) {
+    let open = tree.winds();
+    if acc.max == 0.0
+        && deepest > 0
+        && (open || (tree.closed && point_inside(tree, (p0 + p1) * 0.5)))
+    {
         let deeper = [p0, p1]
             .into_iter()
             .filter_map(|q| way_out(tree, q, 0.0).map(|(out, d)| (q, out, d)))
             .max_by(|a, b| a.2.total_cmp(&b.2));
         if let Some((q, out, depth)) = deeper {
-            let w = ((depth + shell) / (shell + motion.ramp_at(q, Vec3::ZERO))).min(1.0);
-            acc.add(w, out, q, Vec3::ZERO);
+            let reach = if open { depth } else { depth + shell };
+            let w = (reach / (shell + motion.ramp_at(q, Vec3::ZERO))).min(1.0);
+            if w > 0.0 {
+                acc.add(w, out, q, Vec3::ZERO);
+            }
         }
     }
     (acc.max > 0.0).then(|| acc.contact())
@@ -560,13 +572,20 @@ pub fn box_clear_of(tree: &ObbTree, lo: Vec3, hi: Vec3, precision: u32, shell: f
 }
 
 /// Whether the box `lo ..= hi` (object frame), which meets no final node's
-/// grown box, lies outside `tree`'s mesh: always for an open mesh; for a
-/// closed one, the box crosses no triangle (every final box holds its
-/// triangles), so the inside test at its centre answers for all of it.
+/// grown box, lies outside `tree`'s mesh. The box crosses no triangle
+/// (every final box holds its triangles): for a closed mesh the inside
+/// test at its centre answers for all of it; an open one has no inside by
+/// the sheet rule, and by the winding rule the winding number's bound over
+/// the box decides
+/// ([`box_may_be_inside`](super::winding::box_may_be_inside)).
 /// What [`box_clear_of`] adds to an empty [`final_nodes_near`].
 #[must_use]
 pub fn box_outside(tree: &ObbTree, lo: Vec3, hi: Vec3) -> bool {
-    !(tree.closed && point_inside(tree, (lo + hi) * 0.5))
+    if tree.closed {
+        !point_inside(tree, (lo + hi) * 0.5)
+    } else {
+        !tree.winds() || !super::winding::box_may_be_inside(tree, lo, hi)
+    }
 }
 
 /// The final nodes of [`contact_blade`]'s walk (each final node's own box

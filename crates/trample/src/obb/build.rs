@@ -162,6 +162,9 @@ impl ObbTree {
             velocity: Vec::new(),
             features: MeshFeatures::default(),
             feature_normals: Vec::new(),
+            dipoles: Vec::new(),
+            dipole_spheres: Vec::new(),
+            rims: Vec::new(),
         };
         if !closed {
             tree.features = MeshFeatures::new(&tree.triangles);
@@ -171,6 +174,27 @@ impl ObbTree {
         tree.slabs = super::slabs::fit_slabs(&tree.nodes, &tree.triangles);
         tree.inside = InsideGrid::build(&tree, |p| point_inside_by_ray(&tree, p));
         tree
+    }
+
+    /// Gives an open mesh's tree the winding number's data (its dipoles,
+    /// their spheres and its rim: [`crate::collision::winding`]), which
+    /// makes the contact response take the mesh's hollow as its inside
+    /// (an object's `track.open_inside = "winding"`). Nothing for a closed
+    /// mesh or a tree that has them.
+    pub fn enable_winding(&mut self) {
+        if self.closed || !self.dipoles.is_empty() {
+            return;
+        }
+        self.dipoles = crate::collision::winding::area_vectors(self);
+        self.dipole_spheres = crate::collision::winding::dipole_spheres(self);
+        self.rims = crate::collision::winding::rims(&self.triangles);
+    }
+
+    /// True when the tree uses the winding number for its inside
+    /// ([`ObbTree::enable_winding`]).
+    #[must_use]
+    pub fn winds(&self) -> bool {
+        !self.closed && !self.dipoles.is_empty()
     }
 
     /// True when the tree holds no triangle (built from an empty mesh).

@@ -385,6 +385,11 @@ impl ObbTree {
                 scratch.sums[i as usize] = sum;
             }
         }
+        if !self.dipoles.is_empty() {
+            // An open mesh's dipoles (its winding number) move with it.
+            self.dipoles = crate::collision::winding::area_vectors(self);
+            self.dipole_spheres = crate::collision::winding::dipole_spheres(self);
+        }
         if self.nested {
             // A nested tree stays nested (the refitted boxes grown again).
             self.nest_boxes();

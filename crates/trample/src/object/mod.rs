@@ -44,8 +44,8 @@ pub use error::MeshError;
 pub use mesh::TriMesh;
 pub use motion::{Motion, MotionError};
 pub use object::{
-    Anchor, Object, ObjectError, ObjectErrorKind, ObjectParams, Orientation, Scale, ShapeParams,
-    TrackParams,
+    Anchor, Object, ObjectError, ObjectErrorKind, ObjectParams, OpenInside, Orientation, Scale,
+    ShapeParams, TrackParams,
 };
 pub use parts::{Articulation, PartError, PartParams};
 pub use path::{Path, PathError, PathParams};

@@ -83,6 +83,24 @@ pub struct TrackParams {
     /// heavy object pushes the grass farther per metre it travels. 0 leaves
     /// only the contact response. Default 1: the paper's force.
     pub press: f32,
+    /// What counts as inside an open mesh (one with holes: a car body with
+    /// no floor), for the contact response: `"sheet"` (default) what lies
+    /// just behind its sheets; `"winding"` its hollow too, by the mesh's
+    /// generalized winding number (`trample::collision::winding`), at a
+    /// walk of the tree per query. No effect on a closed mesh.
+    pub open_inside: OpenInside,
+}
+
+/// What counts as inside an open mesh ([`TrackParams::open_inside`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OpenInside {
+    /// What lies just behind a sheet (within a blade segment of it).
+    #[default]
+    Sheet,
+    /// The hollow too: the generalized winding number's inside
+    /// ([`crate::obb::ObbTree::enable_winding`]).
+    Winding,
 }
 
 impl Default for TrackParams {
@@ -91,6 +109,7 @@ impl Default for TrackParams {
             recovery_s: None,
             trail: None,
             press: 1.0,
+            open_inside: OpenInside::Sheet,
         }
     }
 }

@@ -109,14 +109,23 @@ impl Body {
     #[must_use]
     pub(crate) fn with_trees(
         object: Object,
-        tree: std::sync::Arc<ObbTree>,
-        part_trees: Vec<std::sync::Arc<ObbTree>>,
+        mut tree: std::sync::Arc<ObbTree>,
+        mut part_trees: Vec<std::sync::Arc<ObbTree>>,
     ) -> Self {
         assert_eq!(
             part_trees.len(),
             object.parts.parts.len(),
             "one tree per part"
         );
+        if object.track.open_inside == crate::object::OpenInside::Winding {
+            // An open mesh's hollow counts as inside: its trees get the
+            // winding number's data (a shared tree is copied first).
+            for t in std::iter::once(&mut tree).chain(&mut part_trees) {
+                if !t.closed && !t.winds() {
+                    std::sync::Arc::make_mut(t).enable_winding();
+                }
+            }
+        }
         let pose = object.pose_at(0.0);
         let world_root = world_obb(&tree.nodes[0].obb, &pose);
         let parts = part_trees
