@@ -205,7 +205,7 @@ pub fn push_out_hinted(tree: &ObbTree, p: Vec3, open_depth: f32, hint: &mut u32)
     let depth = s.distance_sq.sqrt();
     // An open mesh's depth is the distance times how much p is inside.
     let deep = depth * inside;
-    if !(deep > CONTACT_TOLERANCE_M) {
+    if deep.is_nan() || deep <= CONTACT_TOLERANCE_M {
         return None;
     }
     let way = push_direction(&near, p, depth).unwrap_or((s.point - p) / depth);

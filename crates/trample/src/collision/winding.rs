@@ -73,8 +73,9 @@ pub fn inside_factor(w: f32) -> f32 {
 }
 
 /// The signed solid angle, steradians, that triangle `t` subtends at `p`
-/// (Van Oosterom and Strackee): `2 atan2(a · (b × c), |a||b||c| + (a · b)|c|
-/// + (a · c)|b| + (b · c)|a|)` with `a, b, c` its corners minus `p`.
+/// (Van Oosterom and Strackee): `2 atan2(a · (b × c), den)`, with
+/// `den = |a||b||c| + (a · b)|c| + (a · c)|b| + (b · c)|a|` and `a, b, c`
+/// its corners minus `p`.
 /// Positive where `p` lies behind the triangle (against its
 /// counter-clockwise normal), so a closed outward mesh sums to 4π inside.
 /// Continuous off the triangle (the denominator is positive wherever the
@@ -241,9 +242,10 @@ pub struct Rim {
 pub fn rims(triangles: &[[Vec3; 3]]) -> Vec<Rim> {
     use std::collections::HashMap;
     let key = |v: Vec3| v.to_array().map(f32::to_bits);
-    // Per undirected edge: (first triangle and edge, net uses a → b with
-    // a the smaller key).
-    let mut edges: HashMap<([u32; 3], [u32; 3]), (u32, u8, i64)> = HashMap::new();
+    // Per undirected edge (its ends' keys, the smaller first): its first
+    // triangle and edge, and its net uses from the smaller end.
+    type Ends = ([u32; 3], [u32; 3]);
+    let mut edges: HashMap<Ends, (u32, u8, i64)> = HashMap::new();
     let mut order = Vec::new();
     for (t, tri) in triangles.iter().enumerate() {
         for e in 0..3u8 {
@@ -293,13 +295,13 @@ pub fn box_may_be_inside(tree: &ObbTree, lo: Vec3, hi: Vec3) -> bool {
         let (a, b) = (t[rim.edge as usize % 3], t[(rim.edge as usize + 1) % 3]);
         let q = crate::obb::build::closest_point_on_segment(a, b, c);
         let gap = q.distance(c) - rho;
-        if !(gap > 0.0) {
+        if gap.is_nan() || gap <= 0.0 {
             return true;
         }
         gradient += rim.count as f32 * a.distance(b) / (gap * gap);
     }
     let bound = winding_number(tree, c) + rho * gradient * INV_4PI + WINDING_SLACK;
-    !(bound <= WINDING_INSIDE_LO)
+    bound.is_nan() || bound > WINDING_INSIDE_LO
 }
 
 #[cfg(test)]
