@@ -542,6 +542,22 @@ fn winding_number(p: vec3<f32>) -> f32 {
     return sum;
 }
 
+// `winding::ROOT_FADE_M`.
+const ROOT_FADE_M: f32 = 0.01;
+
+// `winding::root_fade`: how far inside the root box p lies, over
+// ROOT_FADE_M, clamped to [0, 1].
+fn root_fade(p: vec3<f32>) -> f32 {
+    let n = node_at(0u);
+    let q = abs(to_box(n, p - n.center.xyz));
+    let gap = n.half.xyz - q;
+    let f = min(min(gap.x, gap.y), gap.z) / ROOT_FADE_M;
+    if f != f {
+        return 0.0;
+    }
+    return clamp(f, 0.0, 1.0);
+}
+
 // `winding::inside_factor`.
 fn inside_factor(w: f32) -> f32 {
     let s = (w - WINDING_INSIDE_LO) / (WINDING_INSIDE_HI - WINDING_INSIDE_LO);
@@ -741,7 +757,11 @@ fn surface_and_side_near(p: vec3<f32>, open_depth: f32, bound_sq: f32, reach: f3
     }
     if winds() {
         // Outside (factor 0) needs no closest point; no depth bound.
-        let inside = inside_factor(winding_number(p));
+        let fade = root_fade(p);
+        if !(fade > 0.0) {
+            return out;
+        }
+        let inside = inside_factor(winding_number(p)) * fade;
         if !(inside > 0.0) {
             return out;
         }

@@ -20,10 +20,10 @@
 //! `w ≥` [`WINDING_INSIDE_HI`], 0 where `w ≤` [`WINDING_INSIDE_LO`],
 //! linear between — continuous in `p`, since `w` is continuous off the
 //! surface and the push is zero on it. The full push starts at ½, not 1:
-//! just behind a lone sheet (a tarp, a plank modelled as one quad) `w`
-//! is just under ½ (and just under −½ in front of it), so what crossed a
-//! sheet goes back; a hole is closed at its plane (½ at its middle) and
-//! lets go below it, as `w` falls to 0.3.
+//! a hole is closed at its plane (½ at its middle) and lets go beyond it,
+//! as `w` falls to 0.3. The factor is faded in from the faces of the
+//! mesh's root box ([`root_fade`]), where the narrow phase's walk starts;
+//! so a flat lone sheet (a flat root box) has no inside by this rule.
 //!
 //! `w` is summed down the OBB tree (after Barill et al., *Fast winding
 //! numbers for soups and clouds*, SIGGRAPH 2018): a node whose triangles'
@@ -61,6 +61,27 @@ pub const FAR_HI: f32 = 3.0;
 
 /// `1 / 4π`.
 const INV_4PI: f32 = 0.079_577_47;
+
+/// Over how far inside the root box, metres, a winding mesh's inside fades
+/// in from 0 at the box's faces ([`root_fade`]): 1 cm.
+pub const ROOT_FADE_M: f32 = 0.01;
+
+/// How far inside `tree`'s root box `p` lies, over [`ROOT_FADE_M`],
+/// clamped to [0, 1] (0 outside; 0 for NaN): what a winding mesh's inside
+/// factor is multiplied by. Above a hole the winding number stays near ½
+/// past the mesh's box, where the narrow phase finds no segment (it starts
+/// from the root's box): the fade brings the push to 0 before the box's
+/// faces, continuously.
+#[must_use]
+pub fn root_fade(tree: &ObbTree, p: Vec3) -> f32 {
+    let Some(root) = tree.nodes.first() else {
+        return 0.0;
+    };
+    let q = root.obb.to_box(p).abs();
+    let depth = (root.obb.half - q).min_element();
+    let f = depth / ROOT_FADE_M;
+    if f.is_nan() { 0.0 } else { f.clamp(0.0, 1.0) }
+}
 
 /// How much of a closed mesh's push a point of winding number `w` gets:
 /// `clamp((w − LO) / (HI − LO), 0, 1)` with [`WINDING_INSIDE_LO`] and
