@@ -486,8 +486,8 @@ fn solid_angle(t: u32, p: vec3<f32>) -> f32 {
 }
 
 // `winding::winding_number` of the loaded object's winding mesh at p
-// (object frame): down the tree, a node counting as its dipole from FAR_HI times
-// its half diagonal, opened nearer than FAR_LO, blended between.
+// (object frame): down the tree, a node counting as its dipole from FAR_HI
+// times its sphere's radius, opened nearer than FAR_LO, blended between.
 fn winding_number(p: vec3<f32>) -> f32 {
     if tree.x == 0u || !all(abs(p) < vec3<f32>(3.0e38)) {
         return 0.0;
