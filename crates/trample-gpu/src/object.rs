@@ -13,7 +13,9 @@
 //! an open mesh's pseudo-normals (6 words a triangle: edges `ab`, `bc`, `ca`,
 //! corners `a`, `b`, `c`; `trample::obb::pseudo_normals`), its winding data
 //! when it winds (2 words a node, from the word `extra[2] − 1` counts from
-//! its first; `trample::collision::winding`) and a closed mesh's voxels (two bits each, 16 to a `u32`, 64 to a word) start at the
+//! its first; `trample::collision::winding`) and its winding grid (two
+//! corners a word, from the word `extra[3] − 1` counts from its first;
+//! `trample::collision::winding_grid`) and a closed mesh's voxels (two bits each, 16 to a `u32`, 64 to a word) start at the
 //! words its `base` names. Only the parameters change during a run (one
 //! write of `16 · 16` bytes an object per sub-step).
 
@@ -77,7 +79,9 @@ pub struct GpuObjectParams {
     pub velocity: [f32; 4],
     /// Angular velocity, rad/s, world frame.
     pub angular_velocity: [f32; 4],
-    /// Inside-grid box: centre, axes, half extents (zero without a grid).
+    /// Inside-grid box: centre, axes, half extents (zero without a grid);
+    /// for a winding mesh, its winding grid's box, with its voxels along
+    /// each axis in `grid_u.w`, `grid_v.w`, `grid_w.w`.
     pub grid_center: [f32; 4],
     /// Inside-grid axis u.
     pub grid_u: [f32; 4],
@@ -100,7 +104,8 @@ pub struct GpuObjectParams {
     pub contact: [f32; 4],
     /// 1 + the object's index (its track owner id; 0 past 254), track
     /// everywhere (1) or the paper's geometric cells only (0), 1 + the
-    /// first word of its winding data from its nodes' (0: none), unused.
+    /// first word of its winding data from its nodes' (0: none), 1 + the
+    /// first word of its winding grid from its nodes' (0: none).
     pub extra: [u32; 4],
     /// Where the object's nodes, triangles, voxels and pseudo-normals start
     /// in the object table, in 16-byte words.
@@ -192,6 +197,24 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
             out.push(words(v4(*a)));
             out.push(words(s.to_array()));
         }
+        // Its winding grid (`trample::collision::winding_grid`): per
+        // corner (x fastest) the tree sum and the trust, two corners a
+        // word; the box in `grid_*`, the voxels along u, v, w in their w
+        // lanes. `extra[3]`: 1 + its first word from the object's own first
+        // word (0: none, the tree sum alone).
+        if let Some(g) = &tree.winding_grid {
+            params.extra[3] = out.len() as u32 + 1;
+            out.extend(g.corners.chunks(2).map(|c| {
+                let second = c.get(1).copied().unwrap_or([0.0; 2]);
+                words([c[0][0], c[0][1], second[0], second[1]])
+            }));
+            let n = g.voxels.as_vec3();
+            params.grid_center = v4(g.obb.center);
+            params.grid_u = [g.obb.axes[0].x, g.obb.axes[0].y, g.obb.axes[0].z, n.x];
+            params.grid_v = [g.obb.axes[1].x, g.obb.axes[1].y, g.obb.axes[1].z, n.y];
+            params.grid_w = [g.obb.axes[2].x, g.obb.axes[2].y, g.obb.axes[2].z, n.z];
+            params.grid_half = v4(g.obb.half);
+        }
     }
     params.base[2] = out.len() as u32;
     params.tree = [tree.nodes.len() as u32, u32::from(tree.closed), 1, 0];
@@ -220,6 +243,10 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
 fn mesh_words(tree: &ObbTree) -> usize {
     let winding = if tree.winds() {
         tree.dipoles.len() * 2
+            + tree
+                .winding_grid
+                .as_ref()
+                .map_or(0, |g| g.corners.len().div_ceil(2))
     } else {
         0
     };
@@ -489,7 +516,7 @@ impl GpuObjects {
             u8::try_from(i + 1).map_or(0, u32::from),
             u32::from(everywhere),
             p.extra[2],
-            0,
+            p.extra[3],
         ];
     }
 

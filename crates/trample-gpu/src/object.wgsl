@@ -58,7 +58,9 @@ struct ObjectParams {
     // contact shell (m), press (Eq. 2 factor), unused ×2
     contact: vec4<f32>,
     // 1 + the object's index (its track owner id, 0 past 254), track
-    // everywhere (1) or the paper's geometric cells only (0), unused ×2
+    // everywhere (1) or the paper's geometric cells only (0), 1 + the first
+    // word of its winding data (0: none), 1 + the first word of its winding
+    // grid (0: none), both from its nodes' first word
     extra: vec4<u32>,
     // first word of its nodes, triangles, voxels, pseudo-normals in the table
     base: vec4<u32>,
@@ -68,7 +70,8 @@ struct ObjectParams {
 // first mask word in the broad phase's lists, 0); object o's parameters at
 // words 1 + 16 o ..; its nodes (15 words each), triangles (3 words each),
 // pseudo-normals (6 words a triangle, open meshes), winding data (2 words a
-// node, from `extra.z`; winding open meshes) and voxels (4 to a word)
+// node, from `extra.z`; winding open meshes), winding grid (2 corners a
+// word, from `extra.w`) and voxels (4 to a word)
 // from the words its `base` names. Floats by their bits.
 @group(1) @binding(0) var<storage, read> objects: array<vec4<u32>>;
 
@@ -542,6 +545,50 @@ fn winding_number(p: vec3<f32>) -> f32 {
     return sum;
 }
 
+// Corner k of the loaded object's winding grid: (tree sum, trust).
+fn winding_corner(k: u32) -> vec2<f32> {
+    let w = word_f(obj.base.x + extra.w - 1u + k / 2u);
+    return select(w.xy, w.zw, (k & 1u) == 1u);
+}
+
+fn lerp2(a: vec2<f32>, b: vec2<f32>, t: f32) -> vec2<f32> {
+    return a + (b - a) * t;
+}
+
+// `winding_grid::winding_at`: the winding grid's trilinear value where its
+// trust is whole, blended with the tree sum by the trust where it is
+// partial, the tree sum alone elsewhere (`WindingGrid::sample`: the box in
+// `grid_*`, the voxels along u, v, w in their w lanes).
+fn winding_at(p: vec3<f32>) -> f32 {
+    if extra.w != 0u {
+        let n = vec3<f32>(obj.grid_u.w, obj.grid_v.w, obj.grid_w.w);
+        let dd = p - obj.grid_center.xyz;
+        let q = vec3<f32>(dot3(dd, obj.grid_u.xyz), dot3(dd, obj.grid_v.xyz), dot3(dd, obj.grid_w.xyz));
+        let h = obj.grid_half.xyz;
+        let g = (q + h) / (2.0 * h) * n;
+        if all(g >= vec3<f32>(0.0)) && all(g <= n) {
+            let i = min(floor(g), n - vec3<f32>(1.0));
+            let f = g - i;
+            let iu = vec3<u32>(i);
+            let sx = u32(n.x) + 1u;
+            let sy = sx * (u32(n.y) + 1u);
+            let k = iu.z * sy + iu.y * sx + iu.x;
+            let x00 = lerp2(winding_corner(k), winding_corner(k + 1u), f.x);
+            let x10 = lerp2(winding_corner(k + sx), winding_corner(k + sx + 1u), f.x);
+            let x01 = lerp2(winding_corner(k + sy), winding_corner(k + sy + 1u), f.x);
+            let x11 = lerp2(winding_corner(k + sy + sx), winding_corner(k + sy + sx + 1u), f.x);
+            let s = lerp2(lerp2(x00, x10, f.y), lerp2(x01, x11, f.y), f.z);
+            if s.y >= 1.0 {
+                return s.x;
+            }
+            if s.y > 0.0 {
+                return s.y * s.x + (1.0 - s.y) * winding_number(p);
+            }
+        }
+    }
+    return winding_number(p);
+}
+
 // `winding::ROOT_FADE_M`.
 const ROOT_FADE_M: f32 = 0.01;
 
@@ -761,7 +808,7 @@ fn surface_and_side_near(p: vec3<f32>, open_depth: f32, bound_sq: f32, reach: f3
         if !(fade > 0.0) {
             return out;
         }
-        let inside = inside_factor(winding_number(p)) * fade;
+        let inside = inside_factor(winding_at(p)) * fade;
         if !(inside > 0.0) {
             return out;
         }

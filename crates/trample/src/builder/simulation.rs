@@ -262,7 +262,14 @@ impl SimulationBuilder {
             .iter()
             .flat_map(|o| std::iter::once(&o.mesh).chain(o.parts.parts.iter().map(|p| &p.mesh)))
             .collect();
-        let (trees, _) = build_shared(&meshes, DEFAULT_MAX_DEPTH);
+        let winding: Vec<bool> = objects
+            .iter()
+            .flat_map(|o| {
+                let w = o.track.open_inside == crate::object::OpenInside::Winding;
+                std::iter::repeat_n(w, 1 + o.parts.parts.len())
+            })
+            .collect();
+        let (trees, _) = build_shared(&meshes, &winding, DEFAULT_MAX_DEPTH);
         let mut trees = trees.into_iter();
         let bodies: Vec<Body> = objects
             .into_iter()

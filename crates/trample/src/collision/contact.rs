@@ -30,8 +30,9 @@
 //!     its closest surface point, at any distance (`open_depth` is not
 //!     used). Off the surface the winding number is continuous, and on it
 //!     the distance is 0, so the depth is continuous everywhere, across
-//!     holes too. It costs a walk of the tree per query (BENCHMARKS.md,
-//!     "Session 37").
+//!     holes too. Away from the surface the winding number is read from a
+//!     grid ([`super::winding_grid`]); near it each query walks the tree
+//!     (BENCHMARKS.md, "Session 37" and "Session 38").
 //!
 //! The target is continuous in the vertex (ours, DESIGN §5 "continuous"):
 //! a vertex `d` deep goes to depth [`CONTACT_TOLERANCE_M`], i.e. it moves
@@ -54,7 +55,8 @@ use super::closest_point::{
     closest_point_within_sq,
 };
 use super::exact::point_inside_by_ray;
-use super::winding::{inside_factor, root_fade, winding_number};
+use super::winding::{inside_factor, root_fade};
+use super::winding_grid::winding_at;
 use crate::obb::ObbTree;
 
 /// How deep, metres, the contact response leaves a vertex inside an object:
@@ -156,7 +158,7 @@ fn surface_and_side(
             if fade <= 0.0 {
                 return None;
             }
-            let inside = inside_factor(winding_number(tree, p)) * fade;
+            let inside = inside_factor(winding_at(tree, p)) * fade;
             if inside <= 0.0 {
                 return None;
             }

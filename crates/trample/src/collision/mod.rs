@@ -14,6 +14,7 @@ pub mod segment_obb_wide;
 pub mod segment_slabs;
 pub mod segment_triangle;
 pub mod winding;
+pub mod winding_grid;
 
 pub use broad_phase::{
     PatchRect, obb_may_overlap_aabb, obb_overlaps_aabb, patch_rect, patches_hit, patches_under,

@@ -165,6 +165,7 @@ impl ObbTree {
             dipoles: Vec::new(),
             dipole_spheres: Vec::new(),
             rims: Vec::new(),
+            winding_grid: None,
         };
         if !closed {
             tree.features = MeshFeatures::new(&tree.triangles);
@@ -179,8 +180,10 @@ impl ObbTree {
     /// Gives an open mesh's tree the winding number's data (its dipoles,
     /// their spheres and its rim: [`crate::collision::winding`]), which
     /// makes the contact response take the mesh's hollow as its inside
-    /// (an object's `track.open_inside = "winding"`). Nothing for a closed
-    /// mesh or a tree that has them.
+    /// (an object's `track.open_inside = "winding"`), and the grid of its
+    /// winding number ([`crate::collision::winding_grid`]: a tree sum at
+    /// each of up to 65³ corners, about 0.1–0.3 s for the beetle car on
+    /// two cores). Nothing for a closed mesh or a tree that has them.
     pub fn enable_winding(&mut self) {
         if self.closed || !self.dipoles.is_empty() {
             return;
@@ -188,6 +191,7 @@ impl ObbTree {
         self.dipoles = crate::collision::winding::area_vectors(self);
         self.dipole_spheres = crate::collision::winding::dipole_spheres(self);
         self.rims = crate::collision::winding::rims(&self.triangles);
+        self.winding_grid = crate::collision::winding_grid::WindingGrid::build(self);
     }
 
     /// True when the tree uses the winding number for its inside

@@ -151,6 +151,11 @@ pub struct ObbTree {
     /// triangles do not close ([`crate::collision::winding::rims`]), which
     /// bound how fast its winding number changes.
     pub rims: Vec<crate::collision::winding::Rim>,
+    /// The winding number of an open mesh on a grid over its root box
+    /// ([`crate::collision::winding_grid`]), which answers most winding
+    /// queries away from the surface; `None` for a tree that does not wind,
+    /// and after a refit.
+    pub winding_grid: Option<crate::collision::winding_grid::WindingGrid>,
 }
 
 #[cfg(test)]

@@ -389,6 +389,8 @@ impl ObbTree {
             // An open mesh's dipoles (its winding number) move with it.
             self.dipoles = crate::collision::winding::area_vectors(self);
             self.dipole_spheres = crate::collision::winding::dipole_spheres(self);
+            // Its grid would need a tree sum at every corner: dropped.
+            self.winding_grid = None;
         }
         if self.nested {
             // A nested tree stays nested (the refitted boxes grown again).

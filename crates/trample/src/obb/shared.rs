@@ -20,14 +20,27 @@ use crate::object::TriMesh;
 /// one tree, which stays in the cache). Also returns how many trees were
 /// built. A body whose mesh deforms gets its own copy when it first refits
 /// it ([`Arc::make_mut`]).
+///
+/// `winding[i]` (missing: false) gives mesh `i`'s tree the winding number's
+/// data ([`ObbTree::enable_winding`], with its grid: a fraction of a second
+/// for the beetle car) — once per distinct mesh too, so that the herd's
+/// twenty winding cars share one grid.
 #[must_use]
-pub fn build_shared(meshes: &[&TriMesh], max_depth: u32) -> (Vec<Arc<ObbTree>>, usize) {
+pub fn build_shared(
+    meshes: &[&TriMesh],
+    winding: &[bool],
+    max_depth: u32,
+) -> (Vec<Arc<ObbTree>>, usize) {
+    let winds = |i: usize| winding.get(i).copied().unwrap_or(false);
     // Slot of each mesh's first equal, found by hash then compared.
     let mut by_hash: HashMap<u64, Vec<usize>> = HashMap::new();
     let mut first_equal = Vec::with_capacity(meshes.len());
     for (i, mesh) in meshes.iter().enumerate() {
         let seen = by_hash.entry(mesh_hash(mesh)).or_default();
-        let same = seen.iter().copied().find(|&j| same_mesh(meshes[j], mesh));
+        let same = seen
+            .iter()
+            .copied()
+            .find(|&j| winds(j) == winds(i) && same_mesh(meshes[j], mesh));
         first_equal.push(same.unwrap_or(i));
         if same.is_none() {
             seen.push(i);
@@ -36,7 +49,13 @@ pub fn build_shared(meshes: &[&TriMesh], max_depth: u32) -> (Vec<Arc<ObbTree>>, 
     let distinct: Vec<usize> = (0..meshes.len()).filter(|&i| first_equal[i] == i).collect();
     let built: Vec<Arc<ObbTree>> = distinct
         .par_iter()
-        .map(|&i| Arc::new(ObbTree::build(meshes[i], max_depth)))
+        .map(|&i| {
+            let mut tree = ObbTree::build(meshes[i], max_depth);
+            if winds(i) {
+                tree.enable_winding();
+            }
+            Arc::new(tree)
+        })
         .collect();
     let at: HashMap<usize, usize> = distinct.iter().enumerate().map(|(k, &i)| (i, k)).collect();
     let trees = first_equal
@@ -79,7 +98,7 @@ mod tests {
         let mut a_moved = a.clone();
         a_moved.positions[3].x += 1e-6;
         let meshes = [&a, &b, &a, &a_moved, &b, &a];
-        let (trees, built) = build_shared(&meshes, 12);
+        let (trees, built) = build_shared(&meshes, &[], 12);
         assert_eq!(built, 3, "a, b and the moved copy of a");
         assert_eq!(trees.len(), meshes.len());
         assert!(Arc::ptr_eq(&trees[0], &trees[2]) && Arc::ptr_eq(&trees[0], &trees[5]));
@@ -88,5 +107,23 @@ mod tests {
             let alone = ObbTree::build(mesh, 12);
             assert_eq!(format!("{tree:?}"), format!("{alone:?}"));
         }
+    }
+
+    /// Winding trees are shared among themselves, not with the sheet-rule
+    /// trees of the same mesh, and carry their grid.
+    #[test]
+    fn winding_trees_are_built_once_apart_from_the_others() {
+        let s = sphere(1.0, 2);
+        // Open: the sphere less one triangle.
+        let open = TriMesh {
+            positions: s.positions.clone(),
+            indices: s.indices[1..].to_vec(),
+        };
+        let meshes = [&open, &open, &open, &open];
+        let (trees, built) = build_shared(&meshes, &[true, false, true], 12);
+        assert_eq!(built, 2);
+        assert!(Arc::ptr_eq(&trees[0], &trees[2]) && Arc::ptr_eq(&trees[1], &trees[3]));
+        assert!(trees[0].winds() && trees[0].winding_grid.is_some());
+        assert!(!trees[1].winds() && trees[1].winding_grid.is_none());
     }
 }
