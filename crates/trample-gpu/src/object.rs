@@ -193,9 +193,9 @@ fn object_words(tree: &ObbTree) -> (GpuObjectParams, Vec<[u32; 4]>) {
     // the object's own first word (0: none, the sheet rule).
     if tree.winds() {
         params.extra[2] = out.len() as u32 + 1;
-        for (a, s) in tree.dipoles.iter().zip(&tree.dipole_spheres) {
-            out.push(words(v4(*a)));
-            out.push(words(s.to_array()));
+        for d in &tree.dipoles {
+            out.push(words(v4(d.area)));
+            out.push(words(d.centre.extend(d.radius).to_array()));
         }
         // Its winding grid (`trample::collision::winding_grid`): per
         // corner (x fastest) the tree sum and the trust, two corners a

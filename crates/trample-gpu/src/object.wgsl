@@ -145,7 +145,7 @@ fn dipole(i: u32) -> vec3<f32> {
     return word_f(obj.base.x + extra.z - 1u + 2u * i).xyz;
 }
 
-// Node i's dipole centre (xyz) and radius (w) (`ObbTree::dipole_spheres`).
+// Node i's dipole centre (xyz) and radius (w) (`winding::Dipole`).
 fn dipole_sphere(i: u32) -> vec4<f32> {
     return word_f(obj.base.x + extra.z - 1u + 2u * i + 1u);
 }

@@ -28,9 +28,9 @@
 //! `w` is summed down the OBB tree (after Barill et al., *Fast winding
 //! numbers for soups and clouds*, SIGGRAPH 2018): a node whose triangles'
 //! area-weighted centroid `c` lies `r ≥` [`FAR_HI`]` · R` from `p` (`R`
-//! the distance from `c` to its farthest corner: [`dipole_spheres`])
-//! counts as a dipole, `A · (c − p) / (4π r³)` with `A` the node's area
-//! vector (`Σ ½ (b − a) × (c − a)`, [`area_vectors`]); one
+//! the distance from `c` to its farthest corner) counts as a dipole,
+//! `A · (c − p) / (4π r³)` with `A` the node's area vector
+//! (`Σ ½ (b − a) × (c − a)`; all three kept per node: [`Dipole`]); one
 //! nearer than [`FAR_LO`]` · R` is opened (a leaf: its triangles' exact
 //! solid angles, Van Oosterom and Strackee 1983); between, both, blended
 //! linearly in `r / R`. The blend keeps the sum continuous in `p` (a hard
@@ -114,8 +114,7 @@ pub fn solid_angle(t: &[Vec3; 3], p: Vec3) -> f32 {
 /// The generalized winding number of `tree`'s mesh at `p` (object-local
 /// frame), summed down the tree with the blended dipoles of the module
 /// docs. Needs the tree's dipoles ([`ObbTree::enable_winding`]; without
-/// them every node is opened: the exact sum; without their spheres, the
-/// boxes' centres and half diagonals stand in). 0 for an empty tree
+/// them every node is opened: the exact sum). 0 for an empty tree
 /// or a non-finite `p`. No allocation.
 #[must_use]
 pub fn winding_number(tree: &ObbTree, p: Vec3) -> f32 {
@@ -132,23 +131,20 @@ pub fn winding_number(tree: &ObbTree, p: Vec3) -> f32 {
         let Some(node) = tree.nodes.get(i as usize) else {
             continue;
         };
-        let (centre, radius) = tree
-            .dipole_spheres
-            .get(i as usize)
-            .map_or((node.obb.center, node.obb.half_diagonal()), |s| {
-                (s.truncate(), s.w)
-            });
+        let dipole = tree.dipoles.get(i as usize);
+        let (centre, radius) = dipole.map_or((node.obb.center, node.obb.half_diagonal()), |d| {
+            (d.centre, d.radius)
+        });
         let to_centre = centre - p;
         let r = to_centre.length();
         // Dipole weight: 0 nearer than FAR_LO · R, 1 from FAR_HI · R.
-        let far = match tree.dipoles.get(i as usize) {
+        let far = match dipole {
             Some(_) if r > 0.0 && r >= FAR_HI * radius => 1.0,
             Some(_) if r > FAR_LO * radius => (r / radius - FAR_LO) / (FAR_HI - FAR_LO),
             _ => 0.0,
         };
-        if far > 0.0 {
-            let a = tree.dipoles[i as usize];
-            sum += weight * far * (a.dot(to_centre) / (r * r * r)) * INV_4PI;
+        if let Some(d) = dipole.filter(|_| far > 0.0) {
+            sum += weight * far * (d.area.dot(to_centre) / (r * r * r)) * INV_4PI;
         }
         let near = weight * (1.0 - far);
         if near <= 0.0 {
@@ -173,11 +169,26 @@ pub fn winding_number(tree: &ObbTree, p: Vec3) -> f32 {
     sum
 }
 
-/// Per node of `tree`, the area-weighted centroid of its triangles (xyz)
-/// and the distance from it to the farthest of their corners (w): where
-/// [`winding_number`] puts a node's dipole and how near it may be.
+/// What stands for a node of an open mesh's tree in [`winding_number`]
+/// when the node is far from the point: the first term (the dipole) of the
+/// expansion of its triangles' solid angles about `centre`. (A second term,
+/// the triangles' second moment, was tried: BENCHMARKS.md, "Session 38".)
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dipole {
+    /// The node's area vector `A = Σ a_t n_t` (`a_t n_t = ½ (b − a) ×
+    /// (c − a)`): the dipole.
+    pub area: Vec3,
+    /// The area-weighted centroid of its triangles: where the dipole sits.
+    pub centre: Vec3,
+    /// The distance from `centre` to the farthest of its triangles'
+    /// corners (grown by a few ulp): how near the point may come.
+    pub radius: f32,
+}
+
+/// Per node of `tree`, its [`Dipole`], from its triangles (f64 sums).
 #[must_use]
-pub fn dipole_spheres(tree: &ObbTree) -> Vec<glam::Vec4> {
+pub fn dipoles(tree: &ObbTree) -> Vec<Dipole> {
+    use glam::DVec3;
     tree.nodes
         .iter()
         .map(|node| {
@@ -186,12 +197,14 @@ pub fn dipole_spheres(tree: &ObbTree) -> Vec<glam::Vec4> {
                 .triangles
                 .get(first..first + node.tri_count as usize)
                 .unwrap_or(&[]);
-            let (mut sum, mut area) = (glam::DVec3::ZERO, 0.0f64);
+            let (mut sum, mut area, mut vector) = (DVec3::ZERO, 0.0f64, DVec3::ZERO);
             for t in tris {
                 let [a, b, c] = t.map(|v| v.as_dvec3());
-                let w = (b - a).cross(c - a).length() * 0.5;
+                let an = (b - a).cross(c - a) * 0.5;
+                let w = an.length();
                 sum += (a + b + c) / 3.0 * w;
                 area += w;
+                vector += an;
             }
             let centre = if area > 0.0 {
                 (sum / area).as_vec3()
@@ -203,39 +216,13 @@ pub fn dipole_spheres(tree: &ObbTree) -> Vec<glam::Vec4> {
                 .flatten()
                 .map(|v| v.distance(centre))
                 .fold(0.0f32, f32::max);
-            centre.extend(radius * (1.0 + 4.0 * f32::EPSILON))
+            Dipole {
+                area: vector.as_vec3(),
+                centre,
+                radius: radius * (1.0 + 4.0 * f32::EPSILON),
+            }
         })
         .collect()
-}
-
-/// Per node of `tree`, the area vector `Σ ½ (b − a) × (c − a)` of its
-/// triangles (f64 sums): a leaf's from its triangles, a parent's as its
-/// children's added. What [`winding_number`]'s dipoles are.
-#[must_use]
-pub fn area_vectors(tree: &ObbTree) -> Vec<Vec3> {
-    let mut sums = vec![glam::DVec3::ZERO; tree.nodes.len()];
-    // Children come after their parent: from the last node back, every
-    // child is final before its parent.
-    for i in (0..tree.nodes.len()).rev() {
-        let node = &tree.nodes[i];
-        let [l, r] = node.children;
-        let sum = if node.is_leaf() || l as usize >= sums.len() || r as usize >= sums.len() {
-            let first = node.first_tri as usize;
-            tree.triangles
-                .get(first..first + node.tri_count as usize)
-                .unwrap_or(&[])
-                .iter()
-                .map(|t| {
-                    let [a, b, c] = t.map(|v| v.as_dvec3());
-                    (b - a).cross(c - a) * 0.5
-                })
-                .sum()
-        } else {
-            sums[l as usize] + sums[r as usize]
-        };
-        sums[i] = sum;
-    }
-    sums.into_iter().map(|s| s.as_vec3()).collect()
 }
 
 /// How far the tree sum may stray from the exact winding number in
@@ -364,8 +351,7 @@ mod tests {
     #[test]
     fn a_closed_sphere_winds_once_inside_and_not_outside() {
         let mut tree = ObbTree::build(&sphere(), 12);
-        tree.dipoles = area_vectors(&tree);
-        tree.dipole_spheres = dipole_spheres(&tree);
+        tree.dipoles = dipoles(&tree);
         let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
         for _ in 0..500 {
             let d = Vec3::new(

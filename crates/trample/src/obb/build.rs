@@ -163,7 +163,6 @@ impl ObbTree {
             features: MeshFeatures::default(),
             feature_normals: Vec::new(),
             dipoles: Vec::new(),
-            dipole_spheres: Vec::new(),
             rims: Vec::new(),
             winding_grid: None,
         };
@@ -188,8 +187,7 @@ impl ObbTree {
         if self.closed || !self.dipoles.is_empty() {
             return;
         }
-        self.dipoles = crate::collision::winding::area_vectors(self);
-        self.dipole_spheres = crate::collision::winding::dipole_spheres(self);
+        self.dipoles = crate::collision::winding::dipoles(self);
         self.rims = crate::collision::winding::rims(&self.triangles);
         self.winding_grid = crate::collision::winding_grid::WindingGrid::build(self);
     }

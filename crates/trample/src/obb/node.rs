@@ -137,16 +137,12 @@ pub struct ObbTree {
     /// ([`super::pseudo_normals`]): which side of the sheet a point whose
     /// closest surface point lies on an edge or a corner is on.
     pub feature_normals: Vec<[Vec3; 6]>,
-    /// Per node of an open mesh (empty for a closed one), the area vector
-    /// of its triangles (`Σ ½ (b − a) × (c − a)`): the dipole that stands
-    /// for a far node in the generalized winding number
-    /// ([`crate::collision::winding`]), which says how much a point is
-    /// inside a mesh with holes.
-    pub dipoles: Vec<Vec3>,
-    /// Per node of an open mesh (empty for a closed one), where its dipole
-    /// sits and the radius of its triangles around it
-    /// ([`crate::collision::winding::dipole_spheres`]).
-    pub dipole_spheres: Vec<glam::Vec4>,
+    /// Per node of a winding open mesh (empty otherwise: closed, or the
+    /// sheet rule), what stands for the node far from a point in the
+    /// generalized winding number ([`crate::collision::winding::Dipole`]:
+    /// its area vector, centroid, radius and second moment), which says how
+    /// much a point is inside a mesh with holes.
+    pub dipoles: Vec<crate::collision::winding::Dipole>,
     /// The rim of an open mesh (empty for a closed one): the edges its
     /// triangles do not close ([`crate::collision::winding::rims`]), which
     /// bound how fast its winding number changes.

@@ -387,8 +387,7 @@ impl ObbTree {
         }
         if !self.dipoles.is_empty() {
             // An open mesh's dipoles (its winding number) move with it.
-            self.dipoles = crate::collision::winding::area_vectors(self);
-            self.dipole_spheres = crate::collision::winding::dipole_spheres(self);
+            self.dipoles = crate::collision::winding::dipoles(self);
             // Its grid would need a tree sum at every corner: dropped.
             self.winding_grid = None;
         }
