@@ -243,42 +243,6 @@ pub struct Rim {
     pub count: u32,
 }
 
-/// The rim of the mesh of `triangles` (corners identified by position,
-/// as `closed` is decided): every undirected edge whose directed uses do
-/// not cancel, once, at its first triangle in mesh order.
-#[must_use]
-pub fn rims(triangles: &[[Vec3; 3]]) -> Vec<Rim> {
-    use std::collections::HashMap;
-    let key = |v: Vec3| v.to_array().map(f32::to_bits);
-    // Per undirected edge (its ends' keys, the smaller first): its first
-    // triangle and edge, and its net uses from the smaller end.
-    type Ends = ([u32; 3], [u32; 3]);
-    let mut edges: HashMap<Ends, (u32, u8, i64)> = HashMap::new();
-    let mut order = Vec::new();
-    for (t, tri) in triangles.iter().enumerate() {
-        for e in 0..3u8 {
-            let (a, b) = (key(tri[e as usize]), key(tri[(e as usize + 1) % 3]));
-            let (k, sign) = if a <= b { ((a, b), 1) } else { ((b, a), -1) };
-            let entry = edges.entry(k).or_insert_with(|| {
-                order.push(k);
-                (t as u32, e, 0)
-            });
-            entry.2 += sign;
-        }
-    }
-    order
-        .into_iter()
-        .filter_map(|k| {
-            let (tri, edge, net) = edges[&k];
-            (net != 0).then(|| Rim {
-                tri,
-                edge,
-                count: net.unsigned_abs() as u32,
-            })
-        })
-        .collect()
-}
-
 /// Whether the box `lo ..= hi` (object frame), which crosses no triangle
 /// of `tree`'s open mesh, may hold a point of winding number above
 /// [`WINDING_INSIDE_LO`] (a point the contact response would push): false

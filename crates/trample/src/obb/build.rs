@@ -188,7 +188,7 @@ impl ObbTree {
             return;
         }
         self.dipoles = crate::collision::winding::dipoles(self);
-        self.rims = crate::collision::winding::rims(&self.triangles);
+        self.rims = self.features.rims();
         self.winding_grid = crate::collision::winding_grid::WindingGrid::build(self);
     }
 

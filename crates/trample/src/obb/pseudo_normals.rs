@@ -85,6 +85,38 @@ impl MeshFeatures {
         }
     }
 
+    /// The rim of the mesh (corners identified by position, as
+    /// [`MeshFeatures::new`] identifies them): every undirected edge whose
+    /// directed uses do not cancel, once, at its first triangle in mesh
+    /// order, in the order the edges first appear
+    /// ([`crate::collision::winding::Rim`]).
+    #[must_use]
+    pub fn rims(&self) -> Vec<crate::collision::winding::Rim> {
+        // Per edge id: its first triangle and edge, and its net uses from
+        // its smaller corner id.
+        let mut first: Vec<Option<(u32, u8)>> = vec![None; self.edge_count];
+        let mut net = vec![0i64; self.edge_count];
+        for (t, (c, e)) in self.corners.iter().zip(&self.edges).enumerate() {
+            for k in 0..3 {
+                let id = e[k] as usize;
+                first[id].get_or_insert((t as u32, k as u8));
+                net[id] += if c[k] < c[(k + 1) % 3] { 1 } else { -1 };
+            }
+        }
+        first
+            .into_iter()
+            .zip(net)
+            .filter_map(|(f, n)| {
+                let (tri, edge) = f?;
+                (n != 0).then(|| crate::collision::winding::Rim {
+                    tri,
+                    edge,
+                    count: n.unsigned_abs() as u32,
+                })
+            })
+            .collect()
+    }
+
     /// Number of triangles described.
     #[must_use]
     pub fn len(&self) -> usize {
@@ -197,6 +229,37 @@ mod tests {
         let (r0, r1) = (Vec3::new(0.0, 1.0, 0.0), Vec3::new(1.0, 1.0, 0.0));
         let (s0, s1) = (Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, -1.0));
         vec![[r0, s0, r1], [r1, s1, r0]]
+    }
+
+    /// The rim: none on a closed mesh, even where a corner is written with
+    /// −0 in one triangle and +0 in another (the same position); the two
+    /// outer edges of the roof each way round, its ridge not.
+    #[test]
+    fn the_rim_is_the_edges_whose_uses_do_not_cancel() {
+        let s = crate::object::shapes::sphere(1.0, 2);
+        let mut tris: Vec<[Vec3; 3]> = s
+            .indices
+            .iter()
+            .map(|t| t.map(|i| s.positions[i as usize]))
+            .collect();
+        let mut flipped = 0;
+        for t in &mut tris[..40] {
+            for c in t.iter_mut() {
+                for x in [&mut c.x, &mut c.y, &mut c.z] {
+                    if *x == 0.0 {
+                        *x = -0.0;
+                        flipped += 1;
+                    }
+                }
+            }
+        }
+        assert!(flipped > 0);
+        assert!(MeshFeatures::new(&tris).rims().is_empty());
+        let rims = MeshFeatures::new(&roof()).rims();
+        assert_eq!(rims.len(), 4, "{rims:?}");
+        assert!(rims.iter().all(|r| r.count == 1));
+        // The ridge (r0–r1) is edge 2 of triangle 0 and edge 2 of triangle 1.
+        assert!(!rims.iter().any(|r| r.edge == 2));
     }
 
     #[test]
