@@ -12,8 +12,9 @@
 //! so a trilinear interpolation of its values at the corners of voxels
 //! follows it closely there.
 //!
-//! The root box is cut into voxels about [`WINDING_GRID_VOXELS`] to its
-//! longest side. Each corner keeps the tree sum `w` at it and a *trust*
+//! The root box is cut into about cubic voxels, at most
+//! [`WINDING_GRID_VOXELS`] to a side and about [`WINDING_GRID_MAX_VOXELS`]
+//! in all. Each corner keeps the tree sum `w` at it and a *trust*
 //! `t`: 0 within [`TRUST_FROM`] voxel diagonals of the surface, 1 from
 //! [`TRUST_TO`] on, linear in the corner's distance between. A point's
 //! winding number ([`winding_at`]) is
@@ -39,9 +40,14 @@ use super::closest_point::closest_point_within_sq;
 use super::winding::winding_number;
 use crate::obb::{Obb, ObbTree};
 
-/// Voxels along the longest side of the root box (the other sides get as
-/// many as keep the voxels about cubic, at least one).
+/// Most voxels along a side of the root box.
 pub const WINDING_GRID_VOXELS: u32 = 128;
+
+/// Most voxels in all, about: 2¹⁸ (a 64³ grid's), so that a grid takes at
+/// most about 2.3 MiB and a second to build. The voxels are about cubic,
+/// [`WINDING_GRID_VOXELS`] along the longest side unless that would pass
+/// this count.
+pub const WINDING_GRID_MAX_VOXELS: f32 = 262_144.0;
 
 /// A corner nearer the surface than this many voxel diagonals is not
 /// trusted at all (its voxels may meet a triangle).
@@ -74,7 +80,8 @@ impl WindingGrid {
         if !tree.winds() || !half.is_finite() || half.min_element() <= 0.0 {
             return None;
         }
-        let size = (2.0 * half.max_element()) / WINDING_GRID_VOXELS as f32;
+        let size = ((2.0 * half.max_element()) / WINDING_GRID_VOXELS as f32)
+            .max((8.0 * half.x * half.y * half.z / WINDING_GRID_MAX_VOXELS).cbrt());
         let voxels = (2.0 * half / size)
             .ceil()
             .as_uvec3()
