@@ -144,7 +144,7 @@ pub struct ObbTree {
     /// much a point is inside a mesh with holes.
     pub dipoles: Vec<crate::collision::winding::Dipole>,
     /// The rim of an open mesh (empty for a closed one): the edges its
-    /// triangles do not close ([`crate::collision::winding::rims`]), which
+    /// triangles do not close ([`super::pseudo_normals::MeshFeatures::rims`]), which
     /// bound how fast its winding number changes.
     pub rims: Vec<crate::collision::winding::Rim>,
     /// The winding number of an open mesh on a grid over its root box
