@@ -41,20 +41,9 @@ fn meshes() -> Vec<(&'static str, TriMesh)> {
 /// the triangle each was made from (seeded xorshift).
 fn points(tree: &ObbTree, count: usize) -> Vec<(Vec3, f32)> {
     let mut next = common::uniform(0x1234_5678_9abc);
-    let size = tree.nodes[0].obb.half.max_element();
     (0..count)
         .map(|_| {
-            let t = (next() * tree.triangles.len() as f32) as usize % tree.triangles.len();
-            let tri = tree.triangles[t];
-            let (mut u, mut v) = (next(), next());
-            if u + v > 1.0 {
-                (u, v) = (1.0 - u, 1.0 - v);
-            }
-            let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
-            let p = tri[0]
-                + (tri[1] - tri[0]) * u
-                + (tri[2] - tri[0]) * v
-                + normal * ((next() * 2.0 - 1.0) * 0.04 * size);
+            let (p, tri) = common::point_near_surface(tree, &mut next);
             let (q, _) = closest_point_on_triangle_region(p, &tri);
             (p, q.distance_squared(p))
         })

@@ -24,7 +24,6 @@ use trample::object::load_mesh_file;
 fn points(tree: &ObbTree, count: usize) -> [(&'static str, Vec<Vec3>); 2] {
     let mut next = common::uniform(0x005e_ed0f_3a11);
     let o = tree.nodes[0].obb;
-    let size = o.half.max_element();
     let in_box = (0..count)
         .map(|_| {
             let q = (Vec3::new(next(), next(), next()) * 2.0 - 1.0) * o.half;
@@ -32,19 +31,7 @@ fn points(tree: &ObbTree, count: usize) -> [(&'static str, Vec<Vec3>); 2] {
         })
         .collect();
     let near = (0..count)
-        .map(|_| {
-            let t = (next() * tree.triangles.len() as f32) as usize % tree.triangles.len();
-            let tri = tree.triangles[t];
-            let (mut u, mut v) = (next(), next());
-            if u + v > 1.0 {
-                (u, v) = (1.0 - u, 1.0 - v);
-            }
-            let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
-            tri[0]
-                + (tri[1] - tri[0]) * u
-                + (tri[2] - tri[0]) * v
-                + normal * ((next() * 2.0 - 1.0) * 0.04 * size)
-        })
+        .map(|_| common::point_near_surface(tree, &mut next).0)
         .collect();
     [("box", in_box), ("near", near)]
 }

@@ -144,3 +144,25 @@ fn duration(ns: f64) -> String {
         format!("{:.3} ms", ns / 1e6)
     }
 }
+
+/// A point near the surface of `tree`'s mesh and the triangle it was made
+/// from: a seeded triangle, a point on it, moved along its normal by up to
+/// ±4 % of the mesh's size (`next`: [`uniform`]'s draws, four a point).
+pub fn point_near_surface(
+    tree: &trample::obb::ObbTree,
+    next: &mut impl FnMut() -> f32,
+) -> (Vec3, [Vec3; 3]) {
+    let size = tree.nodes[0].obb.half.max_element();
+    let t = (next() * tree.triangles.len() as f32) as usize % tree.triangles.len();
+    let tri = tree.triangles[t];
+    let (mut u, mut v) = (next(), next());
+    if u + v > 1.0 {
+        (u, v) = (1.0 - u, 1.0 - v);
+    }
+    let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
+    let p = tri[0]
+        + (tri[1] - tri[0]) * u
+        + (tri[2] - tri[0]) * v
+        + normal * ((next() * 2.0 - 1.0) * 0.04 * size);
+    (p, tri)
+}

@@ -276,13 +276,16 @@ pub fn box_may_be_inside(tree: &ObbTree, lo: Vec3, hi: Vec3) -> bool {
     bound.is_nan() || bound > WINDING_INSIDE_LO
 }
 
+/// What the winding tests share (here and in `winding_grid.rs`).
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::object::mesh::TriMesh;
-    use crate::test_rng::XorShift;
+pub(crate) mod test_support {
+    use super::{INV_4PI, solid_angle};
+    use crate::obb::ObbTree;
+    use glam::Vec3;
 
-    fn exact_sum(tree: &ObbTree, p: Vec3) -> f32 {
+    /// The winding number of `tree`'s mesh at `p` summed over every
+    /// triangle: the reference.
+    pub(crate) fn exact_sum(tree: &ObbTree, p: Vec3) -> f32 {
         tree.triangles
             .iter()
             .map(|t| solid_angle(t, p))
@@ -290,26 +293,35 @@ mod tests {
             * INV_4PI
     }
 
-    fn sphere() -> TriMesh {
-        crate::object::shapes::sphere(1.0, 3)
-    }
-
-    /// A unit sphere with its cap above `y = cut` left out: a bowl.
-    fn bowl(cut: f32) -> ObbTree {
-        let s = sphere();
+    /// A unit sphere with its cap above `y = cut` left out: a bowl, with
+    /// the winding data.
+    pub(crate) fn bowl(cut: f32) -> ObbTree {
+        let s = crate::object::shapes::sphere(1.0, 3);
         let indices = s
             .indices
             .iter()
             .copied()
             .filter(|t| t.iter().all(|&i| s.positions[i as usize].y <= cut + 1e-6))
             .collect();
-        let m = TriMesh {
+        let m = crate::object::TriMesh {
             positions: s.positions.clone(),
             indices,
         };
         let mut tree = ObbTree::build(&m, 12);
         tree.enable_winding();
         tree
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_support::{bowl, exact_sum};
+    use super::*;
+    use crate::object::mesh::TriMesh;
+    use crate::test_rng::XorShift;
+
+    fn sphere() -> TriMesh {
+        crate::object::shapes::sphere(1.0, 3)
     }
 
     #[test]

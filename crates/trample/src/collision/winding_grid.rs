@@ -168,34 +168,8 @@ pub fn winding_at(tree: &ObbTree, p: Vec3) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collision::winding::solid_angle;
+    use crate::collision::winding::test_support::{bowl, exact_sum};
     use crate::test_rng::XorShift;
-
-    fn exact_sum(tree: &ObbTree, p: Vec3) -> f32 {
-        tree.triangles
-            .iter()
-            .map(|t| solid_angle(t, p))
-            .sum::<f32>()
-            / (4.0 * std::f32::consts::PI)
-    }
-
-    /// A unit sphere with its cap above `y = cut` left out: a bowl.
-    fn bowl(cut: f32) -> ObbTree {
-        let s = crate::object::shapes::sphere(1.0, 3);
-        let indices = s
-            .indices
-            .iter()
-            .copied()
-            .filter(|t| t.iter().all(|&i| s.positions[i as usize].y <= cut + 1e-6))
-            .collect();
-        let m = crate::object::TriMesh {
-            positions: s.positions.clone(),
-            indices,
-        };
-        let mut tree = ObbTree::build(&m, 12);
-        tree.enable_winding();
-        tree
-    }
 
     fn in_box(tree: &ObbTree, rng: &mut XorShift) -> Vec3 {
         let o = tree.nodes[0].obb;
