@@ -64,12 +64,7 @@ pub fn run(a: &Args) -> Result<()> {
             "    [{i}] {}: {} triangles{}, OBB tree depth {} ({} nodes){}",
             o.name,
             o.mesh.triangle_count(),
-            match (o.closed, o.track.open_inside) {
-                (true, _) => ", closed",
-                (false, trample::object::OpenInside::Sheet) => ", open",
-                (false, trample::object::OpenInside::Winding) =>
-                    ", open (inside by its winding number)",
-            },
+            describe_inside(o.closed, o.track.open_inside, &tree),
             tree.max_depth,
             tree.nodes.len(),
             if dropped > 0 {
@@ -84,4 +79,29 @@ pub fn run(a: &Args) -> Result<()> {
     }
     println!("  run: {} frames", f.run.frames);
     Ok(())
+}
+
+/// How `tree`'s mesh is closed, and for an open one its rim (the edges its
+/// triangles do not close) and, with the winding rule, the size of its
+/// winding grid (`trample::collision::winding_grid`, built by the
+/// simulation, not here).
+fn describe_inside(closed: bool, rule: trample::object::OpenInside, tree: &ObbTree) -> String {
+    if closed {
+        return ", closed".into();
+    }
+    let rim = tree.features.rims().len();
+    match rule {
+        trample::object::OpenInside::Sheet => format!(", open ({rim} rim edges)"),
+        trample::object::OpenInside::Winding => {
+            let grid = tree
+                .nodes
+                .first()
+                .and_then(|n| trample::collision::winding_grid::grid_voxels(n.obb.half))
+                .map_or_else(
+                    || "no winding grid: a flat box".to_string(),
+                    |v| format!("a winding grid of {} × {} × {} voxels", v.x, v.y, v.z),
+                );
+            format!(", open (inside by its winding number; {rim} rim edges, {grid})")
+        }
+    }
 }

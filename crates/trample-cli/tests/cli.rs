@@ -292,6 +292,13 @@ fn check_describes_the_scene() {
             String::from_utf8_lossy(&o.stderr)
         );
     }
+    // An open mesh: its rim, and with the winding rule its grid.
+    let o = trample(&["check", repo.join("parked_car.toml").to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("open (inside by its winding number; 343 rim edges, a winding grid of 51 × 125 × 43 voxels)"),
+        "{text}"
+    );
 }
 
 #[test]

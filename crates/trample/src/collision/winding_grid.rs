@@ -77,15 +77,10 @@ impl WindingGrid {
     pub fn build(tree: &ObbTree) -> Option<Self> {
         let root = tree.nodes.first()?;
         let half = root.obb.half;
-        if !tree.winds() || !half.is_finite() || half.min_element() <= 0.0 {
+        if !tree.winds() {
             return None;
         }
-        let size = ((2.0 * half.max_element()) / WINDING_GRID_VOXELS as f32)
-            .max((8.0 * half.x * half.y * half.z / WINDING_GRID_MAX_VOXELS).cbrt());
-        let voxels = (2.0 * half / size)
-            .ceil()
-            .as_uvec3()
-            .clamp(UVec3::ONE, UVec3::splat(WINDING_GRID_VOXELS));
+        let voxels = grid_voxels(half)?;
         let diagonal = (2.0 * half / voxels.as_vec3()).length();
         let n = voxels + UVec3::ONE;
         let obb = root.obb;
@@ -139,6 +134,25 @@ impl WindingGrid {
         }
         Some((out[0], out[1]))
     }
+}
+
+/// The voxels along each axis of the grid over a root box of half extents
+/// `half` (about cubic, at most [`WINDING_GRID_VOXELS`] to a side and
+/// about [`WINDING_GRID_MAX_VOXELS`] in all); `None` for a flat or
+/// non-finite box (no grid).
+#[must_use]
+pub fn grid_voxels(half: Vec3) -> Option<UVec3> {
+    if !half.is_finite() || half.min_element() <= 0.0 {
+        return None;
+    }
+    let size = ((2.0 * half.max_element()) / WINDING_GRID_VOXELS as f32)
+        .max((8.0 * half.x * half.y * half.z / WINDING_GRID_MAX_VOXELS).cbrt());
+    Some(
+        (2.0 * half / size)
+            .ceil()
+            .as_uvec3()
+            .clamp(UVec3::ONE, UVec3::splat(WINDING_GRID_VOXELS)),
+    )
 }
 
 /// Corner `g` of a grid of `voxels` over `obb` (object frame).
