@@ -401,10 +401,7 @@ mod tests {
     /// a point well above the hole, or outside, stays.
     #[test]
     fn a_bowls_hollow_is_inside_by_the_winding_rule() {
-        let mut mesh = sphere(1.0, 3);
-        let positions = mesh.positions.clone();
-        mesh.indices
-            .retain(|t| t.iter().all(|&i| positions[i as usize].y <= 0.3));
+        let mesh = crate::collision::winding::test_support::bowl_mesh(0.3);
         let mut tree = ObbTree::build(&mesh, 10);
         assert!(penetration(&tree, Vec3::new(0.0, -0.5, 0.0), 0.1).is_none());
         tree.enable_winding();

@@ -1106,10 +1106,7 @@ mod tests {
     fn test_trees() -> Vec<ObbTree> {
         let meshes = test_meshes();
         let mut trees: Vec<ObbTree> = meshes.iter().map(|m| ObbTree::build(m, 10)).collect();
-        let mut bowl = meshes[0].clone();
-        let positions = bowl.positions.clone();
-        bowl.indices
-            .retain(|t| t.iter().all(|&i| positions[i as usize].y <= 0.3));
+        let bowl = crate::collision::winding::test_support::bowl_mesh(0.3);
         for mesh in [&meshes[3], &bowl] {
             let mut tree = ObbTree::build(mesh, 10);
             tree.enable_winding();

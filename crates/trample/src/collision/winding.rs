@@ -293,21 +293,19 @@ pub(crate) mod test_support {
             * INV_4PI
     }
 
-    /// A unit sphere with its cap above `y = cut` left out: a bowl, with
-    /// the winding data.
+    /// A unit sphere with its cap above `y = cut` left out: a bowl (the
+    /// open mesh of the winding, contact and narrow-phase tests).
+    pub(crate) fn bowl_mesh(cut: f32) -> crate::object::TriMesh {
+        let mut mesh = crate::object::shapes::sphere(1.0, 3);
+        let positions = mesh.positions.clone();
+        mesh.indices
+            .retain(|t| t.iter().all(|&i| positions[i as usize].y <= cut));
+        mesh
+    }
+
+    /// [`bowl_mesh`]'s tree, with the winding data.
     pub(crate) fn bowl(cut: f32) -> ObbTree {
-        let s = crate::object::shapes::sphere(1.0, 3);
-        let indices = s
-            .indices
-            .iter()
-            .copied()
-            .filter(|t| t.iter().all(|&i| s.positions[i as usize].y <= cut + 1e-6))
-            .collect();
-        let m = crate::object::TriMesh {
-            positions: s.positions.clone(),
-            indices,
-        };
-        let mut tree = ObbTree::build(&m, 12);
+        let mut tree = ObbTree::build(&bowl_mesh(cut), 12);
         tree.enable_winding();
         tree
     }
