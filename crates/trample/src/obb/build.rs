@@ -188,9 +188,20 @@ impl ObbTree {
         if self.closed || !self.dipoles.is_empty() {
             return;
         }
+        self.enable_winding_without_grid();
+        self.winding_grid = crate::collision::winding_grid::WindingGrid::build(self);
+    }
+
+    /// [`ObbTree::enable_winding`] without the grid: for a mesh that
+    /// deforms (a skinned body), whose first refit would drop the grid
+    /// (its queries sum the tree). Nothing for a closed mesh or a tree that
+    /// has the data.
+    pub fn enable_winding_without_grid(&mut self) {
+        if self.closed || !self.dipoles.is_empty() {
+            return;
+        }
         self.dipoles = crate::collision::winding::dipoles(self);
         self.rims = self.features.rims();
-        self.winding_grid = crate::collision::winding_grid::WindingGrid::build(self);
     }
 
     /// True when the tree uses the winding number for its inside

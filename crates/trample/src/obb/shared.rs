@@ -13,6 +13,19 @@ use rayon::prelude::*;
 use super::node::ObbTree;
 use crate::object::TriMesh;
 
+/// The winding number's data a mesh's tree gets in [`build_shared`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Winding {
+    /// None: an open mesh's inside is the sheet rule's.
+    #[default]
+    Off,
+    /// [`ObbTree::enable_winding`]: the dipoles, the rim and the grid.
+    WithGrid,
+    /// [`ObbTree::enable_winding_without_grid`]: for a mesh that deforms,
+    /// whose first refit would drop the grid.
+    WithoutGrid,
+}
+
 /// The trees of `meshes` (to `max_depth`), in order: one
 /// [`ObbTree::build`] per distinct mesh (equal positions, bit for bit, and
 /// equal indices), in parallel, shared by every mesh equal to it (one copy
@@ -21,17 +34,17 @@ use crate::object::TriMesh;
 /// built. A body whose mesh deforms gets its own copy when it first refits
 /// it ([`Arc::make_mut`]).
 ///
-/// `winding[i]` (missing: false) gives mesh `i`'s tree the winding number's
-/// data ([`ObbTree::enable_winding`], with its grid: a fraction of a second
-/// for the beetle car) — once per distinct mesh too, so that the herd's
-/// twenty winding cars share one grid.
+/// `winding[i]` (missing: [`Winding::Off`]) gives mesh `i`'s tree the
+/// winding number's data ([`ObbTree::enable_winding`], with its grid: a
+/// fraction of a second for the beetle car) — once per distinct mesh too,
+/// so that the herd's twenty winding cars share one grid.
 #[must_use]
 pub fn build_shared(
     meshes: &[&TriMesh],
-    winding: &[bool],
+    winding: &[Winding],
     max_depth: u32,
 ) -> (Vec<Arc<ObbTree>>, usize) {
-    let winds = |i: usize| winding.get(i).copied().unwrap_or(false);
+    let winds = |i: usize| winding.get(i).copied().unwrap_or_default();
     // Slot of each mesh's first equal, found by hash then compared.
     let mut by_hash: HashMap<u64, Vec<usize>> = HashMap::new();
     let mut first_equal = Vec::with_capacity(meshes.len());
@@ -51,8 +64,10 @@ pub fn build_shared(
         .par_iter()
         .map(|&i| {
             let mut tree = ObbTree::build(meshes[i], max_depth);
-            if winds(i) {
-                tree.enable_winding();
+            match winds(i) {
+                Winding::Off => {}
+                Winding::WithGrid => tree.enable_winding(),
+                Winding::WithoutGrid => tree.enable_winding_without_grid(),
             }
             Arc::new(tree)
         })
@@ -120,10 +135,17 @@ mod tests {
             indices: s.indices[1..].to_vec(),
         };
         let meshes = [&open, &open, &open, &open];
-        let (trees, built) = build_shared(&meshes, &[true, false, true], 12);
+        let on = Winding::WithGrid;
+        let (trees, built) = build_shared(&meshes, &[on, Winding::Off, on], 12);
         assert_eq!(built, 2);
         assert!(Arc::ptr_eq(&trees[0], &trees[2]) && Arc::ptr_eq(&trees[1], &trees[3]));
         assert!(trees[0].winds() && trees[0].winding_grid.is_some());
         assert!(!trees[1].winds() && trees[1].winding_grid.is_none());
+        // A deforming mesh's: the winding number's data but no grid, and
+        // not shared with the rigid ones.
+        let (trees, built) = build_shared(&meshes[..2], &[on, Winding::WithoutGrid], 12);
+        assert_eq!(built, 2);
+        assert!(trees[1].winds() && trees[1].winding_grid.is_none());
+        assert!(trees[0].winding_grid.is_some());
     }
 }

@@ -120,9 +120,20 @@ impl Body {
         if object.track.open_inside == crate::object::OpenInside::Winding {
             // An open mesh's hollow counts as inside: its trees get the
             // winding number's data (a shared tree is copied first).
-            for t in std::iter::once(&mut tree).chain(&mut part_trees) {
+            // A skinned mesh's tree without the grid its first refit would
+            // drop.
+            let skinned = object.animated.is_some();
+            for (k, t) in std::iter::once(&mut tree)
+                .chain(&mut part_trees)
+                .enumerate()
+            {
                 if !t.closed && !t.winds() {
-                    std::sync::Arc::make_mut(t).enable_winding();
+                    let t = std::sync::Arc::make_mut(t);
+                    if k == 0 && skinned {
+                        t.enable_winding_without_grid();
+                    } else {
+                        t.enable_winding();
+                    }
                 }
             }
         }
