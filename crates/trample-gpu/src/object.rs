@@ -629,6 +629,41 @@ mod tests {
     use super::*;
     use trample::object::shapes::{knot, sphere};
 
+    /// `object.wgsl`'s winding constants are the CPU's, bit for bit (a
+    /// drift would show in the parity tests only as a small error).
+    #[test]
+    fn the_shaders_winding_constants_are_the_cpus() {
+        use trample::collision::winding::{
+            ATAN_POLY, FAR_HI, FAR_LO, WINDING_INSIDE_HI, WINDING_INSIDE_LO,
+        };
+        let wgsl = crate::OBJECT_WGSL;
+        let value = |name: &str| -> f32 {
+            let at = wgsl
+                .find(&format!("const {name}: f32 = "))
+                .unwrap_or_else(|| panic!("object.wgsl has no {name}"));
+            let rest = &wgsl[at..];
+            let text = rest[rest.find('=').unwrap() + 1..rest.find(';').unwrap()].trim();
+            text.parse()
+                .unwrap_or_else(|e| panic!("{name} = {text}: {e}"))
+        };
+        let names = [
+            "ATAN_C1", "ATAN_C3", "ATAN_C5", "ATAN_C7", "ATAN_C9", "ATAN_C11",
+        ];
+        for (name, want) in names.iter().zip(ATAN_POLY) {
+            assert_eq!(value(name).to_bits(), want.to_bits(), "{name}");
+        }
+        for (name, want) in [
+            ("FAR_LO", FAR_LO),
+            ("FAR_HI", FAR_HI),
+            ("WINDING_INSIDE_LO", WINDING_INSIDE_LO),
+            ("WINDING_INSIDE_HI", WINDING_INSIDE_HI),
+            ("HALF_PI", std::f32::consts::FRAC_PI_2),
+            ("PI", std::f32::consts::PI),
+        ] {
+            assert_eq!(value(name).to_bits(), want.to_bits(), "{name}");
+        }
+    }
+
     /// Objects with identical trees are stored once (their parameters point
     /// at the same words); a rewritten one, or a different tree, gets its
     /// own. Fails when every object gets a copy.

@@ -485,7 +485,41 @@ fn solid_angle(t: u32, p: vec3<f32>) -> f32 {
     let lc = sqrt(dot3(c, c));
     let num = dot3(a, cross_scalar(b, c));
     let den = la * lb * lc + dot3(a, b) * lc + dot3(a, c) * lb + dot3(b, c) * la;
-    return 2.0 * atan2(num, den);
+    return 2.0 * atan2_poly(num, den);
+}
+
+// `winding::ATAN_POLY` and `winding::atan2`: the polynomial atan2 both
+// paths share (a GPU's own atan2 may stray by thousands of ulps).
+const ATAN_C1: f32 = 0.9999794;
+const ATAN_C3: f32 = -0.33262417;
+const ATAN_C5: f32 = 0.19354387;
+const ATAN_C7: f32 = -0.11643311;
+const ATAN_C9: f32 = 0.05265343;
+const ATAN_C11: f32 = -0.011721225;
+const HALF_PI: f32 = 1.5707964;
+const PI: f32 = 3.1415927;
+
+fn atan2_poly(y: f32, x: f32) -> f32 {
+    let ax = abs(x);
+    let ay = abs(y);
+    let lo = min(ax, ay);
+    let hi = max(ax, ay);
+    var a = 0.0;
+    if hi > 0.0 {
+        a = lo / hi;
+    }
+    let s = a * a;
+    var r = a * (ATAN_C1 + s * (ATAN_C3 + s * (ATAN_C5 + s * (ATAN_C7 + s * (ATAN_C9 + s * ATAN_C11)))));
+    if ay > ax {
+        r = HALF_PI - r;
+    }
+    if x < 0.0 {
+        r = PI - r;
+    }
+    if y < 0.0 {
+        r = -r;
+    }
+    return r;
 }
 
 // `winding::winding_number` of the loaded object's winding mesh at p
