@@ -375,11 +375,7 @@ mod tests {
             )
         };
         let object = |b: BodyBuilder| b.build_in(0, &meshes).unwrap().object;
-        let walker = object(
-            mesh("walker.glb")
-                .animation("walk", 1.0)
-                .track(winding.clone()),
-        );
+        let walker = object(mesh("walker.glb").animation("walk", 1.0).track(winding));
         assert_eq!(
             winding_of(&walker).collect::<Vec<_>>(),
             [Winding::WithoutGrid]
