@@ -262,7 +262,7 @@ impl SimulationBuilder {
             .iter()
             .flat_map(|o| std::iter::once(&o.mesh).chain(o.parts.parts.iter().map(|p| &p.mesh)))
             .collect();
-        let winding: Vec<Winding> = objects.iter().flat_map(winding_of).collect();
+        let winding: Vec<Winding> = objects.iter().flat_map(Winding::of).collect();
         let (trees, _) = build_shared(&meshes, &winding, DEFAULT_MAX_DEPTH);
         let mut trees = trees.into_iter();
         let bodies: Vec<Body> = objects
@@ -332,57 +332,5 @@ impl SimulationBuilder {
             target,
             params: c.clone(),
         })
-    }
-}
-
-/// The winding number's data of `object`'s trees, its own mesh's then its
-/// parts' ([`build_shared`]): none unless its track asks for the winding
-/// rule; a skinned mesh's without the grid (its first refit would drop it:
-/// the grid is a fraction of a second of load), the parts' (rigid) with it.
-fn winding_of(object: &Object) -> impl Iterator<Item = Winding> + use<> {
-    let on = object.track.open_inside == crate::object::OpenInside::Winding;
-    let own = match (on, object.animated.is_some()) {
-        (false, _) => Winding::Off,
-        (true, false) => Winding::WithGrid,
-        (true, true) => Winding::WithoutGrid,
-    };
-    let parts = if on { Winding::WithGrid } else { Winding::Off };
-    std::iter::once(own).chain(std::iter::repeat_n(parts, object.parts.parts.len()))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::object::{Anchor, OpenInside, ShapeParams, TrackParams};
-
-    /// A skinned body on the winding rule gets its tree without the grid
-    /// (its first refit would drop it); a rigid one with it; the sheet rule
-    /// none.
-    #[test]
-    fn a_skinned_winding_mesh_gets_no_grid() {
-        let meshes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes");
-        let winding = TrackParams {
-            open_inside: OpenInside::Winding,
-            ..TrackParams::default()
-        };
-        let mesh = |name: &str| {
-            BodyBuilder::new(
-                "a",
-                ShapeParams::Mesh {
-                    path: name.into(),
-                    anchor: Anchor::File,
-                },
-            )
-        };
-        let object = |b: BodyBuilder| b.build_in(0, &meshes).unwrap().object;
-        let walker = object(mesh("walker.glb").animation("walk", 1.0).track(winding));
-        assert_eq!(
-            winding_of(&walker).collect::<Vec<_>>(),
-            [Winding::WithoutGrid]
-        );
-        let car = object(mesh("beetle.obj").track(winding));
-        assert_eq!(winding_of(&car).collect::<Vec<_>>(), [Winding::WithGrid]);
-        let sheet = object(mesh("beetle.obj"));
-        assert_eq!(winding_of(&sheet).collect::<Vec<_>>(), [Winding::Off]);
     }
 }

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::node::ObbTree;
-use crate::object::TriMesh;
+use crate::object::{Object, OpenInside, TriMesh};
 
 /// The winding number's data a mesh's tree gets in [`build_shared`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -24,6 +24,33 @@ pub enum Winding {
     /// [`ObbTree::enable_winding_without_grid`]: for a mesh that deforms,
     /// whose first refit would drop the grid.
     WithoutGrid,
+}
+
+impl Winding {
+    /// Gives `tree` this data (nothing for [`Winding::Off`], a closed mesh
+    /// or a tree that has it).
+    pub fn enable(self, tree: &mut ObbTree) {
+        match self {
+            Self::Off => {}
+            Self::WithGrid => tree.enable_winding(),
+            Self::WithoutGrid => tree.enable_winding_without_grid(),
+        }
+    }
+
+    /// What `object`'s trees need, its own mesh's then its parts': none
+    /// unless its track asks for the winding rule; a skinned mesh's without
+    /// the grid (its first refit would drop it: the grid is a fraction of a
+    /// second of load), the parts' (rigid) with it.
+    pub fn of(object: &Object) -> impl Iterator<Item = Self> + use<> {
+        let on = object.track.open_inside == OpenInside::Winding;
+        let own = match (on, object.animated.is_some()) {
+            (false, _) => Self::Off,
+            (true, false) => Self::WithGrid,
+            (true, true) => Self::WithoutGrid,
+        };
+        let parts = if on { Self::WithGrid } else { Self::Off };
+        std::iter::once(own).chain(std::iter::repeat_n(parts, object.parts.parts.len()))
+    }
 }
 
 /// The trees of `meshes` (to `max_depth`), in order: one
@@ -64,11 +91,7 @@ pub fn build_shared(
         .par_iter()
         .map(|&i| {
             let mut tree = ObbTree::build(meshes[i], max_depth);
-            match winds(i) {
-                Winding::Off => {}
-                Winding::WithGrid => tree.enable_winding(),
-                Winding::WithoutGrid => tree.enable_winding_without_grid(),
-            }
+            winds(i).enable(&mut tree);
             Arc::new(tree)
         })
         .collect();
@@ -147,5 +170,37 @@ mod tests {
         assert_eq!(built, 2);
         assert!(trees[1].winds() && trees[1].winding_grid.is_none());
         assert!(trees[0].winding_grid.is_some());
+    }
+
+    /// A skinned body on the winding rule gets its tree without the grid
+    /// (its first refit would drop it); a rigid one with it; the sheet rule
+    /// none.
+    #[test]
+    fn a_skinned_winding_mesh_gets_no_grid() {
+        use crate::object::{Anchor, ShapeParams, TrackParams};
+        let meshes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes");
+        let winding = TrackParams {
+            open_inside: OpenInside::Winding,
+            ..TrackParams::default()
+        };
+        let mesh = |name: &str| {
+            crate::builder::BodyBuilder::new(
+                "a",
+                ShapeParams::Mesh {
+                    path: name.into(),
+                    anchor: Anchor::File,
+                },
+            )
+        };
+        let object = |b: crate::builder::BodyBuilder| b.build_in(0, &meshes).unwrap().object;
+        let walker = object(mesh("walker.glb").animation("walk", 1.0).track(winding));
+        assert_eq!(
+            Winding::of(&walker).collect::<Vec<_>>(),
+            [Winding::WithoutGrid]
+        );
+        let car = object(mesh("beetle.obj").track(winding));
+        assert_eq!(Winding::of(&car).collect::<Vec<_>>(), [Winding::WithGrid]);
+        let sheet = object(mesh("beetle.obj"));
+        assert_eq!(Winding::of(&sheet).collect::<Vec<_>>(), [Winding::Off]);
     }
 }

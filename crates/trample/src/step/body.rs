@@ -7,6 +7,7 @@
 use super::drive::Drive;
 use super::rig::{PartCollider, RigState};
 use crate::collision::broad_phase::world_obb;
+use crate::obb::shared::Winding;
 use crate::obb::{Obb, ObbTree};
 use crate::object::{Object, Pose, TriMesh};
 
@@ -117,24 +118,14 @@ impl Body {
             object.parts.parts.len(),
             "one tree per part"
         );
-        if object.track.open_inside == crate::object::OpenInside::Winding {
-            // An open mesh's hollow counts as inside: its trees get the
-            // winding number's data (a shared tree is copied first).
-            // A skinned mesh's tree without the grid its first refit would
-            // drop.
-            let skinned = object.animated.is_some();
-            for (k, t) in std::iter::once(&mut tree)
-                .chain(&mut part_trees)
-                .enumerate()
-            {
-                if !t.closed && !t.winds() {
-                    let t = std::sync::Arc::make_mut(t);
-                    if k == 0 && skinned {
-                        t.enable_winding_without_grid();
-                    } else {
-                        t.enable_winding();
-                    }
-                }
+        // An open mesh's hollow counts as inside by the winding rule: its
+        // trees get the winding number's data (a shared tree is copied
+        // first; a skinned mesh's without the grid its first refit would
+        // drop).
+        let trees = std::iter::once(&mut tree).chain(&mut part_trees);
+        for (t, winding) in trees.zip(Winding::of(&object)) {
+            if winding != Winding::Off && !t.closed && !t.winds() {
+                winding.enable(std::sync::Arc::make_mut(t));
             }
         }
         let pose = object.pose_at(0.0);
