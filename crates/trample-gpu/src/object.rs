@@ -662,6 +662,12 @@ mod tests {
         ] {
             assert_eq!(value(name).to_bits(), want.to_bits(), "{name}");
         }
+        let at = wgsl.find("const EXACT_TRIANGLES: u32 = ").unwrap() + 29;
+        let text = &wgsl[at..at + wgsl[at..].find("u;").unwrap()];
+        assert_eq!(
+            text.parse::<u32>().unwrap(),
+            trample::collision::winding::EXACT_TRIANGLES
+        );
     }
 
     /// Objects with identical trees are stored once (their parameters point

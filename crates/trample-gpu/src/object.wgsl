@@ -474,6 +474,9 @@ const FAR_HI: f32 = 3.0;
 const WINDING_INSIDE_LO: f32 = 0.3;
 const WINDING_INSIDE_HI: f32 = 0.5;
 const INV_4PI: f32 = 0.07957747;
+// `winding::EXACT_TRIANGLES`: an opened node of this many triangles or
+// fewer is summed exactly.
+const EXACT_TRIANGLES: u32 = 4u;
 
 // `winding::solid_angle`: the signed solid angle triangle t subtends at p.
 fn solid_angle(t: u32, p: vec3<f32>) -> f32 {
@@ -562,7 +565,7 @@ fn winding_number(p: vec3<f32>) -> f32 {
         }
         let l = n.children.x;
         let rr = n.children.y;
-        if l == NO_CHILD || l <= i || rr <= i || len + 2u > STACK_SIZE {
+        if l == NO_CHILD || n.children.w <= EXACT_TRIANGLES || l <= i || rr <= i || len + 2u > STACK_SIZE {
             var exact = 0.0;
             for (var t = n.children.z; t < n.children.z + n.children.w; t++) {
                 exact += solid_angle(t, p);

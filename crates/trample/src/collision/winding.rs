@@ -59,6 +59,14 @@ pub const FAR_LO: f32 = 2.0;
 /// counts as its dipole alone.
 pub const FAR_HI: f32 = 3.0;
 
+/// A node of at most this many triangles that is opened counts as its
+/// triangles' exact solid angles, not as its subtree: the same or a truer
+/// sum (exact where the subtree had dipoles), and cheaper than walking
+/// the subtree's nodes (the beetle, points within 10 cm of its surface:
+/// 7.0 → 5.8 µs a query with 1 → 4; 8 and 16 cost more again:
+/// BENCHMARKS.md, "Session 39").
+pub const EXACT_TRIANGLES: u32 = 4;
+
 /// `1 / 4π`.
 const INV_4PI: f32 = 0.079_577_47;
 
@@ -191,7 +199,12 @@ pub fn winding_number(tree: &ObbTree, p: Vec3) -> f32 {
             continue;
         }
         let [l, rr] = node.children;
-        if node.is_leaf() || l <= i || rr <= i || len + 2 > STACK_SIZE {
+        if node.is_leaf()
+            || node.tri_count <= EXACT_TRIANGLES
+            || l <= i
+            || rr <= i
+            || len + 2 > STACK_SIZE
+        {
             let first = node.first_tri as usize;
             let tris = tree
                 .triangles
