@@ -132,10 +132,10 @@ pub const ATAN_POLY: [f32; 6] = [
     -0.011_721_225,
 ];
 
-/// `atan2(y, x)` within 4e-6 rad (the fit and the rounding), the same formula as its WGSL twin
-/// (`object.wgsl`'s `atan2_poly`) instead of the platform's: WGSL lets a
-/// GPU's `atan2` stray by thousands of ulps, and the winding number sums
-/// tens of them. The octant's ratio `min / max` of `|x|`, `|y|` goes
+/// `atan2(y, x)` within 4e-6 rad (the fit and the rounding), the same
+/// formula as its WGSL twin (`object.wgsl`'s `atan2_poly`) instead of the
+/// platform's: WGSL lets a GPU's `atan2` stray by thousands of ulps, and
+/// the winding number sums tens of them. The octant's ratio `min / max` of `|x|`, `|y|` goes
 /// through [`ATAN_POLY`], then is reflected: `π/2 − r` where `|y| > |x|`,
 /// `π − r` where `x < 0`, negated where `y < 0`. Continuous wherever
 /// `atan2` is (the reflections meet within an ulp); the cut is where `y`
