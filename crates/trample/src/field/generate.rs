@@ -83,6 +83,10 @@ impl Field {
                     .unwrap_or_else(|| unit(params.seed, b as u64, 6))
             })
             .collect();
+        // The shapes (24 bytes a blade: 0.4 GB on the 16.8 M-blade herd)
+        // are not needed past here: freed before `Blades::new` copies the
+        // rest vertices, so that the build's peak is lower by their size.
+        drop(shapes);
         let blades = Blades::new(n, pos, seg_len, width, tint);
 
         let mut layout = layout;
@@ -289,7 +293,10 @@ fn patch_boxes(layout: &FieldLayout, blades: &Blades) -> Vec<Patch> {
 fn rest_cells(layout: &FieldLayout, blades: &Blades, terrain: &Terrain) -> Cells {
     let bpc = layout.blades_per_cell as usize;
     let n = blades.segments;
-    let (base, rest): (Vec<Vec3>, Vec<(f32, Vec3)>) = (0..layout.cell_count())
+    // Collected straight into the three arrays (no intermediate pairs: a
+    // quarter of a GB on the 16.8 M-cell herd, alive beside the rest).
+    let (base, (height, slope_origin)): (Vec<Vec3>, (Vec<f32>, Vec<Vec3>)) = (0..layout
+        .cell_count())
         .into_par_iter()
         .map(|c| {
             let [gx, gz] = layout.cell_coord(c);
@@ -308,8 +315,7 @@ fn rest_cells(layout: &FieldLayout, blades: &Blades, terrain: &Terrain) -> Cells
             };
             (Vec3::new(x, terrain.height_at(x, z), z), rest)
         })
-        .unzip();
-    let (height, slope_origin): (Vec<f32>, Vec<Vec3>) = rest.into_iter().unzip();
+        .collect();
     let patch_bounds: Vec<(Vec3, Vec3)> = base
         .chunks(layout.cells_in_patch())
         .map(|c| {
