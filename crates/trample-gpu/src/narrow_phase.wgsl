@@ -275,6 +275,23 @@ fn pen_of(k: u32, q: vec3<f32>) -> f32 {
     return pen_known[v];
 }
 
+// Each vertex's way out (`way_out(q, 0.0)`), asked at most once a blade and
+// object (`ways` in `contact_blade_by`: a segment wholly in a hollow asks
+// both its ends, and a vertex ends one segment and starts the next — the
+// same answers, half the walks). Reset with `pen_asked`; the vertex is
+// `pen_segment + k`, as in `pen_of`.
+var<private> way_known: array<vec4<f32>, 16>;
+var<private> way_asked: u32;
+
+fn way_of(k: u32, q: vec3<f32>) -> vec4<f32> {
+    let v = pen_segment + k;
+    if (way_asked & (1u << v)) == 0u {
+        way_asked |= 1u << v;
+        way_known[v] = way_out(q, 0.0);
+    }
+    return way_known[v];
+}
+
 // `narrow_phase::below_patch`.
 fn below_patch(c: vec3<f32>, n: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, shell: f32, floor_reach: f32) -> f32 {
     let b0 = dot3(c - p0, n);
@@ -354,9 +371,9 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     // winding open mesh's hollow: both ends asked).
     let open = winds();
     if acc.max_w == 0.0 && deepest > 0u && (open || point_inside((p0 + p1) * 0.5)) {
-        // `contact::way_out` of the deeper end.
-        let a = way_out(p0, 0.0);
-        let b = way_out(p1, 0.0);
+        // `contact::way_out` of the deeper end (each vertex's asked once).
+        let a = way_of(0u, p0);
+        let b = way_of(1u, p1);
         var q = p0;
         var out = a;
         if b.w >= 0.0 && b.w >= a.w {
@@ -567,6 +584,7 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
         }
         var prev = blade_local[0];
         pen_asked = 0u;
+        way_asked = 0u;
         for (var k = 0u; k < segments; k++) {
             let next = blade_local[k + 1u];
             pen_segment = k;
