@@ -311,7 +311,8 @@ fn below_patch(c: vec3<f32>, n: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, shell: 
     if depth < 0.0 {
         return 0.0;
     }
-    return min(below, depth) + shell;
+    // The shell comes in with the depth: 0 on the surface, as outside.
+    return min(below, depth) + min(depth, shell);
 }
 
 // `narrow_phase::contact_segment`: the weighted contact (weight 0: none).
