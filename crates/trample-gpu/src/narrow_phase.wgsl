@@ -372,23 +372,23 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     // winding open mesh's hollow: both ends asked).
     let open = winds();
     if acc.max_w == 0.0 && deepest > 0u && (open || point_inside((p0 + p1) * 0.5)) {
-        // `contact::way_out` of the deeper end (each vertex's asked once).
-        let a = way_of(0u, p0);
-        let b = way_of(1u, p1);
-        var q = p0;
-        var out = a;
-        if b.w >= 0.0 && b.w >= a.w {
-            q = p1;
-            out = b;
-        }
-        if out.w >= 0.0 {
-            var reach = out.w + shell;
-            if open {
-                reach = out.w;
+        // `contact::way_out` of each end inside (each vertex's asked once),
+        // added as a node weighed by its depth, p0 first.
+        for (var k = 0u; k < 2u; k++) {
+            var q = p0;
+            if k == 1u {
+                q = p1;
             }
-            let w = min(reach / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0);
-            if w > 0.0 {
-                weighted_add(&acc, w, out.xyz, q, vec3<f32>(0.0));
+            let out = way_of(k, q);
+            if out.w >= 0.0 {
+                var reach = out.w + shell;
+                if open {
+                    reach = out.w;
+                }
+                let w = min(reach / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0);
+                if w > 0.0 {
+                    weighted_add(&acc, w, out.xyz, q, vec3<f32>(0.0));
+                }
             }
         }
     }
