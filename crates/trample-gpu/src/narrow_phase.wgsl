@@ -241,6 +241,8 @@ struct Weighted {
     sum: f32,
     max_w: f32,
     max_dir: vec3<f32>,
+    // The largest box depth of the final nodes met.
+    box_depth: f32,
 }
 
 fn weighted_add(acc: ptr<function, Weighted>, w: f32, dir: vec3<f32>, at: vec3<f32>, velocity: vec3<f32>) {
@@ -326,7 +328,7 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     if !hits_local(framed(centre, half, 0u, true, shell)) {
         return none;
     }
-    var acc = Weighted(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0));
+    var acc = Weighted(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0), 0.0);
     var deepest = 0u;
     walk_stack[0] = vec2<u32>(0u, 1u);
     var len = 1u;
@@ -368,10 +370,13 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
         }
         final_node(i, centre, half, p0, p1, shell, &acc);
     }
-    // No final-depth box met: wholly outside, or wholly inside the mesh (a
-    // winding open mesh's hollow: both ends asked).
+    // `narrow_phase::contact_finish`: the ends inside a closed mesh or a
+    // winding open mesh's hollow push out their own ways, counting `rest`
+    // as much as the nodes met take over. While the box depth is under the
+    // shell the segment crosses no triangle: its midpoint tells inside.
     let open = winds();
-    if acc.max_w == 0.0 && deepest > 0u && (open || point_inside((p0 + p1) * 0.5)) {
+    let rest = (1.0 - acc.max_w) * (1.0 - min(acc.box_depth / shell, 1.0));
+    if rest > 0.0 && deepest > 0u && (open || point_inside((p0 + p1) * 0.5)) {
         // `contact::way_out` of each end inside (each vertex's asked once),
         // added as a node weighed by its depth, p0 first.
         for (var k = 0u; k < 2u; k++) {
@@ -381,11 +386,11 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
             }
             let out = way_of(k, q);
             if out.w >= 0.0 {
-                var reach = out.w + shell;
+                var reach = out.w + min(out.w, shell);
                 if open {
                     reach = out.w;
                 }
-                let w = min(reach / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0);
+                let w = min(reach / (shell + ramp_at(q, vec3<f32>(0.0))), 1.0) * rest;
                 if w > 0.0 {
                     weighted_add(&acc, w, out.xyz, q, vec3<f32>(0.0));
                 }
@@ -414,12 +419,17 @@ fn final_node(i: u32, centre: vec3<f32>, half: vec3<f32>, p0: vec3<f32>, p1: vec
     if d > 0.0 {
         let at = closest_point(p0, p1, n.center.xyz);
         let full = shell + ramp_at(at, n.velocity.xyz);
+        // The below-patch depth, at most `full`, comes in with the box
+        // depth over the shell (`fade`); floor = d / fade.
+        let fade = min(d / shell, 1.0);
         var reach = d;
-        if n.dir.w == 1.0 && d < full {
-            reach = max(d, below_patch(n.center.xyz, n.dir.xyz, p0, p1, shell, d));
+        if n.dir.w == 1.0 && d < full && full * fade > d {
+            let below = below_patch(n.center.xyz, n.dir.xyz, p0, p1, shell, max(d, shell));
+            reach = max(d, min(below, full) * fade);
         }
         let w = min(reach / full, 1.0);
         weighted_add(acc, w, eqn_direction(i, p0, p1), at, n.velocity.xyz);
+        (*acc).box_depth = max((*acc).box_depth, d);
     }
 }
 
