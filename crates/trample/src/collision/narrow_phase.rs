@@ -1163,9 +1163,9 @@ mod tests {
     }
 
     /// A 10 cm segment lying level inside a tessellated ball, moved out
-    /// from 15 cm deep towards the surface in steps of 1e-6 m across the depth where it
-    /// first meets a final node's grown box, at 150 places: its contact
-    /// turns and moves smoothly. When the node gave its end's depth below
+    /// from 15 cm deep towards the surface in steps of 1e-6 m across the
+    /// depth where it first meets a final node's grown box, at 300 places,
+    /// the ball at rest and moving: its contact turns and moves smoothly. When the node gave its end's depth below
     /// the patch at once (weight 1) and the ends' ways stopped there, the
     /// contact turned by up to 0.35 rad and moved 5 cm in one step (this
     /// test failed then); now the node comes in with its box depth and the
@@ -1176,7 +1176,19 @@ mod tests {
         let shell = 0.005;
         let mut rng = XorShift(0x0DDB_A11E_5EED_0001);
         let (mut turn, mut moved, mut met) = (0.0f32, 0.0f32, 0);
-        for _ in 0..150 {
+        // At rest, and moving (weights reach 1 past the shell: the ramp).
+        let moving = LocalMotion {
+            velocity: Vec3::new(2.0, 0.0, 0.5),
+            angular_velocity: Vec3::new(0.0, 1.0, 0.0),
+            h: 1.0 / 120.0,
+            thickness: 2.0,
+        };
+        for p in 0..300 {
+            let motion = if p % 2 == 0 {
+                &LocalMotion::STILL
+            } else {
+                &moving
+            };
             let u = rng.vec(-1.0, 1.0).normalize();
             let t = u.any_orthonormal_vector();
             let seg = |r: f32| (u * r + t * 0.05, u * r - t * 0.05);
@@ -1199,7 +1211,7 @@ mod tests {
             let mut last: Option<SegmentContact> = None;
             for j in 0..=110 {
                 let (p0, p1) = seg(from + j as f32 * 1e-6);
-                let now = contact_segment(p0, p1, &tree, 7, shell, &LocalMotion::STILL);
+                let now = contact_segment(p0, p1, &tree, 7, shell, motion);
                 assert!(now.is_some(), "a segment inside has a contact");
                 if let (Some(a), Some(b)) = (last, now) {
                     turn = turn.max(a.dir.angle_between(b.dir));
@@ -1209,7 +1221,7 @@ mod tests {
             }
         }
         assert!(
-            met > 100,
+            met > 200,
             "only {met} places met a final box on the way out"
         );
         assert!(
