@@ -1141,18 +1141,12 @@ mod tests {
         for _ in 0..150 {
             let u = rng.vec(-1.0, 1.0).normalize();
             let (t, c) = (u.any_orthonormal_vector(), u * 0.9);
-            let mut last: Option<SegmentContact> = None;
-            for k in 0..=400 {
+            let (tu, mv) = worst_step_inside((0..=400).map(|k| {
                 let d = -2e-4 + k as f32 * 1e-6;
                 let (p0, p1) = (c + t * 0.05 + u * d, c - t * 0.05 - u * d);
-                let now = contact_segment(p0, p1, &tree, 7, 0.005, &LocalMotion::STILL);
-                assert!(now.is_some(), "a segment inside has a contact");
-                if let (Some(a), Some(b)) = (last, now) {
-                    turn = turn.max(a.dir.angle_between(b.dir));
-                    moved = moved.max(a.point.distance(b.point));
-                }
-                last = now;
-            }
+                contact_segment(p0, p1, &tree, 7, 0.005, &LocalMotion::STILL)
+            }));
+            (turn, moved) = (turn.max(tu), moved.max(mv));
         }
         // 1e-3 rad: above `angle_between`'s own resolution near 0 (acos of
         // a dot product 1 ulp from 1: 4.9e-4 rad).
@@ -1208,17 +1202,11 @@ mod tests {
             }
             met += 1;
             let from = 0.85 + (k - 1) as f32 * 1e-4;
-            let mut last: Option<SegmentContact> = None;
-            for j in 0..=110 {
+            let (tu, mv) = worst_step_inside((0..=110).map(|j| {
                 let (p0, p1) = seg(from + j as f32 * 1e-6);
-                let now = contact_segment(p0, p1, &tree, 7, shell, motion);
-                assert!(now.is_some(), "a segment inside has a contact");
-                if let (Some(a), Some(b)) = (last, now) {
-                    turn = turn.max(a.dir.angle_between(b.dir));
-                    moved = moved.max(a.point.distance(b.point));
-                }
-                last = now;
-            }
+                contact_segment(p0, p1, &tree, 7, shell, motion)
+            }));
+            (turn, moved) = (turn.max(tu), moved.max(mv));
         }
         assert!(
             met > 200,
@@ -1228,6 +1216,23 @@ mod tests {
             turn < 1e-3 && moved < 1e-5,
             "worst step: turned {turn} rad, moved {moved} m"
         );
+    }
+
+    /// The largest turn of the direction (rad) and move of the point (m)
+    /// between consecutive contacts of a sweep of segments that all lie
+    /// inside (each must have a contact).
+    fn worst_step_inside(sweep: impl Iterator<Item = Option<SegmentContact>>) -> (f32, f32) {
+        let (mut turn, mut moved) = (0.0f32, 0.0f32);
+        let mut last: Option<SegmentContact> = None;
+        for now in sweep {
+            let now = now.expect("a segment inside has a contact");
+            if let Some(a) = last {
+                turn = turn.max(a.dir.angle_between(now.dir));
+                moved = moved.max(a.point.distance(now.point));
+            }
+            last = Some(now);
+        }
+        (turn, moved)
     }
 
     /// `below_patch`'s reach goes to 0 where the segment's end reaches the
