@@ -1339,6 +1339,72 @@ mod tests {
         trees
     }
 
+    /// Random segments (2–10 cm, within 6 cm of a random point of the
+    /// surface, inside and outside) swept in 200 steps of 1e-6 m in a
+    /// random direction, 3,000 on each contact tree (closed, open by the
+    /// sheet rule and by the winding rule; at rest and moving): from one
+    /// step to the next the contact's point moves by at most 1e-4 m, its
+    /// direction turns by at most 2e-3 rad times its weight, its weight
+    /// changes by at most 1e-3, and a contact appears or goes with a weight
+    /// under 1e-3. Measured now: at most 2.8e-5 m, 6e-4, 3.7e-4 and 1.4e-4.
+    /// Before the node's below-patch reach came in with its box depth and
+    /// the ends' ways went out with the nodes' weight (session 41) this
+    /// failed on the ball, the box and the winding sheet: a point moved
+    /// by 6.1 cm, a push turned by 0.24 rad, a weight jumped by 0.079.
+    #[test]
+    fn contacts_change_smoothly_along_random_sweeps() {
+        let mut rng = Rng(XorShift(0x51ED_2701_99AB_0003));
+        let moving = LocalMotion {
+            velocity: Vec3::new(2.0, 0.0, 0.5),
+            angular_velocity: Vec3::new(0.0, 1.0, 0.0),
+            h: 1.0 / 120.0,
+            thickness: 1.0,
+        };
+        for (t, tree) in test_trees().iter().enumerate() {
+            // (moved, turned × weight, weight change, weight appearing).
+            let mut worst = [0.0f32; 4];
+            for case in 0..3000 {
+                let motion = if case % 2 == 0 {
+                    &LocalMotion::STILL
+                } else {
+                    &moving
+                };
+                let pick = rng.0.next_u64() % tree.triangles.len() as u64;
+                let tri = tree.triangles[pick as usize];
+                let a = rng.0.range(0.0, 1.0);
+                let b = rng.0.range(0.0, 1.0 - a);
+                let on = tri[0] + (tri[1] - tri[0]) * a + (tri[2] - tri[0]) * b;
+                let start = on + rng.vec(0.06);
+                let along = rng.vec(1.0).normalize() * rng.0.range(0.02, 0.1);
+                let sweep = rng.vec(1.0).normalize();
+                let mut last = None;
+                for k in 0..200 {
+                    let p0 = start + sweep * (k as f32 * 1e-6);
+                    let now = contact_segment(p0, p0 + along, tree, 7, 0.005, motion);
+                    let step = match (last, now) {
+                        (Some(Some(x)), Some(y)) => [
+                            x.point.distance(y.point),
+                            x.dir.angle_between(y.dir) * x.weight.min(y.weight),
+                            (x.weight - y.weight).abs(),
+                            0.0,
+                        ],
+                        (Some(Some(x)), None) | (Some(None), Some(x)) => [0.0, 0.0, 0.0, x.weight],
+                        _ => [0.0; 4],
+                    };
+                    for (w, s) in worst.iter_mut().zip(step) {
+                        *w = w.max(s);
+                    }
+                    last = Some(now);
+                }
+            }
+            assert!(
+                worst[0] < 1e-4 && worst[1] < 2e-3 && worst[2] < 1e-3 && worst[3] < 1e-3,
+                "tree {t}: worst step (moved m, turned rad × weight, weight change, \
+                 weight appearing) = {worst:?}"
+            );
+        }
+    }
+
     /// The grown wide test answers as the scalar grown test on every lane,
     /// on random segments and on segments ending exactly on the grown
     /// box's faces and corners (ties).
