@@ -1349,7 +1349,7 @@ mod tests {
     /// under 1e-3. Measured now: at most 2.8e-5 m, 6e-4, 3.7e-4 and 1.4e-4.
     /// Before the node's below-patch reach came in with its box depth and
     /// the ends' ways went out with the nodes' weight (session 41) this
-    /// failed on the ball, the box and the winding sheet: a point moved
+    /// failed on the ball, the box and the winding bowl: a point moved
     /// by 6.1 cm, a push turned by 0.24 rad, a weight jumped by 0.079.
     #[test]
     fn contacts_change_smoothly_along_random_sweeps() {
