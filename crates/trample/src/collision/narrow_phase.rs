@@ -181,15 +181,15 @@ pub fn collide_segment(
 /// segment crossing the surface of a finely split mesh is barely inside any
 /// one thin box; this weighs it by how deep it really goes. While the
 /// nodes' largest weight `m` is under 1 and their largest box depth `b`
-/// under the shell, each end of the segment that lies
-/// inside a closed mesh (or a winding open mesh's hollow) pushes out the
-/// contact response's way ([`super::contact::way_out`]: towards the
-/// nearest surface, blended over the faces about as near), weighed as a
-/// node with `w = (1 − m) · (1 − b / shell) · min(1, reach / (shell +
-/// ramp))`, `reach` = its
-/// depth plus `min(depth, shell)` (the winding rule: its depth): a segment
-/// inside that meets no final box pushes out this way alone, and the
-/// nodes take over smoothly as it meets them. And `ramp_j` = [`LocalMotion::ramp_at`] the point `c_j` of the
+/// under the shell, each end of the segment that lies inside a closed
+/// mesh (or a winding open mesh's hollow) pushes out the contact
+/// response's way ([`super::contact::way_out`]: towards the nearest
+/// surface, blended over the faces about as near), weighed as a node with
+/// `w = (1 − m) · (1 − b / shell) · min(1, reach / (shell + ramp))`,
+/// `reach` = its depth plus `min(depth, shell)` (the winding rule: its
+/// depth): a segment inside that meets no final box pushes out this way
+/// alone, and the nodes take over smoothly as it meets them. And `ramp_j` =
+/// [`LocalMotion::ramp_at`] the point `c_j` of the
 /// segment closest to the node's centre: [`RAMP_TRAVELS`] times how far
 /// the object's surface there travels in the sub-step (at least in
 /// [`RAMP_STEP_S`], at most the object's thickness). Eq. 2 then pushes
@@ -315,11 +315,10 @@ fn contact_node(
 /// changes) and by `rest = (1 − m) · (1 − b / shell)` (so it is continuous
 /// where the segment starts to meet a final box, and where it meets them
 /// fully). A segment that meets no final-depth box is pushed out by its
-/// ends alone. An
-/// open mesh's hollow (a car body with no floor; by the winding rule,
-/// [`ObbTree::winds`]) is asked the same, and an end's weight is its
-/// depth (the winding number's factor times the distance) over the ramp,
-/// so it fades out across a hole with the factor.
+/// ends alone. An open mesh's hollow (a car body with no floor; by the
+/// winding rule, [`ObbTree::winds`]) is asked the same, and an end's
+/// weight is its depth (the winding number's factor times the distance)
+/// over the ramp, so it fades out across a hole with the factor.
 /// `way` answers [`way_out`]`(tree, q, 0.0)` for an end `q` (the blade
 /// walk keeps its answers per vertex: a vertex ends one segment and starts
 /// the next).
@@ -1159,11 +1158,12 @@ mod tests {
     /// A 10 cm segment lying level inside a tessellated ball, moved out
     /// from 15 cm deep towards the surface in steps of 1e-6 m across the
     /// depth where it first meets a final node's grown box, at 300 places,
-    /// the ball at rest and moving: its contact turns and moves smoothly. When the node gave its end's depth below
-    /// the patch at once (weight 1) and the ends' ways stopped there, the
-    /// contact turned by up to 0.35 rad and moved 5 cm in one step (this
-    /// test failed then); now the node comes in with its box depth and the
-    /// ends' ways go out as it does (`contact_node`, `contact_finish`).
+    /// the ball at rest and moving: its contact turns and moves smoothly.
+    /// When the node gave its end's depth below the patch at once (at
+    /// weight 1) and the ends' ways stopped there, the contact turned by up
+    /// to 0.35 rad and moved 5 cm in one step (this test failed then); now
+    /// the node comes in with its box depth and the ends' ways go out as
+    /// it does (`contact_node`, `contact_finish`).
     #[test]
     fn a_segment_inside_that_starts_meeting_a_final_box_gets_a_contact_that_moves_smoothly() {
         let tree = ObbTree::build(&sphere(1.0, 3), 7);
