@@ -681,8 +681,7 @@ impl GpuSimulation {
         }
         self.sim.timings.visible_patches = self.sim.end_step(dt);
         let tm = &mut self.sim.timings;
-        tm.substeps = passes[0].plan.substeps;
-        tm.substeps_needed = passes[0].plan.needed;
+        (tm.substeps, tm.substeps_needed) = trample::step::passes::near_substeps(&passes);
         tm.far_bodies = trample::step::passes::far_bodies(&passes);
         tm.total_ms = start.elapsed().as_secs_f64() * 1e3;
         Ok(substeps)

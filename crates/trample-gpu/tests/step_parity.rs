@@ -11,7 +11,8 @@
 //! mode (billboards bent by Eq. 8 coming back to geometry, Eq. 13); a simulation
 //! handed to the GPU mid-run; a push carried into a patch the broad phase
 //! did not list; grass a density map leaves out, in both modes; the
-//! garden's grass maps in the paper's mode. Reports the worst vertex and
+//! garden's grass maps in the paper's mode; the rolling ball with a fast
+//! ball sub-stepped in a near pass of its own. Reports the worst vertex and
 //! billboard-slope differences and the DBG/PBG and LOD differences;
 //! asserts them within
 //! the stated tolerances. Last, the `follow` pass's cells against their CPU
@@ -196,6 +197,36 @@ fn walker_and_tractor_120_frames_match_the_cpu() {
 #[test]
 fn rolling_ball_300_frames_matches_the_cpu() {
     check_parity(&scenes::scene(scenes::ROLLING_BALL), 300);
+}
+
+/// The rolling ball and a fast one circling at 31 m/s (0.5 m a frame:
+/// two sub-steps): the fast ball takes its sub-steps in a near pass of its
+/// own while the rolling ball steps once (`trample::step::passes`), on both
+/// paths.
+#[test]
+fn a_fast_ball_in_its_own_near_pass_matches_the_cpu() {
+    let mut scene = scenes::scene(scenes::ROLLING_BALL);
+    let mut fast = scene.file.objects[0].clone();
+    fast.name = "fast".into();
+    fast.shape = trample::object::ShapeParams::Sphere {
+        radius_m: 0.2,
+        subdivisions: 3,
+    };
+    fast.path = PathParams::Circle {
+        center: [0.0, 0.2, 0.0],
+        radius_m: 2.0,
+        period_s: 0.4,
+        phase_rad: 0.0,
+    };
+    scene.file.objects.push(fast);
+    let cpu = scenes::build(&scene);
+    let passes = trample::step::passes::plan_passes(&cpu, cpu.params.dt_s);
+    assert!(
+        passes.len() == 2 && passes[1].near && passes[1].has(1) && !passes[0].has(1),
+        "{passes:?}"
+    );
+    assert!(passes[0].plan.substeps == 1 && passes[1].plan.substeps >= 2);
+    check_parity(&scene, 120);
 }
 
 #[test]

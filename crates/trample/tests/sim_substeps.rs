@@ -6,7 +6,7 @@
 //! such step is counted and the first is kept for a one-time warning.
 
 mod common;
-use common::{root_xz, sim_from};
+use common::{deepest_inside, position_bits, root_xz, sim_from};
 
 struct Outcome {
     hit_share: f32,
@@ -172,4 +172,131 @@ path = {{ kind = "line", from = [-34.0, 0.2, 0.0], to = [34.0, 0.2, 0.0], durati
         "{} sub-steps needed; hit share {share:.3} with them, {share16:.3} with 16",
         enough.substeps_needed
     );
+}
+
+/// A field with a slow ball rolling on its left half (0.9 m/s) and, when
+/// `bullet`, a fast one crossing its right half (18 m/s: 0.6 m a step at
+/// 30 steps/s, three sub-steps), `slow` the slow ball or not, recovering
+/// over `recovery` seconds.
+fn slow_and_fast(slow: bool, bullet: bool, recovery: &str) -> trample::Simulation {
+    let mut objects = String::new();
+    if slow {
+        objects.push_str(
+            r#"
+[[objects]]
+name = "slow"
+shape = { kind = "sphere", radius_m = 0.3 }
+orientation = "rolling"
+path = { kind = "line", from = [-3.5, 0.3, -0.5], to = [-0.5, 0.3, -0.5], duration_s = 1.0 }
+"#,
+        );
+    }
+    if bullet {
+        objects.push_str(
+            r#"
+[[objects]]
+name = "bullet"
+shape = { kind = "sphere", radius_m = 0.2 }
+orientation = "rolling"
+path = { kind = "line", from = [0.5, 0.2, 0.5], to = [3.9, 0.2, 0.5], duration_s = 0.18888889 }
+"#,
+        );
+    }
+    sim_from(&format!(
+        r#"
+[field]
+patches = [4, 2]
+cells_per_patch = 16
+[lod]
+geometry_m = 1000.0
+billboard_m = 2000.0
+[sim]
+precision = 7
+recovery_s = {recovery}
+[camera]
+path = {{ kind = "static", position = [0.0, 3.0, 5.0] }}
+look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
+{objects}"#
+    ))
+}
+
+/// A body is sub-stepped for its own speed, not for the fastest body's
+/// (`step/passes.rs`, near passes): with a fast ball on the field a slow
+/// one still steps once a step, in the main pass, and the fast one takes
+/// its sub-steps in a pass of its own. Each leaves, bit for bit, the track
+/// it leaves alone on the field (their tracks are apart). Before, the slow
+/// ball was sub-stepped with the fast one, and its track's bits changed.
+#[test]
+fn a_slow_object_is_not_sub_stepped_for_a_fast_one() {
+    let dt = 1.0 / 30.0;
+    let mut both = slow_and_fast(true, true, "inf");
+    let mut slow = slow_and_fast(true, false, "inf");
+    let mut fast = slow_and_fast(false, true, "inf");
+    let rest = position_bits(&both);
+    let mut substeps = 0;
+    for step in 0..10 {
+        let passes = trample::step::passes::plan_passes(&both, dt);
+        if step == 0 {
+            assert_eq!(passes.len(), 2, "{passes:?}");
+            assert!(passes[0].main && passes[0].has(0) && !passes[0].has(1));
+            assert_eq!(passes[0].plan.substeps, 1);
+            assert!(!passes[1].main && passes[1].has(1) && !passes[1].has(0));
+            assert!(passes[1].plan.substeps >= 2, "{:?}", passes[1].plan);
+            assert_eq!(
+                (passes[1].start, passes[1].dt),
+                (passes[0].start, passes[0].dt)
+            );
+        }
+        let t = both.step(dt).unwrap();
+        assert_eq!(t.far_bodies, 0, "near bodies are not far");
+        substeps = substeps.max(t.substeps);
+        slow.step(dt).unwrap();
+        fast.step(dt).unwrap();
+    }
+    assert!(substeps >= 2, "the step reports the fast ball's sub-steps");
+    let (both, slow, fast) = (
+        position_bits(&both),
+        position_bits(&slow),
+        position_bits(&fast),
+    );
+    let (mut by_slow, mut by_fast) = (0, 0);
+    for (i, v) in both.iter().enumerate() {
+        let (s, f) = (slow[i] != rest[i], fast[i] != rest[i]);
+        assert!(!(s && f), "the two tracks are apart");
+        if s {
+            by_slow += 1;
+            assert_eq!(v, &slow[i], "vertex {i} of the slow ball's track");
+        } else if f {
+            by_fast += 1;
+            assert_eq!(v, &fast[i], "vertex {i} of the fast ball's track");
+        } else {
+            assert_eq!(v, &rest[i], "vertex {i} at rest");
+        }
+    }
+    assert!(
+        by_slow > 100 && by_fast > 100,
+        "{by_slow} and {by_fast} vertices moved"
+    );
+}
+
+/// With a finite `recovery_s` a blade the fast ball holds recovers in the
+/// main pass, which runs first, and its own pass presses it again: at the
+/// end of every step no blade lies inside either ball by more than the
+/// 2 cm that `tests/contact.rs` allows an object at rest (at the end of
+/// the step the fast ball's contact response has run last).
+#[test]
+fn no_blade_stays_inside_a_fast_object_stepped_in_its_own_pass() {
+    let mut sim = slow_and_fast(true, true, "0.5");
+    let mut deepest = [0.0f32; 2];
+    for _ in 0..10 {
+        sim.step(1.0 / 30.0).unwrap();
+        for (i, d) in deepest.iter_mut().enumerate() {
+            *d = d.max(deepest_inside(&sim, i));
+        }
+    }
+    println!(
+        "deepest inside: slow {} m, fast {} m",
+        deepest[0], deepest[1]
+    );
+    assert!(deepest.iter().all(|&d| d <= 0.02), "{deepest:?}");
 }

@@ -23,9 +23,23 @@
 //! 29). A step runs:
 //!
 //! - its **main pass**: the step's `dt` from `time`, over the bodies that
-//!   are not far (every body when `k = 1`: the step as it always was), with
-//!   the levels of detail, the view, the transitions and the recovery —
-//!   what happens once per elapsed time;
+//!   are not far (every body when `k = 1`: the step as it always was) and
+//!   need the fewest sub-steps, with the levels of detail, the view, the
+//!   transitions and the recovery — what happens once per elapsed time;
+//! - one **near pass** per number of sub-steps that other near bodies need
+//!   (fewest first): the same `dt` from `time`, those bodies alone, each
+//!   sub-stepped for its own travel (DESIGN §9) as a far pass is
+//!   (collision, forces, propagation, bending, contact). A body is
+//!   sub-stepped for its own speed, not for the fastest body's anywhere on
+//!   the field: before, one character turning on the spot (its spin at the
+//!   half diagonal is a fast travel) split the whole step in five, every
+//!   character and the recovery with it (a crowd of 64 over a meadow, two
+//!   cores: the 90th percentile of the step 25–31 ms in its first seconds
+//!   against a median of 7–10; now 4–11 ms; BENCHMARKS.md, session 42).
+//!   A blade such a body holds recovers in the main pass, which runs first,
+//!   and is pressed again in the body's pass (as a blade a far body holds);
+//!   with a finite `recovery_s` that is a fraction `1 − exp(−dt/τ)` of its
+//!   bend a step, put back by the body's contact before the step ends;
 //! - one **far pass** per distinct start among the far bodies due this step
 //!   (usually one, `k` steps back; a body that just became far starts
 //!   later): those bodies alone, from the end of the last step they took
@@ -52,7 +66,7 @@
 use super::at_rest::is_still;
 use super::body::Body;
 use super::simulation::Simulation;
-use super::stages::{SubstepPlan, plan_substeps_of};
+use super::stages::{SubstepPlan, body_substeps, plan_substeps_of};
 use glam::Vec3;
 
 /// One pass of a step over some of the bodies (see the module docs).
@@ -66,15 +80,27 @@ pub struct Pass {
     /// How long it lasts, seconds.
     pub dt: f32,
     /// The step's main pass (levels of detail, view, transitions and
-    /// recovery run in it, once per step); `false` for a far pass.
+    /// recovery run in it, once per step); `false` for a far pass and for
+    /// a pass of faster near bodies.
     pub main: bool,
+    /// A pass over bodies near the camera, over the step's own time: the
+    /// main pass, or a pass of near bodies that need more sub-steps than
+    /// the main pass's ([`plan_passes`]); `false` for a far pass.
+    pub near: bool,
     /// Its sub-steps ([`super::stages::plan_substeps`] for its bodies).
     pub plan: SubstepPlan,
 }
 
 impl Pass {
-    fn new(sim: &Simulation, active: Vec<bool>, start: f64, dt: f32, main: bool) -> Self {
-        let max_travel = if main {
+    fn new(
+        sim: &Simulation,
+        active: Vec<bool>,
+        start: f64,
+        dt: f32,
+        main: bool,
+        near: bool,
+    ) -> Self {
+        let max_travel = if near {
             f32::INFINITY
         } else {
             sim.params.far_travel_m
@@ -85,6 +111,7 @@ impl Pass {
             start,
             dt,
             main,
+            near,
             plan,
         }
     }
@@ -160,7 +187,7 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
             due.push((body.stepped_to, i));
         }
     }
-    let mut passes = vec![Pass::new(sim, main, sim.time, dt, true)];
+    let mut passes = near_passes(sim, main, dt);
     due.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     for group in due.chunk_by(|a, b| a.0 == b.0) {
         let start = group[0].0;
@@ -168,9 +195,63 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
         for &(_, i) in group {
             active[i] = true;
         }
-        passes.push(Pass::new(sim, active, start, (end - start) as f32, false));
+        passes.push(Pass::new(
+            sim,
+            active,
+            start,
+            (end - start) as f32,
+            false,
+            false,
+        ));
     }
     passes
+}
+
+/// The passes over the near bodies `near` marks (see the module docs): the
+/// main pass over those that need the fewest sub-steps, then, when others
+/// need more, a pass over each group that needs the same number, fewest
+/// first.
+fn near_passes(sim: &Simulation, near: Vec<bool>, dt: f32) -> Vec<Pass> {
+    let max = sim.params.max_substeps.max(1);
+    let mut needs: Vec<(u32, usize)> = (0..near.len())
+        .filter(|&i| near[i])
+        .map(|i| {
+            let k = body_substeps(sim, &sim.bodies[i], sim.time, dt, f32::INFINITY);
+            (k.clamp(1, max), i)
+        })
+        .collect();
+    needs.sort_unstable();
+    let fewest = needs.first().map_or(1, |&(k, _)| k);
+    let mut main = near;
+    for &(k, i) in &needs {
+        if k > fewest {
+            main[i] = false;
+        }
+    }
+    let n = main.len();
+    let mut passes = vec![Pass::new(sim, main, sim.time, dt, true, true)];
+    for group in needs
+        .chunk_by(|a, b| a.0 == b.0)
+        .filter(|g| g[0].0 > fewest)
+    {
+        let mut active = vec![false; n];
+        for &(_, i) in group {
+            active[i] = true;
+        }
+        passes.push(Pass::new(sim, active, sim.time, dt, false, true));
+    }
+    passes
+}
+
+/// The sub-steps a step's near passes took ([`Pass::near`]: the main pass
+/// and those of faster near bodies), the most of them, and the most their
+/// bodies needed before `max_substeps`: [`crate::StepTimings::substeps`]
+/// and [`crate::StepTimings::substeps_needed`].
+#[must_use]
+pub fn near_substeps(passes: &[Pass]) -> (u32, u32) {
+    passes.iter().filter(|p| p.near).fold((1, 1), |(s, n), p| {
+        (s.max(p.plan.substeps), n.max(p.plan.needed))
+    })
 }
 
 /// Each body's turn among the far bodies this step (see the module docs):
@@ -410,10 +491,14 @@ fn substeps_of(travel: f64) -> f64 {
 }
 
 /// How many bodies the far passes of `passes` step (every pass but the
-/// first, the main one): [`crate::StepTimings::far_bodies`].
+/// near ones, [`Pass::near`]): [`crate::StepTimings::far_bodies`].
 #[must_use]
 pub fn far_bodies(passes: &[Pass]) -> u32 {
-    passes.iter().skip(1).map(Pass::bodies).sum::<usize>() as u32
+    passes
+        .iter()
+        .filter(|p| !p.near)
+        .map(Pass::bodies)
+        .sum::<usize>() as u32
 }
 
 #[cfg(test)]

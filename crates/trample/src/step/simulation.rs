@@ -256,8 +256,7 @@ impl Simulation {
         let t_pose = Instant::now();
         let passes = self.begin_step(dt)?;
         tm.poses_ms += ms(t_pose);
-        tm.substeps = passes[0].plan.substeps;
-        tm.substeps_needed = passes[0].plan.needed;
+        (tm.substeps, tm.substeps_needed) = super::passes::near_substeps(&passes);
         tm.far_bodies = super::passes::far_bodies(&passes);
         // The sub-steps run on one of the pool's threads (rayon::scope): each
         // stage's parallel loop then forks from a worker, not from outside
@@ -284,7 +283,8 @@ impl Simulation {
     /// The start of a step of `dt` seconds, shared by the CPU path
     /// ([`Simulation::step`]) and the GPU path (STYLE rule 9: the loop both
     /// run is written once): checks `dt`, plans the step's passes over the
-    /// bodies ([`super::passes::plan_passes`]: the main pass, then a far
+    /// bodies ([`super::passes::plan_passes`]: the main pass, then a pass
+    /// per group of near bodies that need more sub-steps than it, then a far
     /// pass per group of far bodies due this step when `sim.far_every > 1`,
     /// each far body keeping its turn until its speed changes,
     /// [`super::passes::far_schedule`]; and, likewise, which far patches'

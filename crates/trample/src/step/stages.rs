@@ -75,40 +75,14 @@ pub fn plan_substeps_of(
     dt: f32,
     max_travel: f32,
 ) -> SubstepPlan {
-    let t0 = start as f32;
     let (mut needed, mut fastest) = (1u32, None);
     for (i, body) in sim.bodies.iter().enumerate() {
         if active.is_some_and(|a| !a.get(i).copied().unwrap_or(false)) {
             continue;
         }
-        // The body's own mesh, then each part with its own motion.
-        let mut ends = vec![(
-            body.pose_at(t0),
-            body.pose_at(t0 + dt),
-            body.tree.nodes[0].obb,
-        )];
-        let (a, b) = (body.part_poses_at(t0), body.part_poses_at(t0 + dt));
-        ends.extend(
-            a.into_iter()
-                .zip(b)
-                .zip(&body.parts)
-                .map(|((a, b), part)| (a, b, part.tree.nodes[0].obb)),
-        );
-        for (a, b, root) in ends {
-            let spin = 0.5
-                * (a.angular_velocity.length() + b.angular_velocity.length())
-                * root.half_diagonal()
-                * dt;
-            let moved = a.position.distance(b.position);
-            let travel = moved + spin;
-            let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
-            if travel.is_finite() && allowed > 0.0 {
-                // `as` saturates: an absurd speed needs u32::MAX, not a wrap.
-                let k = ((travel / allowed).ceil() as u32).max((moved / max_travel).ceil() as u32);
-                if k > needed {
-                    (needed, fastest) = (k, Some(i));
-                }
-            }
+        let k = body_substeps(sim, body, start, dt, max_travel);
+        if k > needed {
+            (needed, fastest) = (k, Some(i));
         }
     }
     SubstepPlan {
@@ -116,6 +90,50 @@ pub fn plan_substeps_of(
         needed,
         fastest,
     }
+}
+
+/// The sub-steps `body` alone needs over `dt` seconds from `start`
+/// ([`plan_substeps_of`]'s rule, before `max_substeps`): its own mesh's
+/// and each part's travel (and spin) over its thickness, and its
+/// position's travel over `max_travel`; at least 1 (saturates at
+/// `u32::MAX`).
+pub(crate) fn body_substeps(
+    sim: &Simulation,
+    body: &super::Body,
+    start: f64,
+    dt: f32,
+    max_travel: f32,
+) -> u32 {
+    let t0 = start as f32;
+    let mut needed = 1u32;
+    // The body's own mesh, then each part with its own motion.
+    let mut ends = vec![(
+        body.pose_at(t0),
+        body.pose_at(t0 + dt),
+        body.tree.nodes[0].obb,
+    )];
+    let (a, b) = (body.part_poses_at(t0), body.part_poses_at(t0 + dt));
+    ends.extend(
+        a.into_iter()
+            .zip(b)
+            .zip(&body.parts)
+            .map(|((a, b), part)| (a, b, part.tree.nodes[0].obb)),
+    );
+    for (a, b, root) in ends {
+        let spin = 0.5
+            * (a.angular_velocity.length() + b.angular_velocity.length())
+            * root.half_diagonal()
+            * dt;
+        let moved = a.position.distance(b.position);
+        let travel = moved + spin;
+        let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
+        if travel.is_finite() && allowed > 0.0 {
+            // `as` saturates: an absurd speed needs u32::MAX, not a wrap.
+            let k = ((travel / allowed).ceil() as u32).max((moved / max_travel).ceil() as u32);
+            needed = needed.max(k);
+        }
+    }
+    needed
 }
 
 /// Every collider of every body, as (body index, collider index)

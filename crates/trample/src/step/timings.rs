@@ -55,7 +55,9 @@ pub struct StepTimings {
     pub transitions: u32,
     /// Blades away from rest (being recovered).
     pub displaced_blades: u32,
-    /// Sub-steps this step was split into (its main pass's).
+    /// Sub-steps this step was split into near the camera: the most that
+    /// its main pass or a pass of faster near bodies took
+    /// ([`crate::step::passes`]).
     pub substeps: u32,
     /// Bodies that touched the grass in far passes this step (ours,
     /// `sim.far_every > 1`: far bodies taking their turn, and bodies
