@@ -8,16 +8,11 @@
 mod common;
 use common::{deepest_inside, position_bits, root_xz, sim_from};
 
-struct Outcome {
-    hit_share: f32,
-    max_substeps_run: u32,
-    max_substeps_needed: u32,
-    clamps: u64,
-    first_clamp: Option<trample::step::SubstepClamp>,
-}
-
-fn run_bullet(max_substeps: u32) -> Outcome {
-    let toml = format!(
+/// An 8 m × 3.2 m field of 5,120 blades, every cell geometric, at
+/// precision 7, watched from the side, with `sim` added to its `[sim]`
+/// table and `objects` after it.
+fn field_toml(sim: &str, objects: &str) -> String {
+    format!(
         r#"
 [field]
 patches = [4, 2]
@@ -27,16 +22,32 @@ geometry_m = 1000.0
 billboard_m = 2000.0
 [sim]
 precision = 7
-max_substeps = {max_substeps}
+{sim}
 [camera]
 path = {{ kind = "static", position = [0.0, 3.0, 5.0] }}
 look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
+{objects}"#
+    )
+}
+
+struct Outcome {
+    hit_share: f32,
+    max_substeps_run: u32,
+    max_substeps_needed: u32,
+    clamps: u64,
+    first_clamp: Option<trample::step::SubstepClamp>,
+}
+
+fn run_bullet(max_substeps: u32) -> Outcome {
+    let toml = field_toml(
+        &format!("max_substeps = {max_substeps}"),
+        r#"
 [[objects]]
 name = "bullet"
-shape = {{ kind = "sphere", radius_m = 0.2 }}
+shape = { kind = "sphere", radius_m = 0.2 }
 orientation = "rolling"
-path = {{ kind = "line", from = [-4.0, 0.2, 0.0], to = [4.0, 0.2, 0.0], duration_s = 0.22222222 }}
-"#
+path = { kind = "line", from = [-4.0, 0.2, 0.0], to = [4.0, 0.2, 0.0], duration_s = 0.22222222 }
+"#,
     );
     let mut sim = sim_from(&toml);
     let (mut substeps, mut needed) = (0, 0);
@@ -202,22 +213,7 @@ path = { kind = "line", from = [0.5, 0.2, 0.5], to = [3.9, 0.2, 0.5], duration_s
 "#,
         );
     }
-    sim_from(&format!(
-        r#"
-[field]
-patches = [4, 2]
-cells_per_patch = 16
-[lod]
-geometry_m = 1000.0
-billboard_m = 2000.0
-[sim]
-precision = 7
-recovery_s = {recovery}
-[camera]
-path = {{ kind = "static", position = [0.0, 3.0, 5.0] }}
-look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
-{objects}"#
-    ))
+    sim_from(&field_toml(&format!("recovery_s = {recovery}"), &objects))
 }
 
 /// A body is sub-stepped for its own speed, not for the fastest body's
