@@ -33,9 +33,10 @@
 //!   sub-stepped for its own speed, not for the fastest body's anywhere on
 //!   the field: before, one character turning on the spot (its spin at the
 //!   half diagonal is a fast travel) split the whole step in five, every
-//!   character and the recovery with it (a crowd of 64 over a meadow, two
-//!   cores: the 90th percentile of the step 25–31 ms in its first seconds
-//!   against a median of 7–10; now 4–11 ms; BENCHMARKS.md, session 42).
+//!   character and the recovery with it (the `crowd` example, 64
+//!   characters over a meadow, two cores: in its second and third seconds
+//!   the step's 90th percentile was 21–30 ms against medians of 6–9 ms;
+//!   now 7–12 ms; BENCHMARKS.md, session 42).
 //!   A blade such a body holds recovers in the main pass, which runs first,
 //!   and is pressed again in the body's pass (as a blade a far body holds);
 //!   with a finite `recovery_s` that is a fraction `1 − exp(−dt/τ)` of its
