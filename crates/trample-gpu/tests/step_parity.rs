@@ -485,7 +485,10 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     let mut count_excess = 0u32;
     let per_patch = cpu.field.layout.patch_list[0].blades as usize;
     for _ in 0..frames {
-        far_passes += trample::step::passes::plan_passes(&cpu, dt).len() - 1;
+        far_passes += trample::step::passes::plan_passes(&cpu, dt)
+            .iter()
+            .filter(|p| !p.near)
+            .count();
         cpu.step(dt).unwrap();
         if let Some(scale) = cpu.recovery_scale() {
             waited += (0..cpu.field.blades.count)
