@@ -110,8 +110,10 @@ pub struct SimSummary {
     /// Bodies stepped in far passes a step, on average over the run (0
     /// with `far_every = 1`).
     pub far_bodies_mean: f64,
-    /// Sub-steps a step's main pass was split into, on average over the
-    /// run (DESIGN §9: the fastest object sets it for every object).
+    /// Sub-steps a step was split into near the camera, on average over
+    /// the run: the most its main pass or a near pass of faster objects
+    /// took (DESIGN §9; each object near the camera is sub-stepped for its
+    /// own speed, `trample::step::passes`).
     pub substeps_mean: f64,
     /// Tiles a step whose narrow phase objects at rest took from what they
     /// kept (`sim.reuse_at_rest`), on average over the run.

@@ -416,7 +416,8 @@ impl GpuSimulation {
             .map_err(|e| GpuError::Layout(e.to_string()))?;
         self.sim.timings = trample::StepTimings::default();
         // Every pass's sub-steps (`trample::step::passes`: the main pass,
-        // then far bodies' passes when `sim.far_every > 1`).
+        // the near passes of faster bodies, then far bodies' passes when
+        // `sim.far_every > 1`).
         let substeps: u32 = passes.iter().map(|p| p.plan.substeps).sum();
         let max = device.limits().max_compute_workgroups_per_dimension;
         let groups = grid(self.field.count, max);
