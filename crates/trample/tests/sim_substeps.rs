@@ -185,33 +185,31 @@ path = {{ kind = "line", from = [-34.0, 0.2, 0.0], to = [34.0, 0.2, 0.0], durati
     );
 }
 
-/// A field with a slow ball rolling on its left half (0.9 m/s) and, when
-/// `bullet`, a fast one crossing its right half (18 m/s: 0.6 m a step at
-/// 30 steps/s, three sub-steps), `slow` the slow ball or not, recovering
-/// over `recovery` seconds.
+/// An `[[objects]]` table: a rolling ball `name` of `radius` metres on a
+/// line at its own height, from `x0, z` to `x1, z` in `seconds`.
+fn ball(name: &str, radius: f32, (x0, x1, z): (f32, f32, f32), seconds: f32) -> String {
+    format!(
+        r#"
+[[objects]]
+name = "{name}"
+shape = {{ kind = "sphere", radius_m = {radius} }}
+orientation = "rolling"
+path = {{ kind = "line", from = [{x0}, {radius}, {z}], to = [{x1}, {radius}, {z}], duration_s = {seconds} }}
+"#
+    )
+}
+
+/// A field with, when `slow`, a ball rolling on its left half at 3 m/s
+/// (0.1 m a step at 30 steps/s: one sub-step) and, when `bullet`, a
+/// smaller one crossing its right half at 18 m/s (0.6 m a step:
+/// sub-stepped), recovering over `recovery` seconds.
 fn slow_and_fast(slow: bool, bullet: bool, recovery: &str) -> trample::Simulation {
     let mut objects = String::new();
     if slow {
-        objects.push_str(
-            r#"
-[[objects]]
-name = "slow"
-shape = { kind = "sphere", radius_m = 0.3 }
-orientation = "rolling"
-path = { kind = "line", from = [-3.5, 0.3, -0.5], to = [-0.5, 0.3, -0.5], duration_s = 1.0 }
-"#,
-        );
+        objects.push_str(&ball("slow", 0.3, (-3.5, -0.5, -0.5), 1.0));
     }
     if bullet {
-        objects.push_str(
-            r#"
-[[objects]]
-name = "bullet"
-shape = { kind = "sphere", radius_m = 0.2 }
-orientation = "rolling"
-path = { kind = "line", from = [0.5, 0.2, 0.5], to = [3.9, 0.2, 0.5], duration_s = 0.18888889 }
-"#,
-        );
+        objects.push_str(&ball("bullet", 0.2, (0.5, 3.9, 0.5), 0.18888889));
     }
     sim_from(&field_toml(&format!("recovery_s = {recovery}"), &objects))
 }
