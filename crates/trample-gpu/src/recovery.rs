@@ -38,6 +38,11 @@ pub struct Recovery {
     /// Per patch: this step's recovery time as a multiple of `h`
     /// (`Simulation::recovery_scale`), read when far patches take turns.
     turns: wgpu::Buffer,
+    /// Slow blades in strides (`SimParams::recovery_stride_m`): per blade,
+    /// the recovery time it owes and the time it waits for, seconds
+    /// (`trample::step::Scratch::recover_owed`, `recover_wait`); 16 bytes
+    /// while no stride is asked for ([`Recovery::ensure_clock`]).
+    clock: wgpu::Buffer,
     no_broad: NoBroad,
 }
 
@@ -53,12 +58,13 @@ impl Recovery {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Uniform, Read, Read, Read,
-                    Uniform, Uniform, ReadWrite, Read,
+                    Uniform, Uniform, ReadWrite, Read, ReadWrite,
                 ],
                 &["recover", "recover_active"],
             ),
             no_broad: NoBroad::new(device),
             turns: turns_buffer(device, 16),
+            clock: clock_buffer(device, 0),
             owners: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu track owners"),
                 size: (OWNERS * 16) as u64,
@@ -124,6 +130,16 @@ impl Recovery {
         );
     }
 
+    /// Makes room for the strides' clock of `blades` blades when `strides`
+    /// (`SimParams::recovery_stride_m` > 0). A new clock is zero: every
+    /// displaced blade recovers at its next step, as after
+    /// `trample::Simulation::rescan_displaced`.
+    pub fn ensure_clock(&mut self, device: &wgpu::Device, blades: u32, strides: bool) {
+        if strides && self.clock.size() < u64::from(blades) * 8 {
+            self.clock = clock_buffer(device, blades);
+        }
+    }
+
     /// Records the recovery of every displaced blade, one dispatch per
     /// chunk: over `broad`'s active recover lists (the active patches'
     /// `record_lists` recorded before in the sub-step, told that recovery
@@ -155,6 +171,7 @@ impl Recovery {
                     broad_params,
                     lists,
                     &self.turns,
+                    &self.clock,
                 ],
             );
             dispatch_listed(
@@ -167,6 +184,16 @@ impl Recovery {
             );
         }
     }
+}
+
+/// The strides' clock of `blades` blades (8 bytes each, at least 16 bytes), zero.
+fn clock_buffer(device: &wgpu::Device, blades: u32) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("trample-gpu recovery clock"),
+        size: (u64::from(blades) * 8).max(16),
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    })
 }
 
 /// The per-patch turns table, `bytes` long (at least 16).

@@ -11,6 +11,15 @@
 // a blade within 1e-4 m of rest snaps to it and leaves the displaced set.
 // With recovery off for every owner (all recovery_s = ∞) the pass only
 // counts the displaced blades.
+//
+// Slow blades in strides (`params.far.z`, the bits of `[sim]`
+// `recovery_stride_m`; `trample::step::recover`): a blade recovers only
+// once it owes the time its clock waits for (`clock[b]`: owed, wait), and
+// then over all of it; the wait is `trample::recovery::stride_wait` of how
+// far its last recovery moved it. The flag tells who moved a blade last:
+// 1 (set by the bend, the contact response and the transitions) — it
+// recovers now, its clock dropped (`trample::step::stages::mark_displaced`);
+// 2 — its recovery, so its clock holds.
 
 @group(0) @binding(0) var<uniform> params: StepParams;
 @group(0) @binding(1) var<storage, read_write> state: State;
@@ -34,6 +43,26 @@
 // Per patch: this step's recovery time as a multiple of h
 // (`Simulation::recovery_scale`), read when `params.b.w` is 2.
 @group(0) @binding(12) var<storage, read> turns: array<f32>;
+// Per blade, with strides: the recovery time owed and the wait (s).
+@group(0) @binding(13) var<storage, read_write> clock: array<vec2<f32>>;
+
+// `trample::recovery::RECOVERY_WAIT_MAX_S`.
+const RECOVERY_WAIT_MAX_S: f32 = 0.25;
+
+// `trample::recovery::stride_wait`.
+fn stride_wait(stride: f32, moved: f32, recovered: f32) -> f32 {
+    if !(stride > 0.0 && recovered > 0.0) {
+        return 0.0;
+    }
+    if !(moved > 0.0) {
+        return RECOVERY_WAIT_MAX_S;
+    }
+    return min(stride * recovered / moved, RECOVERY_WAIT_MAX_S);
+}
+
+fn recovery_stride() -> f32 {
+    return bitcast<f32>(params.far.z);
+}
 
 @compute @workgroup_size(64)
 fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -78,14 +107,35 @@ fn recover_or_count(b: u32) {
         atomicAdd(&state.displaced, 1u);
         return;
     }
-    recover_blade(b);
+    // Its recovery time: h (times its patch's turn) times how free it is,
+    // plus in strides what it owes; not due yet, it owes all of it.
+    var t = recovery_h(b) * (1.0 - min(force[b].w, 1.0));
+    if recovery_stride() > 0.0 && displaced[b] == 2u {
+        t = clock[b].x + t;
+        if !(t >= clock[b].y) {
+            clock[b].x = t;
+            atomicAdd(&state.displaced, 1u);
+            return;
+        }
+    }
+    recover_blade(b, t);
+}
+
+// After blade b's recovery over t seconds moved it `moved` metres: in
+// strides, its clock starts again and its flag says its recovery moved it.
+fn restart_clock(b: u32, moved: f32, t: f32) {
+    let stride = recovery_stride();
+    if stride > 0.0 {
+        clock[b] = vec2<f32>(0.0, stride_wait(stride, moved, t));
+        displaced[b] = 2u;
+    }
 }
 
 // The recovery of displaced blade b. A function of its own: the blade's
 // vertex arrays are zero-initialised where they are declared (WGSL), and
 // declared here they cost only the displaced blades, not every thread of
 // the field (naga declares a function's variables at its entry).
-fn recover_blade(b: u32) {
+fn recover_blade(b: u32, t: f32) {
     let n = min(params.counts.y, MAX_VERTS - 1u);
     var v: array<vec3<f32>, MAX_VERTS>;
     var r: array<vec3<f32>, MAX_VERTS>;
@@ -104,12 +154,12 @@ fn recover_blade(b: u32) {
     }
     let owner = owners[min((blade_class[b] >> 8u) & 0xffu, 255u)];
     let flat = flatness(v[n].y - v[0].y, r[n].y - r[0].y);
-    let free = 1.0 - min(force[b].w, 1.0);
     var q = 0.0;
     if owner.x > 0.0 {
-        q = tail_fraction(recovered_fraction(recovery_h(b) * free, time_constant(owner.x, owner.y, flat)), sqrt(deviation2));
+        q = tail_fraction(recovered_fraction(t, time_constant(owner.x, owner.y, flat)), sqrt(deviation2));
     }
     if q == 0.0 {
+        restart_clock(b, 0.0, t);
         atomicAdd(&state.displaced, 1u);
         return;
     }
@@ -122,12 +172,17 @@ fn recover_blade(b: u32) {
         let d = v[k] - r[k];
         at_rest = at_rest && dot(d, d) < REST_EPSILON * REST_EPSILON;
     }
+    var moved2 = 0.0;
     for (var k = 1u; k <= n; k++) {
-        pos[vertex_at(k, b)] = vec4<f32>(select(v[k], r[k], at_rest), 0.0);
+        let out = select(v[k], r[k], at_rest);
+        let d = out - pos[vertex_at(k, b)].xyz;
+        moved2 = max(moved2, dot(d, d));
+        pos[vertex_at(k, b)] = vec4<f32>(out, 0.0);
     }
     if at_rest {
         displaced[b] = 0u;
     } else {
+        restart_clock(b, sqrt(moved2), t);
         atomicAdd(&state.displaced, 1u);
     }
 }

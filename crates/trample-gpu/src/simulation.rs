@@ -348,7 +348,17 @@ impl GpuSimulation {
                 self.objects.len() as u32,
                 u32::from(p.track_everywhere),
             ],
-            far: [0, 1, 0, 0],
+            far: [
+                0,
+                1,
+                if p.recovery_stride_m > 0.0 {
+                    p.recovery_stride_m
+                } else {
+                    0.0
+                }
+                .to_bits(),
+                0,
+            ],
         }
     }
 
@@ -432,6 +442,8 @@ impl GpuSimulation {
         );
         let recovery_on = self.recovery.write_owners(queue, &self.sim);
         let p = self.sim.params.clone();
+        self.recovery
+            .ensure_clock(device, self.field.count, p.recovery_stride_m > 0.0);
         // An animated body's refitted tree is uploaded every sub-step.
         let trees: u64 = self
             .sim
@@ -518,7 +530,8 @@ impl GpuSimulation {
                 params.lod[3] = 1.0;
             }
             // How the sub-step's counts join the step's (the CPU's).
-            params.far = [u32::from(!pass.main), u32::from(pass.main && i == 1), 0, 0];
+            params.far[0] = u32::from(!pass.main);
+            params.far[1] = u32::from(pass.main && i == 1);
             let mut own = None;
             let encoder = match &mut target {
                 Target::Submit => own.insert(new_encoder(device)),

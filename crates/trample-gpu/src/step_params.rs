@@ -35,7 +35,9 @@ pub struct GpuStepParams {
     /// blades add to the step's, its generations to their largest), 0 in
     /// the main pass (each sub-step counts anew; the last one's stand);
     /// y = 1 on the step's first sub-step (the transitions, summed over
-    /// the step's sub-steps, start from zero).
+    /// the step's sub-steps, start from zero); z = the bits of `[sim]`
+    /// `recovery_stride_m` (slow blades recover in strides, `recovery.wgsl`;
+    /// 0 for none).
     pub far: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuStepParams>() == 176);

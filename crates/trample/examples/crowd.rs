@@ -6,17 +6,22 @@
 //! comparison of the blades under it (`SimParams::reuse_at_rest`), and
 //! with `far_every` above 1 the ones far from the camera step in turns
 //! and so does the recovery of the trails far from it
-//! (`SimParams::far_every`). Every second it prints the step's median and
+//! (`SimParams::far_every`). The trails' blades creeping back slowly are
+//! relaxed in strides of half a millimetre (`SimParams::recovery_stride_m`:
+//! each only every few frames, over all the time it owes). Every second it prints the step's median and
 //! 90th percentile, how many characters stand, how many stepped far, and
 //! how many blades a renderer would upload (`Simulation::changed_blades`).
 //!
 //! ```sh
 //! cargo run --release -p trample --example crowd                # 64 characters, 600 frames
 //! cargo run --release -p trample --example crowd -- 200 600 8   # 200 characters, far_every = 8
+//! cargo run --release -p trample --example crowd -- 64 600 1 0  # every trail blade every step
 //! ```
 //!
 //! Arguments: characters (1..=1000, default 64), frames (default 600),
-//! `far_every` (1..=64, default 1: every character every step).
+//! `far_every` (1..=64, default 1: every character every step), the
+//! recovery stride in millimetres (0..=50, default 0.5; 0: every displaced
+//! blade relaxed every step).
 
 use std::time::Instant;
 
@@ -88,7 +93,7 @@ fn arg(
     match text.parse::<u32>() {
         Ok(v) if (range.0..=range.1).contains(&v) => Ok(v),
         _ => Err(format!(
-            "{name} = {text:?}: must be a whole number in {}..={} (usage: crowd [CHARACTERS] [FRAMES] [FAR_EVERY])",
+            "{name} = {text:?}: must be a whole number in {}..={} (usage: crowd [CHARACTERS] [FRAMES] [FAR_EVERY] [STRIDE_MM])",
             range.0, range.1
         )),
     }
@@ -99,6 +104,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let count = arg(&args, 0, "characters", 64, (1, 1000))?;
     let frames = arg(&args, 1, "frames", 600, (1, 1_000_000))?;
     let far_every = arg(&args, 2, "far_every", 1, (1, 64))?;
+    let stride_mm = match args.get(3) {
+        None => 0.5,
+        Some(text) => match text.parse::<f32>() {
+            Ok(v) if (0.0..=50.0).contains(&v) => v,
+            _ => {
+                return Err(format!(
+                    "stride = {text:?}: must be a number of millimetres in 0..=50 (usage: crowd [CHARACTERS] [FRAMES] [FAR_EVERY] [STRIDE_MM])"
+                )
+                .into());
+            }
+        },
+    };
 
     // 102.4 m square: 32 × 32 patches of 32 × 32 cells of 0.1 m, one blade
     // a cell (1,048,576 blades); a track recovers over 6 s.
@@ -110,6 +127,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .sim(SimParams {
             recovery_s: 6.0,
             far_every,
+            recovery_stride_m: stride_mm * 1e-3,
             ..SimParams::default()
         })
         .build()?;
@@ -137,7 +155,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         });
     }
     println!(
-        "{count} characters over {} blades, far_every = {far_every}",
+        "{count} characters over {} blades, far_every = {far_every}, recovery stride {stride_mm} mm",
         sim.field.blades.count
     );
 

@@ -65,6 +65,37 @@ pub const REST_EPSILON: f32 = 1e-4;
 /// unit height, as it does [`REST_EPSILON`].
 pub const RECOVERY_TAIL_M: f32 = 0.01;
 
+/// Longest a displaced blade waits between two recoveries when slow
+/// blades recover in strides ([`stride_wait`]), seconds: a quarter of a
+/// second, so a blade in its tail or held by an owner that does not
+/// recover is still looked at four times a second.
+pub const RECOVERY_WAIT_MAX_S: f32 = 0.25;
+
+/// Slow blades recover in strides (ours, issue 16;
+/// `SimParams::recovery_stride_m`): how much recovery time a blade must owe
+/// before it is relaxed again, seconds, given that its last relaxation, over
+/// `recovered_s` seconds, moved it `moved_m` metres (the largest move of a
+/// vertex). The time that would move it `stride_m` at that speed, at most
+/// [`RECOVERY_WAIT_MAX_S`]: a recovery slows down as it goes (the
+/// exponential, then the tail's constant speed), so the next stride moves
+/// the blade at most about `stride_m`. 0 — relaxed at the next step, as
+/// without strides — when `stride_m` is 0 (or not a number) or no time was
+/// recovered (a blade held whole, or one an object just moved); a blade
+/// that did not move waits the longest. Continuous in `moved_m` and
+/// `recovered_s` where it is not 0 or the cap.
+#[must_use]
+pub fn stride_wait(stride_m: f32, moved_m: f32, recovered_s: f32) -> f32 {
+    if !(stride_m > 0.0 && recovered_s > 0.0) {
+        return 0.0;
+    }
+    if moved_m > 0.0 {
+        (stride_m * recovered_s / moved_m).min(RECOVERY_WAIT_MAX_S)
+    } else {
+        // Not moved, or NaN.
+        RECOVERY_WAIT_MAX_S
+    }
+}
+
 /// The fraction of its way back to rest that a blade `deviation` metres
 /// from rest recovers in a step whose exponential fraction is `q`: `q` at
 /// [`RECOVERY_TAIL_M`] or more; closer, the fraction that moves it as far
@@ -276,4 +307,32 @@ pub fn recover_slope(slope: &mut Vec3, slope_origin: Vec3, dt: f32, p: &Recovery
         *slope = slope_origin;
     }
     at_rest
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stride's wait: the time that moves the blade a stride at its
+    /// last speed, capped; none without a stride, without time recovered,
+    /// or for a NaN stride; the longest for a blade that did not move.
+    #[test]
+    fn a_stride_waits_for_the_time_that_moves_a_blade_a_stride() {
+        // 1 mm a stride, moved 0.5 mm in 1/60 s: two steps' time.
+        assert!((stride_wait(1e-3, 5e-4, 1.0 / 60.0) - 2.0 / 60.0).abs() < 1e-7);
+        // Slower: longer, up to the cap.
+        assert!(stride_wait(1e-3, 1e-4, 1.0 / 60.0) > stride_wait(1e-3, 2e-4, 1.0 / 60.0));
+        assert_eq!(stride_wait(1e-3, 1e-6, 1.0 / 60.0), RECOVERY_WAIT_MAX_S);
+        // Faster than a stride a step: less than a step's wait.
+        assert!(stride_wait(1e-3, 0.05, 1.0 / 60.0) < 1.0 / 60.0);
+        assert_eq!(stride_wait(0.0, 5e-4, 1.0 / 60.0), 0.0);
+        assert_eq!(stride_wait(f32::NAN, 5e-4, 1.0 / 60.0), 0.0);
+        assert_eq!(stride_wait(1e-3, 5e-4, 0.0), 0.0);
+        assert_eq!(stride_wait(1e-3, 0.0, 1.0 / 60.0), RECOVERY_WAIT_MAX_S);
+        assert_eq!(stride_wait(1e-3, f32::NAN, 1.0 / 60.0), RECOVERY_WAIT_MAX_S);
+        // Continuous in the move: a few ulp apart, a few ulp apart.
+        let (a, b) = (3e-4f32, f32::from_bits(3e-4f32.to_bits() + 2));
+        let (wa, wb) = (stride_wait(1e-3, a, 0.02), stride_wait(1e-3, b, 0.02));
+        assert!((wa - wb).abs() <= 4.0 * f32::EPSILON * wa, "{wa} {wb}");
+    }
 }

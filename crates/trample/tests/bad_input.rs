@@ -265,6 +265,12 @@ fn cases() -> Vec<(&'static str, Want, String)> {
         e("far_beyond nan", sim("far_beyond_m = nan")),
         e("far_travel zero", sim("far_travel_m = 0.0")),
         e("far_travel nan", sim("far_travel_m = nan")),
+        e(
+            "recovery stride negative",
+            sim("recovery_stride_m = -0.001"),
+        ),
+        e("recovery stride nan", sim("recovery_stride_m = nan")),
+        e("recovery stride huge", sim("recovery_stride_m = 0.5")),
         e("memory limit zero", sim("memory_limit_gib = 0.0")),
         e("contact shell zero", sim("contact_shell_m = 0.0")),
         e("contact shell nan", sim("contact_shell_m = nan")),

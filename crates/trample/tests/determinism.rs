@@ -286,3 +286,22 @@ fn far_trails_recovering_in_turns_are_bit_identical_on_one_and_two_threads() {
     assert!(far.contains("recovery_s = 0.3"));
     same_on_one_and_two_threads_but_not_as(&far, &recovering("inf"), "recovery_s = 0.3");
 }
+
+/// Slow blades recovering in strides (`sim.recovery_stride_m`, issue 16):
+/// each blade's clock (the time it owes, the time it waits for) is kept
+/// in the parallel relaxation, so the crowd with `recovery_s = 0.5` and
+/// strides of a millimetre gives the same bits on one and two threads —
+/// and not those of the same trails relaxed every step (the strides did
+/// skip blades).
+#[test]
+fn trails_recovering_in_strides_are_bit_identical_on_one_and_two_threads() {
+    let recovering = |stride: &str| {
+        crowd_toml(5.0, 1).replace(
+            "[sim]\n",
+            &format!("[sim]\nrecovery_s = 0.5\nrecovery_stride_m = {stride}\n"),
+        )
+    };
+    let strided = recovering("0.001");
+    assert!(strided.contains("recovery_stride_m = 0.001"));
+    same_on_one_and_two_threads_but_not_as(&strided, &recovering("0.0"), "recovery_stride_m");
+}

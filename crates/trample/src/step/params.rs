@@ -117,6 +117,19 @@ pub struct SimParams {
     /// a comparison of the blades under it instead of its queries. Default
     /// `true`; `false` runs every query every sub-step.
     pub reuse_at_rest: bool,
+    /// Slow blades recover in strides (ours, issue 16;
+    /// [`crate::recovery::stride_wait`]), metres: a displaced blade whose
+    /// recovery moves it slowly is relaxed only when it has owed enough
+    /// time to move about this far, and then over all that time (at most
+    /// [`crate::recovery::RECOVERY_WAIT_MAX_S`] of it), so that a long
+    /// trail's blades, most of them creeping back a fraction of a
+    /// millimetre a frame, cost their relaxation, their cell and their
+    /// upload only every few frames. A blade an object moves recovers at
+    /// the next step again. Default 0: every displaced blade every step
+    /// (bit for bit the recovery without strides). 0.0005 (half a
+    /// millimetre: under a pixel at half a metre at 1080p) is invisible.
+    /// Finite, in [0, 0.05].
+    pub recovery_stride_m: f32,
 }
 
 impl Default for SimParams {
@@ -141,6 +154,7 @@ impl Default for SimParams {
             far_beyond_m: 30.0,
             far_travel_m: 0.25,
             reuse_at_rest: true,
+            recovery_stride_m: 0.0,
         }
     }
 }
@@ -257,6 +271,13 @@ impl SimParams {
                 "far_travel_m",
                 f64::from(self.far_travel_m),
                 "must be > 0 metres, or inf for no bound",
+            );
+        }
+        if !(0.0..=0.05).contains(&self.recovery_stride_m) {
+            return err(
+                "recovery_stride_m",
+                f64::from(self.recovery_stride_m),
+                "must be in [0, 0.05] metres (0: every displaced blade recovers every step)",
             );
         }
         if !(self.memory_limit_gib.is_finite() && self.memory_limit_gib > 0.0) {

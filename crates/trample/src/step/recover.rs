@@ -4,7 +4,7 @@
 use super::simulation::Simulation;
 use crate::field::MAX_SEGMENTS;
 use crate::field::generate::GROUND_CLEARANCE_M;
-use crate::recovery::{recover_blade, recover_slope};
+use crate::recovery::{recover_blade, recover_slope, stride_wait};
 use crate::recovery_wide::{LANES, Lane, recover_blades_wide};
 use glam::Vec3A;
 use rayon::prelude::*;
@@ -25,6 +25,17 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     if params.iter().all(|p| p.recovery_s.is_infinite()) {
         return Vec::new();
     }
+    // Slow blades in strides: the owed time and the wait of every blade.
+    let stride = sim.params.recovery_stride_m;
+    let strides = stride > 0.0;
+    let count = sim.field.blades.count;
+    if strides && sim.scratch.recover_owed.len() != count {
+        sim.scratch.recover_owed = vec![0.0; count];
+        sim.scratch.recover_wait = vec![0.0; count];
+    } else if !strides && !sim.scratch.recover_owed.is_empty() {
+        sim.scratch.recover_owed = Vec::new();
+        sim.scratch.recover_wait = Vec::new();
+    }
     // Only here is the set walked: put in order the blades appended since.
     sim.scratch.sort_displaced();
     let mut work = std::mem::take(&mut sim.scratch.recover_work);
@@ -32,28 +43,48 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     let n = blades.segments;
     let terrain = &sim.field.terrain;
     let (weight, owner) = (&sim.scratch.weight, &sim.track_owner);
+    let (owed, wait) = (&sim.scratch.recover_owed, &sim.scratch.recover_wait);
     let displaced = &sim.scratch.displaced;
     let scale = sim.recovery_turns.scale();
     let per_patch =
         (sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize).max(1);
-    // The blades due this step, with their recovery time: the sub-step's,
-    // or their patch's turn's (every displaced blade unless far patches
-    // take turns; a blade waiting for its patch's turn is not looked at).
-    let due: Vec<(u32, f32)> = match scale {
-        None => displaced.iter().map(|&b| (b, h)).collect(),
+    // The blades looked at this step, with their recovery time: the
+    // sub-step's, or their patch's turn's (every displaced blade unless far
+    // patches take turns; a blade waiting for its patch's turn is not
+    // looked at), times how free the blade is, plus in strides the time it
+    // owes.
+    let time = |b: u32, hb: f32| {
+        let t = hb * (1.0 - weight[b as usize].min(1.0));
+        if strides { owed[b as usize] + t } else { t }
+    };
+    let looked: Vec<(u32, f32)> = match scale {
+        None => displaced.par_iter().map(|&b| (b, time(b, h))).collect(),
         Some(s) => displaced
             .par_iter()
             .filter_map(|&b| {
                 let hb = h * s.get(b as usize / per_patch).copied().unwrap_or(1.0);
-                (hb != 0.0).then_some((b, hb))
+                (hb != 0.0).then(|| (b, time(b, hb)))
             })
             .collect(),
+    };
+    // Those due: in strides, the blades that owe their wait.
+    let strided: Vec<(u32, f32)>;
+    let due: &[(u32, f32)] = if strides {
+        strided = looked
+            .par_iter()
+            .filter(|&&(b, t)| t >= wait[b as usize])
+            .copied()
+            .collect();
+        &strided
+    } else {
+        &looked
     };
     // One work slot of n + 1 vertices per blade due (see bend_blades).
     if work.len() < due.len() * (n + 1) {
         work.resize(due.len() * (n + 1), Vec3A::ZERO);
     }
-    let mut state = vec![(false, false); due.len()];
+    // Per blade due: at rest now, moved, how far its farthest vertex moved.
+    let mut state = vec![(false, false, 0.0f32); due.len()];
     // Four blades at a time (`recovery_wide`: the same bits as one at a
     // time), the last group's leftovers one by one.
     let group = LANES * (n + 1);
@@ -66,12 +97,12 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
             let mut before = [[Vec3A::ZERO; MAX_SEGMENTS + 1]; LANES];
             let mut dt = [0.0f32; LANES];
             let slots = work.chunks_mut(n + 1).zip(due).zip(&mut rest);
-            for (l, ((v, &(b, h)), rest)) in slots.enumerate() {
+            for (l, ((v, &(b, t)), rest)) in slots.enumerate() {
                 let bi = b as usize;
                 blades.load(bi, v);
                 blades.load_rest(bi, rest);
                 before[l][..=n].copy_from_slice(v);
-                dt[l] = h * (1.0 - weight[bi].min(1.0));
+                dt[l] = t;
             }
             let settings = |l: usize| {
                 let owner = usize::from(owner[due[l].0 as usize]);
@@ -103,19 +134,44 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
                 }
             }
             for (l, (s, v)) in state.iter_mut().zip(work.chunks(n + 1)).enumerate() {
-                *s = (done[l], v != &before[l][..=n]);
+                let moved = if strides {
+                    v.iter()
+                        .zip(&before[l][..=n])
+                        .map(|(a, b)| a.distance_squared(*b))
+                        .fold(0.0, f32::max)
+                        .sqrt()
+                } else {
+                    0.0
+                };
+                *s = (done[l], v != &before[l][..=n], moved);
             }
         });
     let mut still = Vec::with_capacity(displaced.len());
     let mut moved = Vec::new();
     let mut stored = Vec::new();
-    // `due` is in the set's order: walk both, the blades not due staying.
+    // `looked` and `due` are in the set's order: walk the three, the blades
+    // not looked at or not due staying.
+    let mut next_looked = looked.iter().peekable();
     let mut next = due.iter().zip(&state).enumerate().peekable();
     for &b in displaced {
-        let Some((i, (_, &(done, changed)))) = next.next_if(|(_, (d, _))| d.0 == b) else {
+        let Some(&(_, t)) = next_looked.next_if(|l| l.0 == b) else {
             still.push(b);
             continue;
         };
+        let Some((i, (_, &(done, changed, far)))) = next.next_if(|(_, (d, _))| d.0 == b) else {
+            // In strides, not due: it owes the time and waits on.
+            sim.scratch.recover_owed[b as usize] = t;
+            still.push(b);
+            continue;
+        };
+        if strides {
+            sim.scratch.recover_owed[b as usize] = 0.0;
+            sim.scratch.recover_wait[b as usize] = if done {
+                0.0
+            } else {
+                stride_wait(stride, far, t)
+            };
+        }
         if changed {
             stored.push((b, i as u32));
             moved.push(b);

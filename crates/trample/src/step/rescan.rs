@@ -45,6 +45,9 @@ impl Simulation {
                 .map(|(b, _)| b as u32),
         );
         s.displaced_sorted = s.displaced.len();
+        // Strides start again: every displaced blade recovers at the next step.
+        s.recover_owed.clear();
+        s.recover_wait.clear();
         let cells = &self.field.cells;
         s.bent_flag.clear();
         s.bent_flag

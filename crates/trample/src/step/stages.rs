@@ -385,11 +385,21 @@ pub(crate) fn reach_rect(obb: &crate::obb::Obb, reach: f32) -> ([f32; 2], [f32; 
     ([lo.x, lo.z], [hi.x, hi.z])
 }
 
-/// Adds blade `b` to the displaced set (recovered each step) if it is not in it.
+/// Adds blade `b` to the displaced set (recovered each step) if it is not in
+/// it. Something other than its recovery moved it: with slow blades
+/// recovering in strides it recovers at the next step again, from where
+/// it is (the time it owed is dropped: at most a stride of recovery).
 pub(crate) fn mark_displaced(sim: &mut Simulation, b: u32) {
-    if !sim.scratch.displaced_flag[b as usize] {
-        sim.scratch.displaced_flag[b as usize] = true;
-        sim.scratch.displaced.push(b);
+    let s = &mut sim.scratch;
+    if !s.displaced_flag[b as usize] {
+        s.displaced_flag[b as usize] = true;
+        s.displaced.push(b);
+    }
+    if let (Some(owed), Some(wait)) = (
+        s.recover_owed.get_mut(b as usize),
+        s.recover_wait.get_mut(b as usize),
+    ) {
+        (*owed, *wait) = (0.0, 0.0);
     }
 }
 
