@@ -57,11 +57,23 @@ const CLASS_TOLERANCE: f64 = 0.002;
 /// 1.6e-6 (busy scene, 200 frames, 670 bent billboards).
 const SLOPE_TOLERANCE: f32 = 1e-3;
 
+/// [`check_parity_as_is`] with every displaced blade relaxed every step
+/// (`recovery_stride_m = 0`): with strides (the default) the two paths may
+/// relax a blade a step apart where its clock is a few ulp from its turn
+/// (a stride apart, then together again), which would blur the other
+/// stages' agreement; the strides' own is checked by
+/// `busy_scene_recovering_in_strides_matches_the_cpu`.
+fn check_parity(scene: &Scene, frames: u32) {
+    let mut scene = scene.clone();
+    scene.file.sim.recovery_stride_m = 0.0;
+    check_parity_as_is(&scene, frames);
+}
+
 /// Runs `scene` on both paths for `frames` and checks the end state: levels
 /// of detail identical, billboard slopes within [`SLOPE_TOLERANCE`],
 /// vertices within [`VERTEX_TOLERANCE_M`], classes within
 /// [`CLASS_TOLERANCE`] of the field, and the object touching grass.
-fn check_parity(scene: &Scene, frames: u32) {
+fn check_parity_as_is(scene: &Scene, frames: u32) {
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
     let mut cpu = scenes::build(scene);
@@ -267,7 +279,7 @@ fn busy_scene_recovering_in_strides_matches_the_cpu() {
     eprintln!("blades changed over {frames} frames: {every} every step, {strided} in strides");
     assert!(strided * 10 < every * 9, "{strided} against {every}");
     scene.file.sim.recovery_stride_m = STRIDE;
-    check_parity(&scene, frames);
+    check_parity_as_is(&scene, frames);
 }
 
 #[test]
@@ -503,6 +515,8 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     scene.file.field.cell_size_m = 0.4;
     scene.file.sim.far_every = far_every;
     scene.file.sim.recovery_s = recovery_s;
+    // Every displaced blade every step (see `check_parity`).
+    scene.file.sim.recovery_stride_m = 0.0;
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
     let mut cpu = scenes::build(&scene);

@@ -7,8 +7,8 @@
 //! with `far_every` above 1 the ones far from the camera step in turns
 //! and so does the recovery of the trails far from it
 //! (`SimParams::far_every`). The trails' blades creeping back slowly are
-//! relaxed in strides of half a millimetre (`SimParams::recovery_stride_m`:
-//! each only every few frames, over all the time it owes). Every second it prints the step's median and
+//! relaxed in strides of half a millimetre (`SimParams::recovery_stride_m`,
+//! the default: each only every few frames, over all the time it owes). Every second it prints the step's median and
 //! 90th percentile, how many characters stand, how many stepped far, and
 //! how many blades a renderer would upload (`Simulation::changed_blades`).
 //!

@@ -767,6 +767,8 @@ path = { kind = "line", from = [0.3, 0.6, -7.5], to = [0.3, 0.6, 9.5], duration_
 #[test]
 fn far_patches_recover_in_turns_and_near_ones_every_step_bit_for_bit() {
     let mut every = trail_watched_from_the_edge();
+    // No strides (`recovery_stride_m`): the work compared is the turns'.
+    every.params.recovery_stride_m = 0.0;
     let mut turns = every.clone();
     turns.params.far_every = 4;
     let layout = &every.field.layout;

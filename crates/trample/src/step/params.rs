@@ -125,10 +125,13 @@ pub struct SimParams {
     /// trail's blades, most of them creeping back a fraction of a
     /// millimetre a frame, cost their relaxation, their cell and their
     /// upload only every few frames. A blade an object moves recovers at
-    /// the next step again. Default 0: every displaced blade every step
-    /// (bit for bit the recovery without strides). 0.0005 (half a
-    /// millimetre: under a pixel at half a metre at 1080p) is invisible.
-    /// Finite, in [0, 0.05].
+    /// the next step again. In a trail left behind no vertex is ever more
+    /// than about two strides from where the every-step recovery puts it.
+    /// Default 0.0005: half a
+    /// millimetre, under a pixel at half a metre at 1080p (a crowd's
+    /// trails cost half as much: BENCHMARKS.md, "Session 43"). 0: every
+    /// displaced blade every step (bit for bit the recovery without
+    /// strides). In [0, 0.05].
     pub recovery_stride_m: f32,
 }
 
@@ -154,7 +157,7 @@ impl Default for SimParams {
             far_beyond_m: 30.0,
             far_travel_m: 0.25,
             reuse_at_rest: true,
-            recovery_stride_m: 0.0,
+            recovery_stride_m: 0.0005,
         }
     }
 }

@@ -74,6 +74,9 @@ patches = [2, 2]
 cells_per_patch = 16
 [sim]
 recovery_s = 0.5
+# Every displaced blade every step: a rescan starts the strides' clocks
+# again, which the run it is compared with kept.
+recovery_stride_m = 0.0
 [lod]
 geometry_m = 2.0
 billboard_m = 40.0
