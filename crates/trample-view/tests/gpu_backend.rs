@@ -20,6 +20,10 @@ cells_per_patch = 16
 [sim]
 precision = 3
 recovery_s = 0.5
+# Every displaced blade every step: a field handed back from the GPU
+# starts the strides' clocks again (`rescan_displaced`), which the CPU
+# run compared with kept, so a blade could reach rest a step apart.
+recovery_stride_m = 0.0
 [[objects]]
 name = "ball"
 shape = { kind = "sphere", radius_m = 0.5, subdivisions = 2 }
