@@ -123,6 +123,10 @@ fn contents(ui: &mut egui::Ui, app: &mut App, stats: &FrameStats) {
     }
 }
 
+/// What the recovery stride does (`SimParams::recovery_stride_m`).
+const STRIDE: &str = "slow blades are relaxed only every few frames, about this far at a time \
+(0: every recovering blade every frame)";
+
 fn parameters(ui: &mut egui::Ui, app: &mut App) {
     let p = &mut app.sim_mut().params;
     ui.add(Slider::new(&mut p.precision, 1..=MAX_PRECISION).text("precision"))
@@ -150,6 +154,14 @@ fn parameters(ui: &mut egui::Ui, app: &mut App) {
                 .logarithmic(true)
                 .text("recovery τ, s"),
         );
+        let mut stride_mm = p.recovery_stride_m * 1e3;
+        if ui
+            .add(Slider::new(&mut stride_mm, 0.0..=5.0).text("recovery stride, mm"))
+            .on_hover_text(STRIDE)
+            .changed()
+        {
+            p.recovery_stride_m = stride_mm * 1e-3;
+        }
     }
     ui.add(Slider::new(&mut p.trail, 0.0..=5.0).text("trail"));
     let lod = &mut app.sim_mut().lod;
