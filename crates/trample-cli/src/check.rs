@@ -45,7 +45,7 @@ pub fn run(a: &Args) -> Result<()> {
     );
     println!(
         "  memory: about {:.1} MiB (limit {} GiB)",
-        f.field.memory_estimate_bytes() as f64 / (1024.0 * 1024.0),
+        scene.builder().memory_estimate_bytes()? as f64 / (1024.0 * 1024.0),
         f.sim.memory_limit_gib
     );
     println!(

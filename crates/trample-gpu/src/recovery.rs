@@ -40,7 +40,7 @@ pub struct Recovery {
     turns: wgpu::Buffer,
     /// Slow blades in strides (`SimParams::recovery_stride_m`): per blade,
     /// the recovery time it owes and the time it waits for, seconds
-    /// (`trample::step::Scratch::recover_owed`, `recover_wait`); 16 bytes
+    /// (`trample::step::Scratch::recover_clock`); 16 bytes
     /// while no stride is asked for ([`Recovery::ensure_clock`]).
     clock: wgpu::Buffer,
     no_broad: NoBroad,

@@ -71,6 +71,11 @@ pub const RECOVERY_TAIL_M: f32 = 0.01;
 /// recover is still looked at four times a second.
 pub const RECOVERY_WAIT_MAX_S: f32 = 0.25;
 
+/// Bytes a blade's strides clock takes (`[owed, wait]`, two `f32`: the CPU's
+/// `Scratch::recover_clock`, the GPU path's `vec2` clock), counted in the
+/// field's memory estimate while strides are on.
+pub const RECOVERY_CLOCK_BYTES: u64 = 8;
+
 /// Slow blades recover in strides (ours, issue 16;
 /// `SimParams::recovery_stride_m`): how much recovery time a blade must owe
 /// before it is relaxed again, seconds, given that its last relaxation, over

@@ -13,7 +13,9 @@ use std::path::{Path, PathBuf};
 use trample::builder::SimulationBuilder;
 use trample::field::generate::growing_blades;
 use trample::field::{FieldParams, GrassMap, GrassMaps, LodParams};
+use trample::recovery::RECOVERY_CLOCK_BYTES;
 use trample::scene::Scene;
+use trample::step::SimParams;
 use trample::{BodyBuilder, Simulation};
 
 // ---------------------------------------------------------------- the garden
@@ -313,16 +315,28 @@ fn the_memory_estimate_follows_the_density() {
     let share = grown_half as f32 / count as f32;
     assert!((share - 0.5).abs() < 0.02, "density 0.5 grew {share}");
     assert!(none < half && half < full, "{none} {half} {full}");
-    // The estimate is the formula at the exact count of growing blades.
+    // The estimate is the formula at the exact count of growing blades,
+    // plus the strides' clock of every blade (strides are on by default).
     let p = FieldParams {
         patches: [4, 4],
         cells_per_patch: 16,
         blades_per_cell: 4,
         ..FieldParams::default()
     };
-    assert_eq!(full, p.memory_estimate_bytes());
-    assert_eq!(half, p.memory_estimate_bytes_for(grown_half as u64));
-    assert_eq!(none, p.memory_estimate_bytes_for(0));
+    assert!(SimParams::default().recovery_stride_m > 0.0);
+    let clock = count as u64 * RECOVERY_CLOCK_BYTES;
+    assert_eq!(full, p.memory_estimate_bytes() + clock);
+    assert_eq!(half, p.memory_estimate_bytes_for(grown_half as u64) + clock);
+    assert_eq!(none, p.memory_estimate_bytes_for(0) + clock);
+    // Without strides there is no clock to count.
+    let every_step = field_with(GrassMaps::default(), 4).sim(SimParams {
+        recovery_stride_m: 0.0,
+        ..SimParams::default()
+    });
+    assert_eq!(
+        every_step.memory_estimate_bytes().unwrap(),
+        p.memory_estimate_bytes()
+    );
     // Half the grass saves the work memory of the other half: with 4
     // segments, 170 of 370 bytes a blade.
     let saved = (full - half) as f64 / (count - grown_half) as f64;

@@ -11,6 +11,7 @@ use crate::obb::DEFAULT_MAX_DEPTH;
 use crate::obb::shared::{Winding, build_shared};
 use crate::object::Path as EyePath;
 use crate::object::{Object, TriMesh};
+use crate::recovery::RECOVERY_CLOCK_BYTES;
 use crate::scene::SceneFile;
 use crate::step::{Body, HostView, SimParams, Simulation};
 use crate::wind::WindParams;
@@ -222,15 +223,32 @@ impl SimulationBuilder {
 
     /// The memory the field needs at most, bytes
     /// ([`FieldParams::memory_estimate_bytes_for`] with the blades the
-    /// grass maps let grow); reads the map images if there are any.
+    /// grass maps let grow, plus, while `sim.recovery_stride_m` > 0, the
+    /// strides' clock: [`RECOVERY_CLOCK_BYTES`] a blade); reads the map
+    /// images if there are any.
     ///
     /// # Errors
     /// [`BuildError::Maps`] when a map image cannot be read.
     pub fn memory_estimate_bytes(&self) -> Result<u64, BuildError> {
         let maps = self.grass_maps()?;
-        Ok(self
-            .field
-            .memory_estimate_bytes_for(growing_blades(&self.field, &maps)))
+        Ok(self.estimate_bytes(&maps))
+    }
+
+    /// [`FieldParams::memory_estimate_bytes_for`] the blades `maps` let
+    /// grow, plus, with slow blades recovering in strides
+    /// (`sim.recovery_stride_m` > 0), their clock: [`RECOVERY_CLOCK_BYTES`]
+    /// a blade (`Scratch::recover_clock`, made when some owner recovers —
+    /// a body the host adds later may, so it is counted whatever the
+    /// scene's own recovery).
+    fn estimate_bytes(&self, maps: &GrassMaps) -> u64 {
+        let clock = if self.sim.recovery_stride_m > 0.0 {
+            self.field.blade_count() * RECOVERY_CLOCK_BYTES
+        } else {
+            0
+        };
+        self.field
+            .memory_estimate_bytes_for(growing_blades(&self.field, maps))
+            + clock
     }
 
     /// Builds the simulation at time 0: checks ([`SimulationBuilder::validate`]),
@@ -303,9 +321,7 @@ impl SimulationBuilder {
     }
 
     fn check_memory(&self, maps: &GrassMaps) -> Result<(), BuildError> {
-        let need = self
-            .field
-            .memory_estimate_bytes_for(growing_blades(&self.field, maps));
+        let need = self.estimate_bytes(maps);
         let limit = (f64::from(self.sim.memory_limit_gib) * 1024f64.powi(3)) as u64;
         if need > limit {
             return Err(BuildError::Memory {

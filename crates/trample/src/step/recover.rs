@@ -25,16 +25,15 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     if params.iter().all(|p| p.recovery_s.is_infinite()) {
         return Vec::new();
     }
-    // Slow blades in strides: the owed time and the wait of every blade.
+    // Slow blades in strides: every blade's clock (owed time, wait).
     let stride = sim.params.recovery_stride_m;
     let strides = stride > 0.0;
     let count = sim.field.blades.count;
-    if strides && sim.scratch.recover_owed.len() != count {
-        sim.scratch.recover_owed = vec![0.0; count];
-        sim.scratch.recover_wait = vec![0.0; count];
-    } else if !strides && !sim.scratch.recover_owed.is_empty() {
-        sim.scratch.recover_owed = Vec::new();
-        sim.scratch.recover_wait = Vec::new();
+    let mut clock = std::mem::take(&mut sim.scratch.recover_clock);
+    if strides && clock.len() != count {
+        clock = vec![[0.0; 2]; count];
+    } else if !strides {
+        clock = Vec::new();
     }
     // Only here is the set walked: put in order the blades appended since.
     sim.scratch.sort_displaced();
@@ -43,42 +42,34 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     let n = blades.segments;
     let terrain = &sim.field.terrain;
     let (weight, owner) = (&sim.scratch.weight, &sim.track_owner);
-    let (owed, wait) = (&sim.scratch.recover_owed, &sim.scratch.recover_wait);
     let displaced = &sim.scratch.displaced;
     let scale = sim.recovery_turns.scale();
     let per_patch =
         (sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize).max(1);
-    // The blades looked at this step, with their recovery time: the
-    // sub-step's, or their patch's turn's (every displaced blade unless far
+    // A blade's recovery time this step, if it is looked at: the
+    // sub-step's, or its patch's turn's (every displaced blade unless far
     // patches take turns; a blade waiting for its patch's turn is not
     // looked at), times how free the blade is, plus in strides the time it
     // owes.
-    let time = |b: u32, hb: f32| {
-        let t = hb * (1.0 - weight[b as usize].min(1.0));
-        if strides { owed[b as usize] + t } else { t }
+    let time = |clock: &[[f32; 2]], b: u32| {
+        let hb = match scale {
+            None => h,
+            Some(s) => h * s.get(b as usize / per_patch).copied().unwrap_or(1.0),
+        };
+        (hb != 0.0).then(|| {
+            let t = hb * (1.0 - weight[b as usize].min(1.0));
+            if strides { clock[b as usize][0] + t } else { t }
+        })
     };
-    let looked: Vec<(u32, f32)> = match scale {
-        None => displaced.par_iter().map(|&b| (b, time(b, h))).collect(),
-        Some(s) => displaced
-            .par_iter()
-            .filter_map(|&b| {
-                let hb = h * s.get(b as usize / per_patch).copied().unwrap_or(1.0);
-                (hb != 0.0).then(|| (b, time(b, hb)))
-            })
-            .collect(),
-    };
-    // Those due: in strides, the blades that owe their wait.
-    let strided: Vec<(u32, f32)>;
-    let due: &[(u32, f32)] = if strides {
-        strided = looked
-            .par_iter()
-            .filter(|&&(b, t)| t >= wait[b as usize])
-            .copied()
-            .collect();
-        &strided
-    } else {
-        &looked
-    };
+    // The blades due, with their time: those looked at, and in strides
+    // only those that owe their wait.
+    let due: Vec<(u32, f32)> = displaced
+        .par_iter()
+        .filter_map(|&b| {
+            let t = time(&clock, b)?;
+            (!strides || t >= clock[b as usize][1]).then_some((b, t))
+        })
+        .collect();
     // One work slot of n + 1 vertices per blade due (see bend_blades).
     if work.len() < due.len() * (n + 1) {
         work.resize(due.len() * (n + 1), Vec3A::ZERO);
@@ -149,28 +140,29 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     let mut still = Vec::with_capacity(displaced.len());
     let mut moved = Vec::new();
     let mut stored = Vec::new();
-    // `looked` and `due` are in the set's order: walk the three, the blades
-    // not looked at or not due staying.
-    let mut next_looked = looked.iter().peekable();
+    // `due` is in the set's order: walk the two, the blades not due
+    // staying.
     let mut next = due.iter().zip(&state).enumerate().peekable();
     for &b in displaced {
-        let Some(&(_, t)) = next_looked.next_if(|l| l.0 == b) else {
-            still.push(b);
-            continue;
-        };
-        let Some((i, (_, &(done, changed, far)))) = next.next_if(|(_, (d, _))| d.0 == b) else {
-            // In strides, not due: it owes the time and waits on.
-            sim.scratch.recover_owed[b as usize] = t;
+        let Some((i, (&(_, t), &(done, changed, far)))) = next.next_if(|(_, (d, _))| d.0 == b)
+        else {
+            // In strides, looked at but not due: it owes the time (the
+            // same bits as the filter's) and waits on.
+            if let Some(t) = time(&clock, b).filter(|_| strides) {
+                clock[b as usize][0] = t;
+            }
             still.push(b);
             continue;
         };
         if strides {
-            sim.scratch.recover_owed[b as usize] = 0.0;
-            sim.scratch.recover_wait[b as usize] = if done {
-                0.0
-            } else {
-                stride_wait(stride, far, t)
-            };
+            clock[b as usize] = [
+                0.0,
+                if done {
+                    0.0
+                } else {
+                    stride_wait(stride, far, t)
+                },
+            ];
         }
         if changed {
             stored.push((b, i as u32));
@@ -182,6 +174,7 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
             still.push(b);
         }
     }
+    sim.scratch.recover_clock = clock;
     sim.field.blades.store_slots(&stored, &work);
     sim.scratch.recover_work = work;
     // In the order of the set: still in order.

@@ -46,8 +46,7 @@ impl Simulation {
         );
         s.displaced_sorted = s.displaced.len();
         // Strides start again: every displaced blade recovers at the next step.
-        s.recover_owed.clear();
-        s.recover_wait.clear();
+        s.recover_clock.clear();
         let cells = &self.field.cells;
         s.bent_flag.clear();
         s.bent_flag

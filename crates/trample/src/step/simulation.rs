@@ -46,14 +46,15 @@ pub(crate) struct Scratch {
     /// `displaced` as a flag per blade.
     pub displaced_flag: Vec<bool>,
     /// Slow blades recover in strides (`SimParams::recovery_stride_m` > 0;
-    /// empty otherwise): per blade, the recovery time it owes since it was
-    /// last relaxed, seconds ([`super::recover`]). 0 for a blade at rest
-    /// and for one an object just moved ([`super::stages::mark_displaced`]).
-    pub recover_owed: Vec<f32>,
-    /// With `recover_owed`: per blade, how much time it must owe before it
-    /// is relaxed again ([`crate::recovery::stride_wait`]); 0: at the next
-    /// step.
-    pub recover_wait: Vec<f32>,
+    /// empty otherwise): per blade, its clock `[owed, wait]` — the
+    /// recovery time it owes since it was last relaxed, and how much it
+    /// must owe before it is relaxed again
+    /// ([`crate::recovery::stride_wait`]), seconds ([`super::recover`]).
+    /// `[0, 0]` for a blade at rest and for one an object just moved
+    /// ([`super::stages::mark_displaced`]): relaxed at the next step. One
+    /// pair a blade, as the GPU path's `vec2` clock: the two are read
+    /// together.
+    pub recover_clock: Vec<[f32; 2]>,
     /// Cells whose billboard slope is away from rest: ascending up to
     /// `bent_sorted`, then the cells bent since. Put in order
     /// ([`Scratch::sort_bent`]) where the set is filtered: in the paper's

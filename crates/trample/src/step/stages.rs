@@ -395,11 +395,8 @@ pub(crate) fn mark_displaced(sim: &mut Simulation, b: u32) {
         s.displaced_flag[b as usize] = true;
         s.displaced.push(b);
     }
-    if let (Some(owed), Some(wait)) = (
-        s.recover_owed.get_mut(b as usize),
-        s.recover_wait.get_mut(b as usize),
-    ) {
-        (*owed, *wait) = (0.0, 0.0);
+    if let Some(clock) = s.recover_clock.get_mut(b as usize) {
+        *clock = [0.0; 2];
     }
 }
 
