@@ -144,10 +144,10 @@ with open("scenes/herd.toml", "w") as f:
             (3.0, 8.0),
             "128 mixed objects, each circling somewhere on a 128 x 128-patch field\n"
             "# (16,777,216 blades, 409.6 m square), precision 7, camera at the centre:\n"
-            "# issue 16's scene. Memory: the estimate is 8.4 GiB (the worst case,\n"
-            "# every blade bent; a run peaks at about half), so the limit is raised\n"
-            "# to 10 GiB.",
-            10.0,
+            "# issue 16's scene. Memory: the estimate is 10.1 GiB (the worst case,\n"
+            "# every blade bent; a run peaks at about a third), so the limit is\n"
+            "# raised to 12 GiB.",
+            12.0,
         )
     )
 with open("scenes/herd_small.toml", "w") as f:
@@ -172,7 +172,7 @@ with open("scenes/herd_parked.toml", "w") as f:
             (3.0, 8.0),
             "herd.toml's 128 objects standing still where their circles start, on its\n"
             "# 16,777,216-blade field: what objects at rest cost (sim.reuse_at_rest).",
-            10.0,
+            12.0,
             parked=True,
         )
     )
@@ -188,7 +188,7 @@ with open("scenes/herd_stopgo.toml", "w") as f:
             "# each stopped or at 0.5, 1 or 1.5 times the object's speed (keyframes\n"
             "# for 20 s, then each stays where it is), on its 16,777,216-blade field:\n"
             "# far bodies that change speed (issue 16's far turns, `--far-every`).",
-            10.0,
+            12.0,
             stop_go=True,
         )
     )

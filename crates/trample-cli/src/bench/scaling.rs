@@ -194,7 +194,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
                 cells_per_patch: f.cells_per_patch,
                 cell_size_m: f.cell_size_m,
                 blades_per_cell: f.blades_per_cell,
-                memory_estimate_gib: gib(f.memory_estimate_bytes()),
+                memory_estimate_gib: gib(s.builder().memory_estimate_bytes()?),
                 build_ms,
                 precision,
                 step_ms: rec.step_ms(),
@@ -348,8 +348,9 @@ fn blade_scene(
             }
         }
     }
-    // Two copies at once when several precisions share one build.
-    let single = gib(f.memory_estimate_bytes());
+    // Two copies at once when several precisions share one build. The
+    // builder's estimate: the field's, with the strides' clock.
+    let single = gib(s.builder().memory_estimate_bytes()?);
     let need = single * if copies > 1 { 2.0 } else { 1.0 };
     if memory_gib > 0.0 && need > 0.5 * memory_gib {
         bail!("needs about {need:.1} GiB, more than half of this machine's {memory_gib:.1} GiB");

@@ -269,17 +269,23 @@ impl FieldParams {
     ///   length, width, tint, force (12), contact weight, owner weight and
     ///   segment mask (4 each), generation, class, track owner and
     ///   displaced flag (1 each);
-    /// - one step's work, 16(n+1) + 90: a copy of the vertices of every
-    ///   bent or recovering blade, the contacts of the narrow phase (24 B,
-    ///   gathered from the worker threads) and the index lists (narrow-phase
-    ///   candidates, touched, DBG, forced, moved by contact, displaced);
+    /// - one step's work, 32(n+1) + 216: two copies of the vertices of
+    ///   every bent or recovering blade (the bend's work slots and the
+    ///   recovery's, which are kept from step to step), the contacts of the
+    ///   narrow phase (24 B, gathered from the worker threads), the index
+    ///   lists (narrow-phase candidates, touched, DBG, forced, moved by
+    ///   contact, displaced; the recovery's blades due, their state, the
+    ///   blades staying and those stored) and the contact response's
+    ///   per-vertex memos — the constant 216 fitted to the measured peaks
+    ///   (below), not itemised further;
     ///
     /// per cell, 62: the neighbour table (16), LOD, billboard base, height,
     /// rest and current slope, flatness, bent flag; plus
     /// [`FIXED_OVERHEAD_BYTES`]. (Until 2026-11-25 the sum was raised by a
     /// quarter for what the allocator keeps mapped; the step's memory has
     /// fallen since, and the quarter put the estimate 25 % over the
-    /// measured worst case.)
+    /// measured worst case.) The builder adds the recovery strides' clock
+    /// (`SimulationBuilder::memory_estimate_bytes`).
     ///
     /// Measured (peak RSS of `trample simulate` less that of a 4-blade run,
     /// every blade hit and bent, n = 4; RELIABILITY.md, and the CLI test
@@ -292,7 +298,12 @@ impl FieldParams {
     /// now 33.0 and 114.0 MiB (+9 to +11 %; with the quarter they were
     /// 39.8 and 141.0, −24 to −26 %, and the CI test failed). A run where a
     /// ball touches a small part of the field peaks at about half the
-    /// estimate (65,536 blades: 17.5 MiB).
+    /// estimate (65,536 blades: 17.5 MiB). Re-measured 2026-11-30 (one
+    /// thread, release and debug builds alike): 38.0 / 157.9 / 642.1 MiB at
+    /// 65,536 / 262,144 / 1,048,576 blades — 645 bytes a blade, where the
+    /// formula then counted 432 (work 16(n+1) + 90) and the estimates were
+    /// 14–36 % under; the work term is now 32(n+1) + 216: estimates 46.4 /
+    /// 167.5 / 652.0 MiB with the strides' clock (−18 / −6 / −2 %).
     ///
     /// Every blade is counted as growing; see
     /// [`FieldParams::memory_estimate_bytes_for`] for a field whose grass
@@ -314,7 +325,7 @@ impl FieldParams {
     #[must_use]
     pub fn memory_estimate_bytes_for(&self, growing: u64) -> u64 {
         let verts = u64::from(self.segments) + 1;
-        let (state, work) = (32 * verts + 40, 16 * verts + 90);
+        let (state, work) = (32 * verts + 40, 32 * verts + 216);
         let per_cell = 62;
         let exact = self.blade_count() * state
             + growing.min(self.blade_count()) * work
