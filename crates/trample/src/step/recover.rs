@@ -37,39 +37,53 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
     }
     // Only here is the set walked: put in order the blades appended since.
     sim.scratch.sort_displaced();
+    let displaced = std::mem::take(&mut sim.scratch.displaced);
     let mut work = std::mem::take(&mut sim.scratch.recover_work);
     let blades = &sim.field.blades;
     let n = blades.segments;
     let terrain = &sim.field.terrain;
     let (weight, owner) = (&sim.scratch.weight, &sim.track_owner);
-    let displaced = &sim.scratch.displaced;
     let scale = sim.recovery_turns.scale();
     let per_patch =
         (sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize).max(1);
     // A blade's recovery time this step, if it is looked at: the
     // sub-step's, or its patch's turn's (every displaced blade unless far
     // patches take turns; a blade waiting for its patch's turn is not
-    // looked at), times how free the blade is, plus in strides the time it
-    // owes.
-    let time = |clock: &[[f32; 2]], b: u32| {
+    // looked at), times how free the blade is (in strides, plus the time
+    // it owes).
+    let time = |b: u32| {
         let hb = match scale {
             None => h,
             Some(s) => h * s.get(b as usize / per_patch).copied().unwrap_or(1.0),
         };
-        (hb != 0.0).then(|| {
-            let t = hb * (1.0 - weight[b as usize].min(1.0));
-            if strides { clock[b as usize][0] + t } else { t }
-        })
+        (hb != 0.0).then(|| hb * (1.0 - weight[b as usize].min(1.0)))
     };
-    // The blades due, with their time: those looked at, and in strides
-    // only those that owe their wait.
-    let due: Vec<(u32, f32)> = displaced
-        .par_iter()
-        .filter_map(|&b| {
-            let t = time(&clock, b)?;
-            (!strides || t >= clock[b as usize][1]).then_some((b, t))
-        })
-        .collect();
+    // The blades due, with their time: every blade looked at, or in
+    // strides those that owe their wait; one looked at but not due owes
+    // the time and waits on (its clock written here: the set is ascending,
+    // so its chunks own disjoint ranges of the clock).
+    let due: Vec<(u32, f32)> = if strides {
+        clock_parts(&mut clock, &displaced, CLOCK_CHUNK)
+            .into_par_iter()
+            .flat_map_iter(|(set, start, part)| {
+                set.iter().filter_map(move |&b| {
+                    let c = &mut part[b as usize - start];
+                    let t = c[0] + time(b)?;
+                    if t >= c[1] {
+                        Some((b, t))
+                    } else {
+                        c[0] = t;
+                        None
+                    }
+                })
+            })
+            .collect()
+    } else {
+        displaced
+            .par_iter()
+            .filter_map(|&b| Some((b, time(b)?)))
+            .collect()
+    };
     // One work slot of n + 1 vertices per blade due (see bend_blades).
     if work.len() < due.len() * (n + 1) {
         work.resize(due.len() * (n + 1), Vec3A::ZERO);
@@ -137,32 +151,16 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
                 *s = (done[l], v != &before[l][..=n], moved);
             }
         });
-    let mut still = Vec::with_capacity(displaced.len());
     let mut moved = Vec::new();
     let mut stored = Vec::new();
-    // `due` is in the set's order: walk the two, the blades not due
-    // staying.
-    let mut next = due.iter().zip(&state).enumerate().peekable();
-    for &b in displaced {
-        let Some((i, (&(_, t), &(done, changed, far)))) = next.next_if(|(_, (d, _))| d.0 == b)
-        else {
-            // In strides, looked at but not due: it owes the time (the
-            // same bits as the filter's) and waits on.
-            if let Some(t) = time(&clock, b).filter(|_| strides) {
-                clock[b as usize][0] = t;
-            }
-            still.push(b);
-            continue;
-        };
+    for (i, (&(b, t), &(done, changed, far))) in due.iter().zip(&state).enumerate() {
         if strides {
-            clock[b as usize] = [
-                0.0,
-                if done {
-                    0.0
-                } else {
-                    stride_wait(stride, far, t)
-                },
-            ];
+            let wait = if done {
+                0.0
+            } else {
+                stride_wait(stride, far, t)
+            };
+            clock[b as usize] = [0.0, wait];
         }
         if changed {
             stored.push((b, i as u32));
@@ -170,11 +168,16 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
         }
         if done {
             sim.scratch.displaced_flag[b as usize] = false;
-        } else {
-            still.push(b);
         }
     }
     sim.scratch.recover_clock = clock;
+    // The set less the blades back at rest, in order.
+    let flags = &sim.scratch.displaced_flag;
+    let still: Vec<u32> = displaced
+        .par_iter()
+        .copied()
+        .filter(|&b| flags[b as usize])
+        .collect();
     sim.field.blades.store_slots(&stored, &work);
     sim.scratch.recover_work = work;
     // In the order of the set: still in order.
@@ -190,4 +193,68 @@ pub(crate) fn recover(sim: &mut Simulation, h: f32) -> Vec<u32> {
         });
     }
     moved
+}
+
+/// Blades a part of [`clock_parts`] holds (a few thousand: enough parts for
+/// the threads, few enough to cost nothing to make).
+const CLOCK_CHUNK: usize = 4096;
+
+/// `clock` (per blade) split along the ascending, duplicate-free `set` cut
+/// into chunks of `chunk` blades: each chunk with the first blade its part
+/// starts at and the part, which holds every blade of the chunk and no
+/// other chunk's (from the chunk's first blade to the next chunk's).
+fn clock_parts<'a, T>(
+    mut clock: &'a mut [T],
+    set: &'a [u32],
+    chunk: usize,
+) -> Vec<(&'a [u32], usize, &'a mut [T])> {
+    let mut parts = Vec::with_capacity(set.len().div_ceil(chunk));
+    let mut start = 0;
+    let mut chunks = set.chunks(chunk).peekable();
+    while let Some(c) = chunks.next() {
+        let end = chunks
+            .peek()
+            .map_or(start + clock.len(), |next| next[0] as usize);
+        let (part, rest) = std::mem::take(&mut clock).split_at_mut(end - start);
+        parts.push((c, start, part));
+        clock = rest;
+        start = end;
+    }
+    parts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::clock_parts;
+
+    /// Every blade of a chunk lies in its own part, the parts tile the
+    /// clock in order, and writes through them land on the blades' slots.
+    #[test]
+    fn clock_parts_give_each_chunk_the_slots_of_its_blades() {
+        let set: Vec<u32> = vec![0, 3, 4, 9, 10, 11, 17, 25, 26, 31];
+        for chunk in [1, 2, 3, 4, 10, 64] {
+            let mut clock: Vec<u32> = vec![0; 32];
+            let parts = clock_parts(&mut clock, &set, chunk);
+            assert_eq!(parts.len(), set.len().div_ceil(chunk));
+            let mut next = 0;
+            for (blades, start, part) in parts {
+                assert_eq!(start, next, "chunk {chunk}: parts tile the clock");
+                for &b in blades {
+                    part[b as usize - start] = b + 100;
+                }
+                next = start + part.len();
+            }
+            assert_eq!(next, 32);
+            for (b, &v) in clock.iter().enumerate() {
+                let want = if set.contains(&(b as u32)) {
+                    b as u32 + 100
+                } else {
+                    0
+                };
+                assert_eq!(v, want, "chunk {chunk}, blade {b}");
+            }
+        }
+        let mut clock = vec![0u32; 8];
+        assert!(clock_parts(&mut clock, &[], 4).is_empty());
+    }
 }
