@@ -182,12 +182,11 @@ impl SimSummary {
             reused_blades_mean: mean(|t| t.reused_blades),
             substeps_clamped_steps: sim.substep_clamps,
             first_substep_clamp: sim.first_substep_clamp.as_ref().map(ToString::to_string),
-            // The builder's estimate (grass maps, the strides' clock); the
-            // field's formula alone if the maps cannot be read again.
-            memory_estimate_mib: scene
-                .builder()
-                .memory_estimate_bytes()
-                .unwrap_or_else(|_| scene.file.field.memory_estimate_bytes())
+            // The estimate the build made (grass maps, the strides' clock);
+            // the field's formula for a simulation made without the builder.
+            memory_estimate_mib: sim
+                .memory_estimate_bytes
+                .unwrap_or_else(|| scene.file.field.memory_estimate_bytes())
                 as f64
                 / 1024f64.powi(2),
             peak_rss_mib: peak_rss_mib(),

@@ -301,6 +301,9 @@ fn the_memory_estimate_follows_the_density() {
         let grown = (0..sim.field.blades.count)
             .filter(|&i| sim.field.blades.is_present(i))
             .count();
+        // The build keeps the estimate it checked (what `summary.json`
+        // reports).
+        assert_eq!(sim.memory_estimate_bytes, b.memory_estimate_bytes().ok());
         (
             b.memory_estimate_bytes().unwrap(),
             grown,

@@ -170,6 +170,11 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
         let t = Instant::now();
         let mut base = Some(s.build()?);
         let build_ms = t.elapsed().as_secs_f64() * 1e3;
+        // The estimate the build made (once a scene, not a run).
+        let memory_estimate_gib = gib(base
+            .as_ref()
+            .and_then(|sim| sim.memory_estimate_bytes)
+            .map_or_else(|| s.builder().memory_estimate_bytes(), Ok)?);
         for (i, (&precision, &backend)) in setup
             .precisions
             .iter()
@@ -194,7 +199,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
                 cells_per_patch: f.cells_per_patch,
                 cell_size_m: f.cell_size_m,
                 blades_per_cell: f.blades_per_cell,
-                memory_estimate_gib: gib(s.builder().memory_estimate_bytes()?),
+                memory_estimate_gib,
                 build_ms,
                 precision,
                 step_ms: rec.step_ms(),

@@ -269,6 +269,7 @@ impl SimulationBuilder {
         if self.maps_from_images() {
             self.check_memory(&maps)?;
         }
+        let estimate = self.estimate_bytes(&maps);
         let objects: Vec<Object> = self
             .bodies
             .par_iter()
@@ -295,6 +296,7 @@ impl SimulationBuilder {
         let camera = self.make_camera(&bodies)?;
         let mut sim = Simulation::new(field, bodies, camera, self.lod.clone(), self.sim.clone());
         sim.wind = self.wind.clone();
+        sim.memory_estimate_bytes = Some(estimate);
         if let Some(view) = self.host_view {
             sim.set_view(view)?;
             // Levels of detail from the host's eye before the first step too.

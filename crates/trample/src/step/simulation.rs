@@ -157,6 +157,12 @@ pub struct Simulation {
     pub(crate) recovery_turns: super::recovery_turns::RecoveryTurns,
     /// The host's camera, in charge of LOD and culling when set.
     pub(crate) host_view: Option<super::view::HostView>,
+    /// The memory the field needs at most, bytes, as its builder
+    /// estimated it before building
+    /// ([`crate::builder::SimulationBuilder::memory_estimate_bytes`]: the
+    /// blades the grass maps let grow, the strides' clock); `None` for a
+    /// simulation assembled with [`Simulation::new`] alone.
+    pub memory_estimate_bytes: Option<u64>,
     /// The id the next added body gets.
     pub(crate) next_body_id: u32,
 }
@@ -245,6 +251,7 @@ impl Simulation {
             },
             recovery_turns: super::recovery_turns::RecoveryTurns::default(),
             host_view: None,
+            memory_estimate_bytes: None,
             next_body_id,
         };
         // Levels of detail and culling for the starting viewpoint, so a
