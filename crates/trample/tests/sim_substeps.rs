@@ -294,3 +294,76 @@ fn no_blade_stays_inside_a_fast_object_stepped_in_its_own_pass() {
     );
     assert!(deepest.iter().all(|&d| d <= 0.02), "{deepest:?}");
 }
+
+/// A paddle on an arm: a small box 1.2 m from its body's origin, the body
+/// turning about its origin twice a second (keyframed yaw), so the paddle
+/// sweeps a circle at 15 m/s (0.5 m a step of 1/30 s, four times its
+/// 0.12 m thickness). Returns the shares of the blades under its circle
+/// hit directly and moved at all in one turn, and the most sub-steps a
+/// step ran.
+fn run_paddle(max_substeps: u32) -> (f32, f32, u32) {
+    use trample::object::path::Keyframe;
+    use trample::object::{Orientation, PathParams};
+    let mut sim = sim_from(&field_toml(&format!("max_substeps = {max_substeps}"), ""));
+    let mut paddle = trample::object::shapes::cuboid(glam::Vec3::new(0.06, 0.15, 0.06));
+    for p in &mut paddle.positions {
+        *p += glam::Vec3::new(1.2, 0.15, 0.0);
+    }
+    let keys = (0..=4)
+        .map(|k| Keyframe {
+            t_s: 0.125 * k as f32,
+            position: [0.0; 3],
+            rotation_deg: Some([90.0 * k as f32, 0.0, 0.0]),
+        })
+        .collect();
+    sim.add_body(
+        trample::BodyBuilder::mesh("paddle", &paddle)
+            .path(PathParams::Keyframes { keys })
+            .orientation(Orientation::Keyframes)
+            .build()
+            .unwrap(),
+    );
+    let mut substeps = 0;
+    for _ in 0..15 {
+        substeps = substeps.max(sim.step(1.0 / 30.0).unwrap().substeps);
+    }
+    let (mut on, mut hit, mut moved) = (0, 0, 0);
+    for b in 0..sim.field.blades.count {
+        let (x, z) = root_xz(&sim, b);
+        if (x.hypot(z) - 1.2).abs() < 0.04 {
+            on += 1;
+            hit += usize::from(sim.class[b] == trample::step::BladeClass::Direct);
+            moved += usize::from(!sim.field.blades.is_at_rest(b));
+        }
+    }
+    assert!(on > 50, "{on} blades under the circle");
+    (hit as f32 / on as f32, moved as f32 / on as f32, substeps)
+}
+
+/// A part of a body far from its origin is sub-stepped for how fast it
+/// sweeps about the origin, not for how fast its box turns about its own
+/// centre: the paddle hits every blade under its circle. (Before, the spin
+/// counted `|ω|` times the root box's half diagonal, 0.17 m here against
+/// the 1.26 m its far corners turn at: one sub-step a step, and the paddle
+/// skipped most of its circle, as it does with `max_substeps = 1`.)
+#[test]
+fn a_box_spinning_about_a_distant_origin_is_sub_stepped_and_misses_no_blade() {
+    let (with, moved, substeps) = run_paddle(16);
+    let (without, moved_one, one) = run_paddle(1);
+    println!(
+        "paddle's circle: hit {with:.3}, moved {moved:.3} with {substeps} sub-steps; \
+         hit {without:.3}, moved {moved_one:.3} with {one}"
+    );
+    assert!(substeps >= 4 && one == 1, "{substeps} {one}");
+    // Every blade under the circle moved; nearly all hit directly (one
+    // at the paddle's inner edge may be only pushed by the contact).
+    assert_eq!(
+        moved, 1.0,
+        "the paddle left blades under its circle standing"
+    );
+    assert!(with > 0.95, "the paddle hit only {with:.3} of its circle");
+    assert!(
+        moved_one < 0.75,
+        "with one sub-step it should skip blades ({moved_one:.3})"
+    );
+}

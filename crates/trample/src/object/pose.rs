@@ -45,6 +45,24 @@ impl Pose {
     pub fn point_velocity(&self, p: Vec3) -> Vec3 {
         self.velocity + self.angular_velocity.cross(p - self.position)
     }
+
+    /// The fastest any point of `obb` (a box in the local frame) moves by
+    /// the pose's spin alone, m/s: the largest `|ω × R·c|` over the box's
+    /// corners `c` (a convex function of the point, so its largest value
+    /// over the box is at a corner). That is `|ω|` times the corner's
+    /// distance from the rotation axis **through the local origin**, not
+    /// through the box's centre: a box offset from the origin (a mesh
+    /// anchored at its bottom and rolled, a part that pivots about one end)
+    /// sweeps faster than its half diagonal says, and a box turning about
+    /// an axis along its longest side slower. NaN when `ω` or the box is
+    /// not finite-valued.
+    #[must_use]
+    pub fn spin_speed(&self, obb: &crate::obb::Obb) -> f32 {
+        obb.corners()
+            .iter()
+            .map(|&c| self.angular_velocity.cross(self.rotation * c).length())
+            .fold(0.0, |most, s| if s.is_nan() || s > most { s } else { most })
+    }
 }
 
 /// The rotation of scene-file Euler angles `[yaw, pitch, roll]` in degrees:
@@ -55,4 +73,73 @@ impl Pose {
 pub fn rotation_from_euler_deg(degrees: [f32; 3]) -> Quat {
     let [yaw, pitch, roll] = degrees.map(f32::to_radians);
     Quat::from_euler(EulerRot::YXZ, yaw, pitch, roll)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::obb::Obb;
+    use crate::test_rng::XorShift;
+
+    /// No point of the box moves faster by the spin than `spin_speed`, and
+    /// a corner moves that fast; for a box offset from the origin that is
+    /// more than `|ω|` times its half diagonal (the bound before, which let
+    /// a part pivoting about one end sweep past blades between sub-steps).
+    #[test]
+    fn spin_speed_bounds_every_point_of_the_box_and_is_met_at_a_corner() {
+        let mut rng = XorShift(0x9e37_79b9_7f4a_7c15);
+        let mut offset_faster = 0;
+        for _ in 0..500 {
+            let u = rng.vec(-1.0, 1.0).normalize();
+            let v = u.any_orthonormal_vector();
+            let obb = Obb {
+                center: rng.vec(-2.0, 2.0),
+                axes: [u, v, u.cross(v)],
+                half: rng.vec(0.01, 1.0),
+            };
+            let pose = Pose {
+                position: rng.vec(-5.0, 5.0),
+                rotation: Quat::from_axis_angle(
+                    rng.vec(-1.0, 1.0).normalize(),
+                    rng.range(0.0, 6.0),
+                ),
+                velocity: rng.vec(-3.0, 3.0),
+                angular_velocity: rng.vec(-10.0, 10.0),
+            };
+            let bound = pose.spin_speed(&obb);
+            let spin = |local: Vec3| {
+                let world = pose.to_world(local);
+                (pose.point_velocity(world) - pose.velocity).length()
+            };
+            let mut most = 0.0f32;
+            for _ in 0..200 {
+                let f = rng.vec(-1.0, 1.0);
+                let p = obb.center
+                    + obb.axes[0] * (f.x * obb.half.x)
+                    + obb.axes[1] * (f.y * obb.half.y)
+                    + obb.axes[2] * (f.z * obb.half.z);
+                most = most.max(spin(p));
+            }
+            let corners = obb.corners().map(spin);
+            let at_corner = corners.iter().copied().fold(0.0, f32::max);
+            assert!(most <= bound * (1.0 + 1e-5) + 1e-6, "{most} > {bound}");
+            assert!((at_corner - bound).abs() <= 1e-4 * bound.max(1.0));
+            let old = pose.angular_velocity.length() * obb.half_diagonal();
+            offset_faster += usize::from(bound > old * 1.01);
+        }
+        // Boxes away from the origin spin faster than the old bound said.
+        assert!(offset_faster > 100, "{offset_faster}");
+        let nan = Pose {
+            angular_velocity: Vec3::new(f32::NAN, 0.0, 0.0),
+            ..Pose::at_rest(Vec3::ZERO)
+        };
+        assert!(
+            nan.spin_speed(&Obb {
+                center: Vec3::ZERO,
+                axes: [Vec3::X, Vec3::Y, Vec3::Z],
+                half: Vec3::ONE
+            })
+            .is_nan()
+        );
+    }
 }

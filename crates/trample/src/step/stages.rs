@@ -120,10 +120,8 @@ pub(crate) fn body_substeps(
             .map(|((a, b), part)| (a, b, part.tree.nodes[0].obb)),
     );
     for (a, b, root) in ends {
-        let spin = 0.5
-            * (a.angular_velocity.length() + b.angular_velocity.length())
-            * root.half_diagonal()
-            * dt;
+        // How far its farthest point goes by the spin about the origin.
+        let spin = 0.5 * (a.spin_speed(&root) + b.spin_speed(&root)) * dt;
         let moved = a.position.distance(b.position);
         let travel = moved + spin;
         let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
