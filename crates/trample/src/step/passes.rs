@@ -67,7 +67,7 @@
 use super::at_rest::is_still;
 use super::body::Body;
 use super::simulation::Simulation;
-use super::stages::{SubstepPlan, body_substeps, plan_substeps_of};
+use super::stages::{SubstepPlan, body_substeps, plan_of_needs, plan_substeps_of};
 use glam::Vec3;
 
 /// One pass of a step over some of the bodies (see the module docs).
@@ -93,26 +93,36 @@ pub struct Pass {
 }
 
 impl Pass {
-    fn new(
-        sim: &Simulation,
-        active: Vec<bool>,
-        start: f64,
-        dt: f32,
-        main: bool,
-        near: bool,
-    ) -> Self {
-        let max_travel = if near {
-            f32::INFINITY
-        } else {
-            sim.params.far_travel_m
-        };
-        let plan = plan_substeps_of(sim, Some(&active), start, dt, max_travel);
+    /// A far pass over the bodies `active` marks, `dt` seconds from
+    /// `start` (their last turn), no position moving farther than
+    /// `sim.params.far_travel_m` a sub-step.
+    fn far(sim: &Simulation, active: Vec<bool>, start: f64, dt: f32) -> Self {
+        let plan = plan_substeps_of(sim, Some(&active), start, dt, sim.params.far_travel_m);
         Self {
             active,
             start,
             dt,
+            main: false,
+            near: false,
+            plan,
+        }
+    }
+
+    /// A near pass (no travel bound, from the step's start) over the
+    /// bodies `active` marks, whose sub-steps `need` holds (each body's
+    /// [`body_substeps`], found once for all the near passes): the plan
+    /// [`plan_substeps_of`] would make for them with no travel bound.
+    fn near(sim: &Simulation, active: Vec<bool>, dt: f32, main: bool, need: &[u32]) -> Self {
+        let needs = (0..active.len())
+            .filter(|&i| active[i])
+            .map(|i| (i, need.get(i).copied().unwrap_or(1)));
+        let plan = plan_of_needs(needs, sim.params.max_substeps);
+        Self {
+            active,
+            start: sim.time,
+            dt,
             main,
-            near,
+            near: true,
             plan,
         }
     }
@@ -196,14 +206,7 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
         for &(_, i) in group {
             active[i] = true;
         }
-        passes.push(Pass::new(
-            sim,
-            active,
-            start,
-            (end - start) as f32,
-            false,
-            false,
-        ));
+        passes.push(Pass::far(sim, active, start, (end - start) as f32));
     }
     passes
 }
@@ -214,12 +217,20 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
 /// first.
 fn near_passes(sim: &Simulation, near: Vec<bool>, dt: f32) -> Vec<Pass> {
     let max = sim.params.max_substeps.max(1);
+    // Each near body's sub-steps, found once (the passes' plans are made
+    // of them).
+    let need: Vec<u32> = (0..near.len())
+        .map(|i| {
+            if near[i] {
+                body_substeps(sim, &sim.bodies[i], sim.time, dt, f32::INFINITY)
+            } else {
+                0
+            }
+        })
+        .collect();
     let mut needs: Vec<(u32, usize)> = (0..near.len())
         .filter(|&i| near[i])
-        .map(|i| {
-            let k = body_substeps(sim, &sim.bodies[i], sim.time, dt, f32::INFINITY);
-            (k.clamp(1, max), i)
-        })
+        .map(|i| (need[i].clamp(1, max), i))
         .collect();
     needs.sort_unstable();
     let fewest = needs.first().map_or(1, |&(k, _)| k);
@@ -230,7 +241,7 @@ fn near_passes(sim: &Simulation, near: Vec<bool>, dt: f32) -> Vec<Pass> {
         }
     }
     let n = main.len();
-    let mut passes = vec![Pass::new(sim, main, sim.time, dt, true, true)];
+    let mut passes = vec![Pass::near(sim, main, dt, true, &need)];
     for group in needs
         .chunk_by(|a, b| a.0 == b.0)
         .filter(|g| g[0].0 > fewest)
@@ -239,7 +250,7 @@ fn near_passes(sim: &Simulation, near: Vec<bool>, dt: f32) -> Vec<Pass> {
         for &(_, i) in group {
             active[i] = true;
         }
-        passes.push(Pass::new(sim, active, sim.time, dt, false, true));
+        passes.push(Pass::near(sim, active, dt, false, &need));
     }
     passes
 }

@@ -59,7 +59,8 @@ pub struct SubstepPlan {
 }
 
 /// Plans the sub-steps of a step of `dt` from each body's travel (and spin,
-/// measured at the root box's half diagonal) between the step's ends.
+/// at its root box's farthest corner from the rotation axis through its
+/// origin: [`crate::object::Pose::spin_speed`]) between the step's ends.
 pub fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
     plan_substeps_of(sim, None, sim.time, dt, f32::INFINITY)
 }
@@ -75,18 +76,31 @@ pub fn plan_substeps_of(
     dt: f32,
     max_travel: f32,
 ) -> SubstepPlan {
+    let needs = sim
+        .bodies
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| active.is_none_or(|a| a.get(i).copied().unwrap_or(false)))
+        .map(|(i, body)| (i, body_substeps(sim, body, start, dt, max_travel)));
+    plan_of_needs(needs, sim.params.max_substeps)
+}
+
+/// The plan of bodies that each need `k` sub-steps (`(body index, k)` in
+/// ascending index order, as [`body_substeps`] gives them): the most any
+/// needs, the first body that needs it, and that many run, at most
+/// `max_substeps`.
+pub(crate) fn plan_of_needs(
+    needs: impl IntoIterator<Item = (usize, u32)>,
+    max_substeps: u32,
+) -> SubstepPlan {
     let (mut needed, mut fastest) = (1u32, None);
-    for (i, body) in sim.bodies.iter().enumerate() {
-        if active.is_some_and(|a| !a.get(i).copied().unwrap_or(false)) {
-            continue;
-        }
-        let k = body_substeps(sim, body, start, dt, max_travel);
+    for (i, k) in needs {
         if k > needed {
             (needed, fastest) = (k, Some(i));
         }
     }
     SubstepPlan {
-        substeps: needed.clamp(1, sim.params.max_substeps),
+        substeps: needed.clamp(1, max_substeps),
         needed,
         fastest,
     }
@@ -105,30 +119,27 @@ pub(crate) fn body_substeps(
     max_travel: f32,
 ) -> u32 {
     let t0 = start as f32;
-    let mut needed = 1u32;
-    // The body's own mesh, then each part with its own motion.
-    let mut ends = vec![(
-        body.pose_at(t0),
-        body.pose_at(t0 + dt),
-        body.tree.nodes[0].obb,
-    )];
-    let (a, b) = (body.part_poses_at(t0), body.part_poses_at(t0 + dt));
-    ends.extend(
-        a.into_iter()
-            .zip(b)
-            .zip(&body.parts)
-            .map(|((a, b), part)| (a, b, part.tree.nodes[0].obb)),
-    );
-    for (a, b, root) in ends {
+    // What one mesh moving from pose `a` to pose `b` needs.
+    let need = |a: &crate::object::Pose, b: &crate::object::Pose, root: &crate::obb::Obb| {
         // How far its farthest point goes by the spin about the origin.
-        let spin = 0.5 * (a.spin_speed(&root) + b.spin_speed(&root)) * dt;
+        let spin = 0.5 * (a.spin_speed(root) + b.spin_speed(root)) * dt;
         let moved = a.position.distance(b.position);
         let travel = moved + spin;
         let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
         if travel.is_finite() && allowed > 0.0 {
             // `as` saturates: an absurd speed needs u32::MAX, not a wrap.
-            let k = ((travel / allowed).ceil() as u32).max((moved / max_travel).ceil() as u32);
-            needed = needed.max(k);
+            ((travel / allowed).ceil() as u32).max((moved / max_travel).ceil() as u32)
+        } else {
+            1
+        }
+    };
+    // The body's own mesh, then each part with its own motion.
+    let root = &body.tree.nodes[0].obb;
+    let mut needed = need(&body.pose_at(t0), &body.pose_at(t0 + dt), root).max(1);
+    if !body.parts.is_empty() {
+        let (a, b) = (body.part_poses_at(t0), body.part_poses_at(t0 + dt));
+        for ((a, b), part) in a.iter().zip(&b).zip(&body.parts) {
+            needed = needed.max(need(a, b, &part.tree.nodes[0].obb));
         }
     }
     needed
