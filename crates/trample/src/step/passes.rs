@@ -112,7 +112,7 @@ impl Pass {
     /// bodies `active` marks, whose sub-steps `need` holds (each body's
     /// [`body_substeps`], found once for all the near passes): the plan
     /// [`plan_substeps_of`] would make for them with no travel bound.
-    fn near(sim: &Simulation, active: Vec<bool>, dt: f32, main: bool, need: &[u32]) -> Self {
+    fn of_near(sim: &Simulation, active: Vec<bool>, dt: f32, main: bool, need: &[u32]) -> Self {
         let needs = (0..active.len())
             .filter(|&i| active[i])
             .map(|i| (i, need.get(i).copied().unwrap_or(1)));
@@ -241,7 +241,7 @@ fn near_passes(sim: &Simulation, near: Vec<bool>, dt: f32) -> Vec<Pass> {
         }
     }
     let n = main.len();
-    let mut passes = vec![Pass::near(sim, main, dt, true, &need)];
+    let mut passes = vec![Pass::of_near(sim, main, dt, true, &need)];
     for group in needs
         .chunk_by(|a, b| a.0 == b.0)
         .filter(|g| g[0].0 > fewest)
@@ -250,7 +250,7 @@ fn near_passes(sim: &Simulation, near: Vec<bool>, dt: f32) -> Vec<Pass> {
         for &(_, i) in group {
             active[i] = true;
         }
-        passes.push(Pass::near(sim, active, dt, false, &need));
+        passes.push(Pass::of_near(sim, active, dt, false, &need));
     }
     passes
 }
