@@ -44,6 +44,10 @@ pub struct Recovery {
     /// while no stride is asked for ([`Recovery::ensure_clock`]).
     clock: wgpu::Buffer,
     no_broad: NoBroad,
+    /// The owner table as last written to `owners` (none yet: empty): a
+    /// step whose table is the same writes nothing
+    /// ([`Recovery::write_owner_table`]).
+    written: Vec<[f32; 4]>,
 }
 
 impl Recovery {
@@ -71,13 +75,14 @@ impl Recovery {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
+            written: Vec::new(),
         }
     }
 
     /// Writes the recovery settings of every track owner of `sim`
     /// (`Simulation::recovery_params`: 0 for `[sim]`, 1 + i for body i).
     /// Returns whether any owner recovers.
-    pub fn write_owners(&self, queue: &wgpu::Queue, sim: &trample::Simulation) -> bool {
+    pub fn write_owners(&mut self, queue: &wgpu::Queue, sim: &trample::Simulation) -> bool {
         let count = (1 + sim.bodies.len()).min(OWNERS);
         let table: Vec<RecoveryParams> = (0..count).map(|o| sim.recovery_params(o as u8)).collect();
         self.write_owner_table(queue, &table)
@@ -86,17 +91,23 @@ impl Recovery {
     /// Writes `table[o]` as the recovery settings of track owner `o`
     /// (owners past the table, up to [`OWNERS`], take `table[0]`'s: a body
     /// removed since). Returns whether any entry recovers (a finite
-    /// `recovery_s`).
-    pub fn write_owner_table(&self, queue: &wgpu::Queue, table: &[RecoveryParams]) -> bool {
+    /// `recovery_s`). The table changes only when bodies come and go or
+    /// their track settings change, so one equal to the last written is
+    /// not written again (a `queue.write_buffer` and its staging copy every
+    /// step were a third of the default scene's recording: BENCHMARKS.md,
+    /// "Session 45").
+    pub fn write_owner_table(&mut self, queue: &wgpu::Queue, table: &[RecoveryParams]) -> bool {
         let row = |p: &RecoveryParams| {
             let finite = p.recovery_s.is_finite();
             [if finite { p.recovery_s } else { 0.0 }, p.trail, 0.0, 0.0]
         };
         let fallback = table.first().map_or([0.0; 4], row);
-        let rows: Vec<[f32; 4]> = (0..OWNERS)
-            .map(|o| table.get(o).map_or(fallback, row))
-            .collect();
-        queue.write_buffer(&self.owners, 0, bytemuck::cast_slice(&rows));
+        let rows = (0..OWNERS).map(|o| table.get(o).map_or(fallback, row));
+        if self.written.len() != OWNERS || !rows.clone().eq(self.written.iter().copied()) {
+            self.written.clear();
+            self.written.extend(rows);
+            queue.write_buffer(&self.owners, 0, bytemuck::cast_slice(&self.written));
+        }
         table.iter().any(|p| p.recovery_s.is_finite())
     }
 

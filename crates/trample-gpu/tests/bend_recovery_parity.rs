@@ -90,7 +90,7 @@ fn bent_then_recovered_blades_match_the_cpu() {
     let groups = (groups_x, 1);
     let propagation = trample_gpu::propagation::Propagation::new(device);
     let bend = trample_gpu::bend::Bend::new(device);
-    let recover = trample_gpu::recovery::Recovery::new(device);
+    let mut recover = trample_gpu::recovery::Recovery::new(device);
     recover.write_owner_table(queue, &[recovery]);
     let mut enc = device.create_command_encoder(&Default::default());
     propagation.record_reset(device, &mut enc, &g, &uniform, &state);
