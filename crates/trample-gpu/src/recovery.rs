@@ -94,8 +94,8 @@ impl Recovery {
     /// `recovery_s`). The table changes only when bodies come and go or
     /// their track settings change, so one equal to the last written is
     /// not written again (a `queue.write_buffer` and its staging copy every
-    /// step were a third of the default scene's recording: BENCHMARKS.md,
-    /// "Session 45").
+    /// step were 9 % of the default scene's recording on lavapipe:
+    /// BENCHMARKS.md, "Session 45").
     pub fn write_owner_table(&mut self, queue: &wgpu::Queue, table: &[RecoveryParams]) -> bool {
         let row = |p: &RecoveryParams| {
             let finite = p.recovery_s.is_finite();

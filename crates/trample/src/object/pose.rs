@@ -54,8 +54,8 @@ impl Pose {
     /// through the box's centre: a box offset from the origin (a mesh
     /// anchored at its bottom and rolled, a part that pivots about one end)
     /// sweeps faster than its half diagonal says, and a box turning about
-    /// an axis along its longest side slower. NaN when `ω` or the box is
-    /// not finite-valued.
+    /// an axis along its longest side slower. Not finite when `ω` or the
+    /// box is not (NaN propagates).
     #[must_use]
     pub fn spin_speed(&self, obb: &crate::obb::Obb) -> f32 {
         obb.corners()
