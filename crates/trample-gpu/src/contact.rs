@@ -8,6 +8,7 @@
 
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
+use crate::kernel::BindCache;
 use crate::object::GpuObjects;
 
 /// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`,
@@ -30,6 +31,9 @@ pub struct Contact {
     pipeline: wgpu::ComputePipeline,
     field_layout: wgpu::BindGroupLayout,
     object_layout: wgpu::BindGroupLayout,
+    /// The chunks' and the object table's bind groups, made once.
+    field_groups: BindCache,
+    object_groups: BindCache,
 }
 
 impl Contact {
@@ -72,6 +76,8 @@ impl Contact {
             pipeline,
             field_layout,
             object_layout,
+            field_groups: BindCache::default(),
+            object_groups: BindCache::default(),
         }
     }
 
@@ -94,7 +100,7 @@ impl Contact {
         if objects.is_empty() {
             return 0;
         }
-        let object_group = objects.bind(device, &self.object_layout);
+        let object_group = objects.bind(device, &self.object_layout, &self.object_groups);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("trample-gpu contact"),
             timestamp_writes: None,
@@ -102,30 +108,24 @@ impl Contact {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(1, &object_group, &[]);
         for (c, chunk) in field.chunks.iter().enumerate() {
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("trample-gpu contact: field chunk"),
-                layout: &self.field_layout,
-                entries: &[
-                    entry(0, params),
-                    entry(1, &chunk.pos),
-                    entry(2, &field.touch),
-                    entry(3, &field.displaced),
-                    entry(4, &chunk.uniform),
-                    entry(5, &field.ground),
-                    entry(6, &broad.lists),
-                    entry(7, state),
+            let group = self.field_groups.bind(
+                device,
+                &self.field_layout,
+                &[
+                    params,
+                    &chunk.pos,
+                    &field.touch,
+                    &field.displaced,
+                    &chunk.uniform,
+                    &field.ground,
+                    &broad.lists,
+                    state,
                 ],
-            });
+                field.chunks.len(),
+            );
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups_indirect(&broad.args, c as u64 * 12);
         }
         field.chunks.len() as u32
-    }
-}
-
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
     }
 }

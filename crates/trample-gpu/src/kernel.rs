@@ -16,12 +16,71 @@ pub(crate) struct Kernel {
     layout: wgpu::BindGroupLayout,
     pipelines: Vec<wgpu::ComputePipeline>,
     /// The last bind groups made, by their buffers ([`Kernel::bind`]).
-    groups: std::sync::Mutex<Vec<(Vec<wgpu::Buffer>, wgpu::BindGroup)>>,
+    groups: BindCache,
 }
 
-/// Bind groups a kernel keeps for reuse: a stage binds the same buffers
-/// step after step (a few per chunk); one that binds others (a table made
-/// again) pushes the oldest out, and with it the hold on their buffers.
+/// Bind groups kept for reuse, by the buffers they bind (binding `i` =
+/// the `i`-th buffer): a stage binds the same buffers step after step, and
+/// making a bind group is validation and bookkeeping the host would pay
+/// again every step. One that binds others (a table made again) pushes the
+/// oldest out past `keep`, and with it the hold on its buffers.
+#[derive(Default)]
+pub(crate) struct BindCache {
+    kept: std::sync::Mutex<Vec<(Vec<wgpu::Buffer>, wgpu::BindGroup)>>,
+}
+
+impl BindCache {
+    /// The group of `buffers` for `layout`: the one made before if still
+    /// kept, else a new one, kept (at most `keep`, the oldest dropped).
+    /// One cache serves one layout.
+    pub(crate) fn bind(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        buffers: &[&wgpu::Buffer],
+        keep: usize,
+    ) -> wgpu::BindGroup {
+        let mut kept = self
+            .kept
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let same = |b: &[wgpu::Buffer]| {
+            b.len() == buffers.len() && b.iter().zip(buffers).all(|(a, b)| a == *b)
+        };
+        if let Some((_, group)) = kept.iter().find(|(b, _)| same(b)) {
+            return group.clone();
+        }
+        let group = make_group(device, layout, buffers);
+        while kept.len() >= keep.max(1) {
+            kept.remove(0);
+        }
+        kept.push((buffers.iter().map(|&b| b.clone()).collect(), group.clone()));
+        group
+    }
+}
+
+/// A new bind group of `buffers` (binding `i` = `buffers[i]`) for `layout`.
+fn make_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout,
+        entries: &entries,
+    })
+}
+
+/// Bind groups a kernel keeps for reuse ([`BindCache`]; a few per chunk).
 const KEPT_GROUPS: usize = 8;
 
 impl Kernel {
@@ -80,7 +139,7 @@ impl Kernel {
         Self {
             layout,
             pipelines,
-            groups: std::sync::Mutex::new(Vec::new()),
+            groups: BindCache::default(),
         }
     }
 
@@ -88,22 +147,7 @@ impl Kernel {
     /// for these buffers before, if the kernel still keeps it (the host
     /// records a step without making the same groups again).
     pub(crate) fn bind(&self, device: &wgpu::Device, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
-        let mut kept = self
-            .groups
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let same = |b: &[wgpu::Buffer]| {
-            b.len() == buffers.len() && b.iter().zip(buffers).all(|(a, b)| a == *b)
-        };
-        if let Some((_, group)) = kept.iter().find(|(b, _)| same(b)) {
-            return group.clone();
-        }
-        let group = self.make_group(device, buffers);
-        if kept.len() == KEPT_GROUPS {
-            kept.remove(0);
-        }
-        kept.push((buffers.iter().map(|&b| b.clone()).collect(), group.clone()));
-        group
+        self.groups.bind(device, &self.layout, buffers, KEPT_GROUPS)
     }
 
     /// A new bind group of `buffers`, not kept: for a buffer made for one
@@ -113,19 +157,7 @@ impl Kernel {
         device: &wgpu::Device,
         buffers: &[&wgpu::Buffer],
     ) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &self.layout,
-            entries: &entries,
-        })
+        make_group(device, &self.layout, buffers)
     }
 
     /// Records entry point `entry` (index into the `entries` given to

@@ -23,6 +23,7 @@
 
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
+use crate::kernel::BindCache;
 use crate::object::GpuObjects;
 
 /// The WGSL source as compiled (`segment_obb.wgsl` and `chunk.wgsl` prepended).
@@ -45,6 +46,9 @@ pub struct NarrowPhase {
     no_lists: wgpu::Buffer,
     field_layout: wgpu::BindGroupLayout,
     object_layout: wgpu::BindGroupLayout,
+    /// The chunks' and the object table's bind groups, made once.
+    field_groups: BindCache,
+    object_groups: BindCache,
 }
 
 pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -119,6 +123,8 @@ impl NarrowPhase {
             }),
             field_layout,
             object_layout,
+            field_groups: BindCache::default(),
+            object_groups: BindCache::default(),
         }
     }
 
@@ -167,7 +173,7 @@ impl NarrowPhase {
             field.blades_per_cell,
         );
         objects.write(device, queue, uploads, encoder);
-        let object_group = objects.bind(device, &self.object_layout);
+        let object_group = objects.bind(device, &self.object_layout, &self.object_groups);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("trample-gpu narrow phase"),
             timestamp_writes: None,
@@ -182,18 +188,20 @@ impl NarrowPhase {
         // deep in z: the shader takes gid.z as a 0 the driver cannot fold
         // (`dispatch_args` writes z = 1 too).
         for (c, chunk) in field.chunks.iter().enumerate() {
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("trample-gpu narrow phase: field chunk"),
-                layout: &self.field_layout,
-                entries: &[
-                    entry(0, &chunk.pos),
-                    entry(1, &field.cell_state),
-                    entry(2, &field.force),
-                    entry(3, &field.touch),
-                    entry(4, &chunk.uniform),
-                    entry(5, lists),
+            // Kept for two sets of lists (with and without the broad phase).
+            let group = self.field_groups.bind(
+                device,
+                &self.field_layout,
+                &[
+                    &chunk.pos,
+                    &field.cell_state,
+                    &field.force,
+                    &field.touch,
+                    &chunk.uniform,
+                    lists,
                 ],
-            });
+                2 * field.chunks.len(),
+            );
             pass.set_bind_group(0, &group, &[]);
             match broad {
                 Some(b) => pass.dispatch_workgroups_indirect(&b.args, c as u64 * 12),
@@ -211,10 +219,4 @@ pub(crate) fn object_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         label: Some("trample-gpu objects"),
         entries: &[storage_entry(0, true)],
     })
-}
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
 }

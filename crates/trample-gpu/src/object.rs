@@ -607,20 +607,15 @@ impl GpuObjects {
     }
 
     /// The table's bind group (`object.wgsl`'s group 1) for `layout`
-    /// ([`crate::narrow_phase::object_layout`]).
+    /// ([`crate::narrow_phase::object_layout`]), kept in `cache` (the
+    /// caller's, one per layout) while the table stays the same buffer.
     pub(crate) fn bind(
         &self,
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
+        cache: &crate::kernel::BindCache,
     ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("trample-gpu objects"),
-            layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: self.table.as_entire_binding(),
-            }],
-        })
+        cache.bind(device, layout, &[&self.table], 2)
     }
 }
 

@@ -432,6 +432,9 @@ impl GpuSimulation {
         let max = device.limits().max_compute_workgroups_per_dimension;
         let groups = grid(self.field.count, max);
         self.timer.begin_step(device, profiling, substeps);
+        // Wall-time laps submit the encoder between a sub-step's uploads.
+        self.uploads
+            .write_at_once(profiling && self.timer.method() == StageTiming::Wall);
         let cell_groups = self.cells.bind(
             device,
             &self.field,
@@ -685,6 +688,9 @@ impl GpuSimulation {
                 self.cells.record_follow(encoder, &cell_groups, &self.broad);
             }
             laps.lap(device, queue, encoder, Stage::Deformation);
+            // The sub-step's uploads written before its commands are
+            // submitted (here or by the host after `record_step`).
+            self.uploads.flush();
             if let Some(e) = own {
                 queue.submit([e.finish()]);
             }
