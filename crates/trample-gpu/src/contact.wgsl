@@ -136,7 +136,14 @@ fn contact_blade(b: u32) {
     for (var iter = 0u; iter < CONTACT_ITERATIONS; iter++) {
         var lowest = NONE;
         for (var k = first; k <= n; k++) {
-            let pushed = push_out_hinted(to_local(v[k]), open_depth, hints[k]);
+            // A vertex with no triangle of its own yet tries the one below
+            // it (a few centimetres away: the walk is bounded near there
+            // instead of starting unbounded; the same answers).
+            var hint = hints[k];
+            if hint == NONE {
+                hint = hints[k - 1u];
+            }
+            let pushed = push_out_hinted(to_local(v[k]), open_depth, hint);
             hints[k] = pushed.hint;
             let out = pushed.to;
             if out.w == 0.0 {

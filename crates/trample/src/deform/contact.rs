@@ -159,8 +159,15 @@ pub fn resolve_contact_hinted(
         let mut lowest = None;
         for k in from..verts.len() {
             let local = pose.to_local(Vec3::from(verts[k]));
+            // A vertex with no triangle of its own yet tries the one below
+            // it, a segment away (the walk is bounded near there instead of
+            // starting unbounded; the same answers: `push_out_hinted`).
+            let below = hints.get(k - 1).copied().unwrap_or(NO_HINT);
             let mut no_hint = NO_HINT;
             let hint = hints.get_mut(k).unwrap_or(&mut no_hint);
+            if *hint == NO_HINT {
+                *hint = below;
+            }
             let Some(target) = push_out_hinted(tree, local, open_depth, hint) else {
                 continue;
             };
@@ -340,6 +347,42 @@ mod tests {
         }
         assert_eq!(checked, 2700);
         assert!(moved > 100, "only {moved} blades met an object");
+    }
+
+    /// A blade meeting an object for the first time (no hints) leaves every
+    /// vertex it asked about with a triangle to try first next time: one
+    /// whose own question needed no walk (its voxel is known outside) takes
+    /// the triangle of the vertex below, a segment away, so its next walk
+    /// starts bounded there. Without the seeding the top vertices came back
+    /// with none (checked: the last assertion below).
+    #[test]
+    fn a_vertex_with_no_triangle_of_its_own_takes_the_one_below() {
+        use crate::object::shapes::sphere;
+        let tree = ObbTree::build(&sphere(0.3, 3), 32);
+        let pose = Pose::at_rest(Vec3::new(0.0, 0.35, 0.0));
+        let terrain = Terrain::Flat(0.0);
+        // Upright through the sphere's side: the lower vertices inside it,
+        // the top one 0.4 m above it.
+        let root = Vec3A::new(0.1, 0.0, 0.05);
+        let mut blade: Vec<Vec3A> = (0..6).map(|k| root + Vec3A::Y * (0.2 * k as f32)).collect();
+        let top = pose.to_local(Vec3::from(blade[5]));
+        let mut alone = NO_HINT;
+        assert_eq!(push_out_hinted(&tree, top, 0.2, &mut alone), None);
+        assert_eq!(
+            alone, NO_HINT,
+            "the top vertex's own question walks nothing"
+        );
+        let mut hints = [NO_HINT; MAX_SEGMENTS + 1];
+        let moved = resolve_contact_hinted(
+            &mut blade, 0.2, 1, &pose, &tree, &terrain, 0.002, 0.2, &mut hints,
+        );
+        assert!(moved, "the sphere pushes the blade");
+        for (k, &h) in hints.iter().enumerate().take(6).skip(1) {
+            assert!(
+                (h as usize) < tree.triangles.len(),
+                "vertex {k} left with no triangle: {hints:?}"
+            );
+        }
     }
 
     /// A segment standing straight up, a few ulp of noise either way: it is
