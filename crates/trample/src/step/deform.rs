@@ -75,6 +75,16 @@ pub(crate) fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) -> Vec<u
 /// ([`crate::deform::contact::resolve_contact`], from the lowest vertex touched). The GPU path runs
 /// the same sets: one dispatch per object over its listed patches. Returns
 /// the blades that moved and marks them displaced.
+///
+/// Colliders that share no blade are independent: they run side by side
+/// ([`collider_groups`]), each over its blades in parallel too, so that a
+/// thread that finished its share of one collider takes up another instead
+/// of waiting (a herd's 128 colliders hold ~150 blades each; one collider
+/// after the other, the contact ran 1.67× faster on two threads than on
+/// one). Colliders that share a blade run one after the other, each where
+/// the one before left the blade; what is stored, kept and returned is
+/// gathered collider by collider afterwards: the same bits as one collider
+/// after the other.
 pub(crate) fn resolve_contacts(
     sim: &mut Simulation,
     colliders: &[(usize, usize)],
@@ -84,87 +94,99 @@ pub(crate) fn resolve_contacts(
     reused: &mut u32,
 ) -> Vec<u32> {
     let n = sim.field.blades.segments;
-    let per_patch = sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize;
-    let mut touched: Vec<u32> = sim
-        .scratch
-        .touched
-        .iter()
-        .copied()
-        .filter(|&b| sim.scratch.mask[b as usize] != 0)
-        .collect();
-    touched.sort_unstable();
-    touched.dedup();
-    let mut out = Vec::new();
-    for (((&(i, k), patches), &key), memo) in colliders.iter().zip(patch_hits).zip(keys).zip(memos)
+    let lists = contact_lists(sim, patch_hits);
+    let mut works: Vec<Option<ColliderWork>> = (0..lists.len()).map(|_| None).collect();
     {
-        let collider = sim.bodies[i].collider(k);
-        // The touched blades in the collider's patches: blades are stored
-        // patch by patch and `touched` is sorted, so each listed patch
-        // (ascending) is one range of it — found by two binary searches,
-        // not by testing every touched blade against every collider.
-        let mut list: Vec<u32> = Vec::new();
-        for &p in patches {
-            let (first, end) = (p as usize * per_patch, (p as usize + 1) * per_patch);
-            let lo = touched.partition_point(|&b| (b as usize) < first);
-            let hi = touched.partition_point(|&b| (b as usize) < end);
-            list.extend_from_slice(&touched[lo..hi]);
-        }
-        if list.is_empty() {
-            memo.keep_blades(None, RestingBlades::default());
-            memo.hints = ContactHints::default();
-            continue;
-        }
+        let found: Vec<_> = colliders
+            .iter()
+            .map(|&(i, k)| sim.bodies[i].collider(k))
+            .collect();
         let blades = &sim.field.blades;
         let terrain = &sim.field.terrain;
         let mask = &sim.scratch.mask;
-        let kept: &ColliderMemo = memo;
-        let mut work = vec![Vec3A::ZERO; list.len() * (n + 1)];
-        // Per blade: whether it moved, whether it is where it was found (a
-        // fixed point a collider at rest keeps, `super::at_rest`), and
-        // whether it was left without a query (kept so before).
-        let mut moved = vec![(false, false, false); list.len()];
-        // Each vertex's closest triangle, from the collider's sub-step
-        // before and for its next (`super::contact_hints`).
-        let mut hints = vec![[NO_HINT; MAX_SEGMENTS + 1]; list.len()];
-        work.par_chunks_mut(n + 1)
-            .zip(moved.par_iter_mut())
-            .zip(hints.par_iter_mut())
-            .zip(list.par_iter())
-            .for_each(|(((v, moved), hint), &b)| {
-                *hint = kept.hints.of(b, n + 1);
-                let b = b as usize;
-                blades.load(b, v);
-                let first = mask[b].trailing_zeros();
-                let seg_len = blades.seg_len[b];
-                if let Some(was) = kept.kept_blade(key, b as u32, first, seg_len, v) {
-                    *moved = (was, true, true);
-                    return;
+        let kept: &[ColliderMemo] = memos;
+        let done: Vec<Vec<(usize, ColliderWork)>> = collider_groups(&lists)
+            .par_iter()
+            .map(|group| {
+                let mut done: Vec<(usize, ColliderWork)> = Vec::with_capacity(group.len());
+                for &j in group {
+                    let list = &lists[j];
+                    let mut work = vec![Vec3A::ZERO; list.len() * (n + 1)];
+                    // Per blade: whether it moved, whether it is where it
+                    // was found (a fixed point a collider at rest keeps,
+                    // `super::at_rest`), and whether it was left without a
+                    // query (kept so before).
+                    let mut moved = vec![(false, false, false); list.len()];
+                    // Each vertex's closest triangle, from the collider's
+                    // sub-step before and for its next
+                    // (`super::contact_hints`).
+                    let mut hints = vec![[NO_HINT; MAX_SEGMENTS + 1]; list.len()];
+                    let (collider, key, memo) = (&found[j], keys[j], &kept[j]);
+                    work.par_chunks_mut(n + 1)
+                        .zip(moved.par_iter_mut())
+                        .zip(hints.par_iter_mut())
+                        .zip(list.par_iter())
+                        .for_each(|(((v, moved), hint), &b)| {
+                            *hint = memo.hints.of(b, n + 1);
+                            // Where the colliders before this one left the
+                            // blade: the last of this group's that has it,
+                            // or as stored.
+                            let before = done.iter().rev().find_map(|(i, w)| {
+                                let at = lists[*i].binary_search(&b).ok()?;
+                                Some(&w.work[at * (n + 1)..(at + 1) * (n + 1)])
+                            });
+                            match before {
+                                Some(before) => v.copy_from_slice(before),
+                                None => blades.load(b as usize, v),
+                            }
+                            let b = b as usize;
+                            let first = mask[b].trailing_zeros();
+                            let seg_len = blades.seg_len[b];
+                            if let Some(was) = memo.kept_blade(key, b as u32, first, seg_len, v) {
+                                *moved = (was, true, true);
+                                return;
+                            }
+                            // Only a collider at rest keeps fixed points: a
+                            // moving one copies and compares nothing.
+                            let before = key.map(|_| {
+                                let mut copy = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+                                copy[..=n].copy_from_slice(v);
+                                copy
+                            });
+                            let m = resolve_contact_hinted(
+                                v,
+                                seg_len,
+                                first as usize,
+                                collider.pose,
+                                collider.tree,
+                                terrain,
+                                GROUND_CLEARANCE_M,
+                                seg_len,
+                                hint,
+                            );
+                            let fixed = before.is_some_and(|before| {
+                                v.iter().zip(&before).all(|(a, b)| {
+                                    a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)
+                                })
+                            });
+                            *moved = (m, fixed, false);
+                        });
+                    done.push((j, ColliderWork { work, moved, hints }));
                 }
-                // Only a collider at rest keeps fixed points: a moving one
-                // copies and compares nothing.
-                let before = key.map(|_| {
-                    let mut copy = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-                    copy[..=n].copy_from_slice(v);
-                    copy
-                });
-                let m = resolve_contact_hinted(
-                    v,
-                    seg_len,
-                    first as usize,
-                    collider.pose,
-                    collider.tree,
-                    terrain,
-                    GROUND_CLEARANCE_M,
-                    seg_len,
-                    hint,
-                );
-                let fixed = before.is_some_and(|before| {
-                    v.iter().zip(&before).all(|(a, b)| {
-                        a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)
-                    })
-                });
-                *moved = (m, fixed, false);
-            });
+                done
+            })
+            .collect();
+        for (j, w) in done.into_iter().flatten() {
+            works[j] = Some(w);
+        }
+    }
+    let mut out = Vec::new();
+    for (((list, work), &key), memo) in lists.into_iter().zip(works).zip(keys).zip(memos) {
+        let Some(ColliderWork { work, moved, hints }) = work.filter(|_| !list.is_empty()) else {
+            memo.keep_blades(None, RestingBlades::default());
+            memo.hints = ContactHints::default();
+            continue;
+        };
         let mut resting = memo.resting_buffers(n + 1);
         let mut stored = Vec::new();
         for (i, ((v, &b), &(m, fixed, skipped))) in
@@ -178,7 +200,8 @@ pub(crate) fn resolve_contacts(
                 // (`Field::changed_blades`) and a host upload it for
                 // nothing (3–4 k blades a step under the parked herd). A
                 // blade found at its fixed point (or taken from the memo)
-                // is known to be; any other is compared with what is stored.
+                // is known to be; any other is compared with what is stored
+                // (where the colliders before this one left it).
                 let blades = &sim.field.blades;
                 let same = fixed
                     || v.iter().enumerate().all(|(k, v)| {
@@ -205,6 +228,87 @@ pub(crate) fn resolve_contacts(
         mark_displaced(sim, b);
     }
     out
+}
+
+/// The blades [`resolve_contacts`] moves out of each collider: those some
+/// object touched this sub-step (a segment mask) in the patches listed for
+/// it (`patch_hits`), ascending. Blades are stored patch by patch and the
+/// touched ones are sorted, so each listed patch (ascending) is one range
+/// of them — found by two binary searches, not by testing every touched
+/// blade against every collider.
+fn contact_lists(sim: &Simulation, patch_hits: &[Vec<u32>]) -> Vec<Vec<u32>> {
+    let per_patch = sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize;
+    let mut touched: Vec<u32> = sim
+        .scratch
+        .touched
+        .iter()
+        .copied()
+        .filter(|&b| sim.scratch.mask[b as usize] != 0)
+        .collect();
+    touched.sort_unstable();
+    touched.dedup();
+    patch_hits
+        .iter()
+        .map(|patches| {
+            let mut list = Vec::new();
+            for &p in patches {
+                let (first, end) = (p as usize * per_patch, (p as usize + 1) * per_patch);
+                let lo = touched.partition_point(|&b| (b as usize) < first);
+                let hi = touched.partition_point(|&b| (b as usize) < end);
+                list.extend_from_slice(&touched[lo..hi]);
+            }
+            list
+        })
+        .collect()
+}
+
+/// What [`resolve_contacts`] did to one collider's blades, in the order of
+/// its list: their vertices after it, whether each moved, was at its fixed
+/// point, was left without a query; each vertex's closest triangle.
+struct ColliderWork {
+    work: Vec<Vec3A>,
+    moved: Vec<(bool, bool, bool)>,
+    hints: Vec<[u32; MAX_SEGMENTS + 1]>,
+}
+
+/// The colliders of `lists` (per collider, its blades, ascending) in
+/// groups that share no blade with one another: colliders that share a
+/// blade, directly or through others, are in one group, ascending; the
+/// groups are in the order of their first collider.
+fn collider_groups(lists: &[Vec<u32>]) -> Vec<Vec<usize>> {
+    // Union–find over the colliders; the smaller root leads, so a group's
+    // root is its first collider.
+    fn root(parent: &mut [usize], mut j: usize) -> usize {
+        while parent[j] != j {
+            parent[j] = parent[parent[j]];
+            j = parent[j];
+        }
+        j
+    }
+    let mut parent: Vec<usize> = (0..lists.len()).collect();
+    let mut keys: Vec<(u32, usize)> = lists
+        .iter()
+        .enumerate()
+        .flat_map(|(j, list)| list.iter().map(move |&b| (b, j)))
+        .collect();
+    keys.sort_unstable();
+    for pair in keys.windows(2) {
+        if pair[0].0 == pair[1].0 {
+            let (a, b) = (root(&mut parent, pair[0].1), root(&mut parent, pair[1].1));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut slot = vec![usize::MAX; lists.len()];
+    for j in 0..lists.len() {
+        let r = root(&mut parent, j);
+        if slot[r] == usize::MAX {
+            slot[r] = groups.len();
+            groups.push(Vec::new());
+        }
+        groups[slot[r]].push(j);
+    }
+    groups
 }
 
 /// Eq. 8 for billboard cells whose skeleton line (base centre → top) meets
@@ -359,4 +463,129 @@ pub(crate) fn cells_from_blades(sim: &mut Simulation, changed: Vec<u32>) -> u32 
         s.retain_bent(|_, bent| bent);
     }
     cells.len() as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collision::broad_phase::patches_under;
+    use crate::scene::Scene;
+
+    #[test]
+    fn colliders_are_grouped_by_the_blades_they_share() {
+        let lists = vec![
+            vec![1, 2, 3],
+            vec![10, 11],
+            vec![3, 4],
+            vec![11],
+            vec![20],
+            vec![],
+            vec![4, 30],
+        ];
+        assert_eq!(
+            collider_groups(&lists),
+            vec![vec![0, 2, 6], vec![1, 3], vec![4], vec![5]]
+        );
+        assert!(collider_groups(&[]).is_empty());
+    }
+
+    /// Two boxes side by side, overlapping, sliding over the same blades:
+    /// the contact response gives the bits of the colliders taken one after
+    /// the other, each loading the blades as the one before stored them
+    /// (what `resolve_contacts` did before it ran independent colliders
+    /// side by side), and many blades are moved by both.
+    #[test]
+    fn colliders_sharing_blades_meet_them_one_after_the_other() {
+        let text = r#"
+[field]
+patches = [2, 2]
+cells_per_patch = 16
+[[objects]]
+name = "a"
+shape = { kind = "box", half_extents_m = [0.5, 0.3, 0.5] }
+path = { kind = "line", from = [-2.0, 0.25, 0.0], to = [2.0, 0.25, 0.0], duration_s = 2.0 }
+[[objects]]
+name = "b"
+shape = { kind = "box", half_extents_m = [0.5, 0.3, 0.5] }
+path = { kind = "line", from = [-1.4, 0.25, 0.2], to = [2.6, 0.25, 0.2], duration_s = 2.0 }
+[camera]
+path = { kind = "static", position = [0.0, 3.0, 4.0] }
+look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
+"#;
+        let mut sim = Scene::parse(text, "pair", std::path::Path::new("."))
+            .unwrap()
+            .build()
+            .unwrap();
+        sim.run(12).unwrap();
+        let colliders = [(0, 0), (1, 0)];
+        let patch_hits: Vec<Vec<u32>> = colliders
+            .iter()
+            .map(|&(i, k)| {
+                let mut out = Vec::new();
+                patches_under(
+                    &sim.field.layout,
+                    sim.bodies[i].collider(k).world_root,
+                    &mut out,
+                );
+                out
+            })
+            .collect();
+        let lists = contact_lists(&sim, &patch_hits);
+        assert_eq!(collider_groups(&lists), vec![vec![0, 1]]);
+
+        let mut got = sim.clone();
+        let mut memos = vec![ColliderMemo::default(), ColliderMemo::default()];
+        let mut reused = 0;
+        resolve_contacts(
+            &mut got,
+            &colliders,
+            &patch_hits,
+            &[None, None],
+            &mut memos,
+            &mut reused,
+        );
+
+        // One collider after the other, each storing what it moved.
+        let mut want = sim.clone();
+        let n = want.field.blades.segments;
+        let mut moved_by = vec![Vec::new(); colliders.len()];
+        for (j, (&(i, k), list)) in colliders.iter().zip(&lists).enumerate() {
+            for &b in list {
+                let mut v = vec![Vec3A::ZERO; n + 1];
+                want.field.blades.load(b as usize, &mut v);
+                let first = want.scratch.mask[b as usize].trailing_zeros() as usize;
+                let seg_len = want.field.blades.seg_len[b as usize];
+                let collider = want.bodies[i].collider(k);
+                let mut hint = [NO_HINT; MAX_SEGMENTS + 1];
+                if resolve_contact_hinted(
+                    &mut v,
+                    seg_len,
+                    first,
+                    collider.pose,
+                    collider.tree,
+                    &want.field.terrain,
+                    GROUND_CLEARANCE_M,
+                    seg_len,
+                    &mut hint,
+                ) {
+                    moved_by[j].push(b);
+                    want.field.blades.store(b as usize, &v);
+                }
+            }
+        }
+        let both = moved_by[0]
+            .iter()
+            .filter(|b| moved_by[1].binary_search(b).is_ok())
+            .count();
+        assert!(both > 20, "only {both} blades moved by both boxes");
+        let bits = |sim: &Simulation| -> Vec<[u32; 3]> {
+            sim.field
+                .blades
+                .pos
+                .iter()
+                .map(|v| v.pos.map(f32::to_bits))
+                .collect()
+        };
+        assert!(bits(&got) == bits(&want), "the blades differ");
+    }
 }
