@@ -16,7 +16,7 @@ use crate::deform::transition::{
     bend_last_segment, cell_offset_and_flatness, offset_from_slope, slope_from_offset,
 };
 use crate::field::generate::GROUND_CLEARANCE_M;
-use crate::field::{Lod, LodChange, MAX_SEGMENTS};
+use crate::field::{Blades, Lod, LodChange, MAX_SEGMENTS};
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
@@ -84,7 +84,10 @@ pub(crate) fn bend_blades(sim: &mut Simulation, forced: &[u32], h: f32) -> Vec<u
 /// one). Colliders that share a blade run one after the other, each where
 /// the one before left the blade; what is stored, kept and returned is
 /// gathered collider by collider afterwards: the same bits as one collider
-/// after the other.
+/// after the other. Where a group holds more than [`MAX_GROUP`] colliders
+/// (a crowd, a body of many parts in one place) they all run one after the
+/// other, each storing what it moved before the next: finding where the
+/// ones before left a blade would cost more than it wins.
 pub(crate) fn resolve_contacts(
     sim: &mut Simulation,
     colliders: &[(usize, usize)],
@@ -94,135 +97,87 @@ pub(crate) fn resolve_contacts(
     reused: &mut u32,
 ) -> Vec<u32> {
     let n = sim.field.blades.segments;
-    let lists = contact_lists(sim, patch_hits);
-    let mut works: Vec<Option<ColliderWork>> = (0..lists.len()).map(|_| None).collect();
-    {
-        let found: Vec<_> = colliders
-            .iter()
-            .map(|&(i, k)| sim.bodies[i].collider(k))
-            .collect();
-        let blades = &sim.field.blades;
-        let terrain = &sim.field.terrain;
-        let mask = &sim.scratch.mask;
+    let (lists, shared) = contact_lists(sim, patch_hits);
+    let groups = collider_groups(&shared);
+    let mut out = Vec::new();
+    let found: Vec<_> = colliders
+        .iter()
+        .map(|&(i, k)| sim.bodies[i].collider(k))
+        .collect();
+    let blades = &mut sim.field.blades;
+    let terrain = &sim.field.terrain;
+    let mask = &sim.scratch.mask;
+    if groups.iter().any(|g| g.len() > MAX_GROUP) {
+        for (j, list) in lists.into_iter().enumerate() {
+            let work = collider_work(
+                blades,
+                terrain,
+                mask,
+                &list,
+                &found[j],
+                keys[j],
+                &memos[j],
+                |_| None,
+            );
+            finish_collider(
+                blades,
+                mask,
+                list,
+                work,
+                keys[j],
+                &mut memos[j],
+                reused,
+                &mut out,
+            );
+        }
+    } else {
         let kept: &[ColliderMemo] = memos;
-        let done: Vec<Vec<(usize, ColliderWork)>> = collider_groups(&lists)
+        let shared_blades: &Blades = blades;
+        let done: Vec<Vec<(usize, ColliderWork)>> = groups
             .par_iter()
             .map(|group| {
                 let mut done: Vec<(usize, ColliderWork)> = Vec::with_capacity(group.len());
                 for &j in group {
-                    let list = &lists[j];
-                    let mut work = vec![Vec3A::ZERO; list.len() * (n + 1)];
-                    // Per blade: whether it moved, whether it is where it
-                    // was found (a fixed point a collider at rest keeps,
-                    // `super::at_rest`), and whether it was left without a
-                    // query (kept so before).
-                    let mut moved = vec![(false, false, false); list.len()];
-                    // Each vertex's closest triangle, from the collider's
-                    // sub-step before and for its next
-                    // (`super::contact_hints`).
-                    let mut hints = vec![[NO_HINT; MAX_SEGMENTS + 1]; list.len()];
-                    let (collider, key, memo) = (&found[j], keys[j], &kept[j]);
-                    work.par_chunks_mut(n + 1)
-                        .zip(moved.par_iter_mut())
-                        .zip(hints.par_iter_mut())
-                        .zip(list.par_iter())
-                        .for_each(|(((v, moved), hint), &b)| {
-                            *hint = memo.hints.of(b, n + 1);
-                            // Where the colliders before this one left the
-                            // blade: the last of this group's that has it,
-                            // or as stored.
-                            let before = done.iter().rev().find_map(|(i, w)| {
+                    let work = collider_work(
+                        shared_blades,
+                        terrain,
+                        mask,
+                        &lists[j],
+                        &found[j],
+                        keys[j],
+                        &kept[j],
+                        // Where the colliders before this one left the
+                        // blade: the last of this group's that has it (at
+                        // most MAX_GROUP - 1 to look in), or as stored.
+                        |b| {
+                            done.iter().rev().find_map(|(i, w)| {
                                 let at = lists[*i].binary_search(&b).ok()?;
                                 Some(&w.work[at * (n + 1)..(at + 1) * (n + 1)])
-                            });
-                            match before {
-                                Some(before) => v.copy_from_slice(before),
-                                None => blades.load(b as usize, v),
-                            }
-                            let b = b as usize;
-                            let first = mask[b].trailing_zeros();
-                            let seg_len = blades.seg_len[b];
-                            if let Some(was) = memo.kept_blade(key, b as u32, first, seg_len, v) {
-                                *moved = (was, true, true);
-                                return;
-                            }
-                            // Only a collider at rest keeps fixed points: a
-                            // moving one copies and compares nothing.
-                            let before = key.map(|_| {
-                                let mut copy = [Vec3A::ZERO; MAX_SEGMENTS + 1];
-                                copy[..=n].copy_from_slice(v);
-                                copy
-                            });
-                            let m = resolve_contact_hinted(
-                                v,
-                                seg_len,
-                                first as usize,
-                                collider.pose,
-                                collider.tree,
-                                terrain,
-                                GROUND_CLEARANCE_M,
-                                seg_len,
-                                hint,
-                            );
-                            let fixed = before.is_some_and(|before| {
-                                v.iter().zip(&before).all(|(a, b)| {
-                                    a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)
-                                })
-                            });
-                            *moved = (m, fixed, false);
-                        });
-                    done.push((j, ColliderWork { work, moved, hints }));
+                            })
+                        },
+                    );
+                    done.push((j, work));
                 }
                 done
             })
             .collect();
+        let mut works: Vec<Option<ColliderWork>> = (0..lists.len()).map(|_| None).collect();
         for (j, w) in done.into_iter().flatten() {
             works[j] = Some(w);
         }
-    }
-    let mut out = Vec::new();
-    for (((list, work), &key), memo) in lists.into_iter().zip(works).zip(keys).zip(memos) {
-        let Some(ColliderWork { work, moved, hints }) = work.filter(|_| !list.is_empty()) else {
-            memo.keep_blades(None, RestingBlades::default());
-            memo.hints = ContactHints::default();
-            continue;
-        };
-        let mut resting = memo.resting_buffers(n + 1);
-        let mut stored = Vec::new();
-        for (i, ((v, &b), &(m, fixed, skipped))) in
-            work.chunks_exact(n + 1).zip(&list).zip(&moved).enumerate()
-        {
-            *reused += u32::from(skipped);
-            if m {
-                out.push(b);
-                // A blade the response pushed back to its own bits is not
-                // stored again: the step would list it as changed
-                // (`Field::changed_blades`) and a host upload it for
-                // nothing (3–4 k blades a step under the parked herd). A
-                // blade found at its fixed point (or taken from the memo)
-                // is known to be; any other is compared with what is stored
-                // (where the colliders before this one left it).
-                let blades = &sim.field.blades;
-                let same = fixed
-                    || v.iter().enumerate().all(|(k, v)| {
-                        blades.pos[k * blades.count + b as usize]
-                            .pos
-                            .map(f32::to_bits)
-                            == v.to_array().map(f32::to_bits)
-                    });
-                if !same {
-                    stored.push((b, i as u32));
-                }
-            }
-            if fixed {
-                let first = sim.scratch.mask[b as usize].trailing_zeros();
-                let seg_len = sim.field.blades.seg_len[b as usize];
-                resting.push(b, first, seg_len, m, v);
-            }
+        for (j, (list, work)) in lists.into_iter().zip(works).enumerate() {
+            let work = work.expect("every collider is in one group");
+            finish_collider(
+                blades,
+                mask,
+                list,
+                work,
+                keys[j],
+                &mut memos[j],
+                reused,
+                &mut out,
+            );
         }
-        sim.field.blades.store_slots(&stored, &work);
-        memo.keep_blades(key, resting);
-        memo.hints = ContactHints::keep(list, &hints, n + 1);
     }
     for &b in &out {
         mark_displaced(sim, b);
@@ -230,13 +185,147 @@ pub(crate) fn resolve_contacts(
     out
 }
 
+/// The most colliders sharing blades that [`resolve_contacts`] runs beside
+/// other groups; a larger group runs all colliders one after the other.
+const MAX_GROUP: usize = 4;
+
+/// One collider's contact response ([`resolve_contacts`]) over its blades
+/// `list`, in parallel: each blade taken from `before` (where the
+/// colliders before this one left it) or as stored, then moved out of the
+/// collider unless the collider's memo knows its answer.
+#[allow(clippy::too_many_arguments)]
+fn collider_work<'a>(
+    blades: &Blades,
+    terrain: &crate::field::Terrain,
+    mask: &[u32],
+    list: &[u32],
+    collider: &super::body::Collider<'_>,
+    key: Option<RestKey>,
+    memo: &ColliderMemo,
+    before: impl Fn(u32) -> Option<&'a [Vec3A]> + Sync,
+) -> ColliderWork {
+    let n = blades.segments;
+    let mut work = vec![Vec3A::ZERO; list.len() * (n + 1)];
+    // Per blade: whether it moved, whether it is where it was found (a
+    // fixed point a collider at rest keeps, `super::at_rest`), and whether
+    // it was left without a query (kept so before).
+    let mut moved = vec![(false, false, false); list.len()];
+    // Each vertex's closest triangle, from the collider's sub-step before
+    // and for its next (`super::contact_hints`).
+    let mut hints = vec![[NO_HINT; MAX_SEGMENTS + 1]; list.len()];
+    work.par_chunks_mut(n + 1)
+        .zip(moved.par_iter_mut())
+        .zip(hints.par_iter_mut())
+        .zip(list.par_iter())
+        .for_each(|(((v, moved), hint), &b)| {
+            *hint = memo.hints.of(b, n + 1);
+            match before(b) {
+                Some(before) => v.copy_from_slice(before),
+                None => blades.load(b as usize, v),
+            }
+            let b = b as usize;
+            let first = mask[b].trailing_zeros();
+            let seg_len = blades.seg_len[b];
+            if let Some(was) = memo.kept_blade(key, b as u32, first, seg_len, v) {
+                *moved = (was, true, true);
+                return;
+            }
+            // Only a collider at rest keeps fixed points: a moving one
+            // copies and compares nothing.
+            let before = key.map(|_| {
+                let mut copy = [Vec3A::ZERO; MAX_SEGMENTS + 1];
+                copy[..=n].copy_from_slice(v);
+                copy
+            });
+            let m = resolve_contact_hinted(
+                v,
+                seg_len,
+                first as usize,
+                collider.pose,
+                collider.tree,
+                terrain,
+                GROUND_CLEARANCE_M,
+                seg_len,
+                hint,
+            );
+            let fixed = before.is_some_and(|before| {
+                v.iter()
+                    .zip(&before)
+                    .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits))
+            });
+            *moved = (m, fixed, false);
+        });
+    ColliderWork { work, moved, hints }
+}
+
+/// What [`resolve_contacts`] keeps of one collider's work, collider by
+/// collider in order: the blades it moved stored (those it left as stored
+/// are not), appended to `out`; the blades at their fixed points and the
+/// closest triangles kept in its memo.
+#[allow(clippy::too_many_arguments)]
+fn finish_collider(
+    blades: &mut Blades,
+    mask: &[u32],
+    list: Vec<u32>,
+    work: ColliderWork,
+    key: Option<RestKey>,
+    memo: &mut ColliderMemo,
+    reused: &mut u32,
+    out: &mut Vec<u32>,
+) {
+    let n = blades.segments;
+    if list.is_empty() {
+        memo.keep_blades(None, RestingBlades::default());
+        memo.hints = ContactHints::default();
+        return;
+    }
+    let ColliderWork { work, moved, hints } = work;
+    let mut resting = memo.resting_buffers(n + 1);
+    let mut stored = Vec::new();
+    for (i, ((v, &b), &(m, fixed, skipped))) in
+        work.chunks_exact(n + 1).zip(&list).zip(&moved).enumerate()
+    {
+        *reused += u32::from(skipped);
+        if m {
+            out.push(b);
+            // A blade the response pushed back to its own bits is not
+            // stored again: the step would list it as changed
+            // (`Field::changed_blades`) and a host upload it for
+            // nothing (3–4 k blades a step under the parked herd). A
+            // blade found at its fixed point (or taken from the memo)
+            // is known to be; any other is compared with what is stored
+            // (where the colliders before this one left it).
+            let same = fixed
+                || v.iter().enumerate().all(|(k, v)| {
+                    blades.pos[k * blades.count + b as usize]
+                        .pos
+                        .map(f32::to_bits)
+                        == v.to_array().map(f32::to_bits)
+                });
+            if !same {
+                stored.push((b, i as u32));
+            }
+        }
+        if fixed {
+            let first = mask[b as usize].trailing_zeros();
+            let seg_len = blades.seg_len[b as usize];
+            resting.push(b, first, seg_len, m, v);
+        }
+    }
+    blades.store_slots(&stored, &work);
+    memo.keep_blades(key, resting);
+    memo.hints = ContactHints::keep(list, &hints, n + 1);
+}
+
 /// The blades [`resolve_contacts`] moves out of each collider: those some
 /// object touched this sub-step (a segment mask) in the patches listed for
-/// it (`patch_hits`), ascending. Blades are stored patch by patch and the
+/// it (`patch_hits`), ascending; and the patches of the list that hold
+/// such blades, ascending (two colliders share a blade exactly when they
+/// share one of those). Blades are stored patch by patch and the
 /// touched ones are sorted, so each listed patch (ascending) is one range
 /// of them — found by two binary searches, not by testing every touched
 /// blade against every collider.
-fn contact_lists(sim: &Simulation, patch_hits: &[Vec<u32>]) -> Vec<Vec<u32>> {
+fn contact_lists(sim: &Simulation, patch_hits: &[Vec<u32>]) -> (Vec<Vec<u32>>, Vec<Vec<u32>>) {
     let per_patch = sim.field.layout.cells_in_patch() * sim.field.layout.blades_per_cell as usize;
     let mut touched: Vec<u32> = sim
         .scratch
@@ -250,16 +339,19 @@ fn contact_lists(sim: &Simulation, patch_hits: &[Vec<u32>]) -> Vec<Vec<u32>> {
     patch_hits
         .iter()
         .map(|patches| {
-            let mut list = Vec::new();
+            let (mut list, mut shared) = (Vec::new(), Vec::new());
             for &p in patches {
                 let (first, end) = (p as usize * per_patch, (p as usize + 1) * per_patch);
                 let lo = touched.partition_point(|&b| (b as usize) < first);
                 let hi = touched.partition_point(|&b| (b as usize) < end);
-                list.extend_from_slice(&touched[lo..hi]);
+                if hi > lo {
+                    list.extend_from_slice(&touched[lo..hi]);
+                    shared.push(p);
+                }
             }
-            list
+            (list, shared)
         })
-        .collect()
+        .unzip()
 }
 
 /// What [`resolve_contacts`] did to one collider's blades, in the order of
@@ -271,10 +363,11 @@ struct ColliderWork {
     hints: Vec<[u32; MAX_SEGMENTS + 1]>,
 }
 
-/// The colliders of `lists` (per collider, its blades, ascending) in
-/// groups that share no blade with one another: colliders that share a
-/// blade, directly or through others, are in one group, ascending; the
-/// groups are in the order of their first collider.
+/// The colliders of `lists` (per collider, its keys, ascending: the
+/// patches that hold its blades, [`contact_lists`]) in groups that share
+/// no key with one another: colliders that share a key, directly or
+/// through others, are in one group, ascending; the groups are in the
+/// order of their first collider.
 fn collider_groups(lists: &[Vec<u32>]) -> Vec<Vec<usize>> {
     // Union–find over the colliders; the smaller root leads, so a group's
     // root is its first collider.
@@ -489,35 +582,45 @@ mod tests {
         assert!(collider_groups(&[]).is_empty());
     }
 
-    /// Two boxes side by side, overlapping, sliding over the same blades:
-    /// the contact response gives the bits of the colliders taken one after
-    /// the other, each loading the blades as the one before stored them
-    /// (what `resolve_contacts` did before it ran independent colliders
-    /// side by side), and many blades are moved by both.
+    /// Boxes side by side, overlapping, sliding over the same blades: the
+    /// contact response gives the bits of the colliders taken one after the
+    /// other, each loading the blades as the one before stored them (what
+    /// `resolve_contacts` did before it ran independent colliders side by
+    /// side), and many blades are moved by two of them; with two boxes (a
+    /// group run beside the others) and with more than `MAX_GROUP` (all
+    /// one after the other).
     #[test]
     fn colliders_sharing_blades_meet_them_one_after_the_other() {
-        let text = r#"
+        for boxes in [2, MAX_GROUP + 2] {
+            colliders_meet_shared_blades_one_after_the_other(boxes);
+        }
+    }
+
+    fn colliders_meet_shared_blades_one_after_the_other(boxes: usize) {
+        let mut text = String::from(
+            r#"
 [field]
 patches = [2, 2]
 cells_per_patch = 16
-[[objects]]
-name = "a"
-shape = { kind = "box", half_extents_m = [0.5, 0.3, 0.5] }
-path = { kind = "line", from = [-2.0, 0.25, 0.0], to = [2.0, 0.25, 0.0], duration_s = 2.0 }
-[[objects]]
-name = "b"
-shape = { kind = "box", half_extents_m = [0.5, 0.3, 0.5] }
-path = { kind = "line", from = [-1.4, 0.25, 0.2], to = [2.6, 0.25, 0.2], duration_s = 2.0 }
 [camera]
 path = { kind = "static", position = [0.0, 3.0, 4.0] }
 look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
-"#;
-        let mut sim = Scene::parse(text, "pair", std::path::Path::new("."))
+"#,
+        );
+        for i in 0..boxes {
+            let (x, z) = (-2.0 + 0.6 * i as f32, 0.2 * (i % 2) as f32);
+            text += &format!(
+                "[[objects]]\nname = \"b{i}\"\nshape = {{ kind = \"box\", half_extents_m = [0.5, 0.3, 0.5] }}\n\
+                 path = {{ kind = \"line\", from = [{x}, 0.25, {z}], to = [{}, 0.25, {z}], duration_s = 2.0 }}\n",
+                x + 4.0
+            );
+        }
+        let mut sim = Scene::parse(&text, "boxes", std::path::Path::new("."))
             .unwrap()
             .build()
             .unwrap();
         sim.run(12).unwrap();
-        let colliders = [(0, 0), (1, 0)];
+        let colliders: Vec<(usize, usize)> = (0..boxes).map(|i| (i, 0)).collect();
         let patch_hits: Vec<Vec<u32>> = colliders
             .iter()
             .map(|&(i, k)| {
@@ -530,17 +633,20 @@ look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
                 out
             })
             .collect();
-        let lists = contact_lists(&sim, &patch_hits);
-        assert_eq!(collider_groups(&lists), vec![vec![0, 1]]);
+        let (lists, shared) = contact_lists(&sim, &patch_hits);
+        assert_eq!(
+            collider_groups(&shared),
+            vec![(0..boxes).collect::<Vec<_>>()]
+        );
 
         let mut got = sim.clone();
-        let mut memos = vec![ColliderMemo::default(), ColliderMemo::default()];
+        let mut memos = vec![ColliderMemo::default(); boxes];
         let mut reused = 0;
         resolve_contacts(
             &mut got,
             &colliders,
             &patch_hits,
-            &[None, None],
+            &vec![None; boxes],
             &mut memos,
             &mut reused,
         );
