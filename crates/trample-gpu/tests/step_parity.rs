@@ -64,35 +64,76 @@ const SLOPE_TOLERANCE: f32 = 1e-3;
 /// stages' agreement; the strides' own is checked by
 /// `busy_scene_recovering_in_strides_matches_the_cpu`.
 fn check_parity(scene: &Scene, frames: u32) {
-    let mut scene = scene.clone();
-    scene.file.sim.recovery_stride_m = 0.0;
-    check_parity_as_is(&scene, frames);
+    check_parity_at(scene, &[frames]);
 }
 
-/// Runs `scene` on both paths for `frames` and checks the end state: levels
-/// of detail identical, billboard slopes within [`SLOPE_TOLERANCE`],
-/// vertices within [`VERTEX_TOLERANCE_M`], classes within
-/// [`CLASS_TOLERANCE`] of the field, and the object touching grass.
+/// [`check_parity`] checked after each of `checks` frames (ascending) of
+/// one run: the state after 32 frames of a run is that of a 32-frame run
+/// (reading it back changes neither path).
+fn check_parity_at(scene: &Scene, checks: &[u32]) {
+    let mut scene = scene.clone();
+    scene.file.sim.recovery_stride_m = 0.0;
+    parity_run(&scene, checks);
+}
+
+/// [`parity_run`] over `frames`, checked at the end.
 fn check_parity_as_is(scene: &Scene, frames: u32) {
+    parity_run(scene, &[frames]);
+}
+
+/// Runs `scene` on both paths up to the last of `checks` frames and, after
+/// each of them, checks the state ([`check_state`]).
+fn parity_run(scene: &Scene, checks: &[u32]) {
     let gpu = common::gpu();
     let (device, queue) = (&gpu.device, &gpu.queue);
     let mut cpu = scenes::build(scene);
     let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
     let dt = cpu.params.dt_s;
-    let (mut dbg_frames, mut pbg_frames, mut touched) = (0, 0, 0u64);
-    let mut lod_frames = 0;
-    for _ in 0..frames {
+    let mut run = RunCounts::default();
+    for frame in 1..=checks.iter().copied().max().unwrap_or(0) {
         cpu.step(dt).unwrap();
         g.step(device, queue, dt).unwrap();
         let c = g.read_counters(device, queue).unwrap();
-        dbg_frames += u32::from(c.dbg != cpu.timings.dbg_blades);
-        pbg_frames += u32::from(c.pbg != cpu.timings.pbg_blades);
+        run.dbg_frames += u32::from(c.dbg != cpu.timings.dbg_blades);
+        run.pbg_frames += u32::from(c.pbg != cpu.timings.pbg_blades);
         // Cells per level: the GPU's counts whether it classified this
         // sub-step or kept the last ones (a still viewpoint, lod_settle.rs).
         let l = cpu.timings.lod;
-        lod_frames += u32::from(c.lod != [l.geometry, l.billboard, l.texture]);
-        touched += u64::from(cpu.timings.dbg_blades);
+        run.lod_frames += u32::from(c.lod != [l.geometry, l.billboard, l.texture]);
+        run.touched += u64::from(cpu.timings.dbg_blades);
+        if checks.contains(&frame) {
+            check_state((device, queue), &cpu, &g, frame, &run);
+        }
     }
+}
+
+/// Per-frame disagreements of a run so far, and the DBG blade-frames.
+#[derive(Clone, Copy, Default)]
+struct RunCounts {
+    dbg_frames: u32,
+    pbg_frames: u32,
+    lod_frames: u32,
+    touched: u64,
+}
+
+/// Checks the state of both paths after `frames` frames: levels of detail
+/// identical, billboard slopes within [`SLOPE_TOLERANCE`], vertices within
+/// [`VERTEX_TOLERANCE_M`], classes within [`CLASS_TOLERANCE`] of the field,
+/// the cells per level equal in every frame so far, and the object
+/// touching grass.
+fn check_state(
+    (device, queue): (&trample_gpu::wgpu::Device, &trample_gpu::wgpu::Queue),
+    cpu: &trample::Simulation,
+    g: &GpuSimulation,
+    frames: u32,
+    run: &RunCounts,
+) {
+    let RunCounts {
+        dbg_frames,
+        pbg_frames,
+        lod_frames,
+        touched,
+    } = *run;
     assert!(
         touched > 100,
         "the object must touch grass for the test to mean anything"
@@ -174,14 +215,15 @@ fn check_parity_as_is(scene: &Scene, frames: u32) {
     );
 }
 
-/// Issue 12: the default scene (262,144 blades, precision 3) for 32 and for
-/// 120 frames: at frame 32 a grazing contact once decided 2.3 cm between
-/// the two paths (an exact tie of the box test, all or nothing).
+/// Issue 12: the default scene (262,144 blades, precision 3) checked after
+/// 32 and after 120 frames of one run: at frame 32 a grazing contact once
+/// decided 2.3 cm between the two paths (an exact tie of the box test, all
+/// or nothing). One run instead of two (a 32-frame and a 120-frame one)
+/// since 2026-12-01: 29 s → 23 s on llvmpipe, the same checks.
 #[test]
 fn default_scene_32_and_120_frames_match_the_cpu() {
     let scene = Scene::default_scene().unwrap();
-    check_parity(&scene, 32);
-    check_parity(&scene, 120);
+    check_parity_at(&scene, &[32, 120]);
 }
 
 /// Issue 12: contact that holds, on both paths — a box standing in the
@@ -300,11 +342,16 @@ fn paper_mode_billboards_coming_back_to_geometry_300_frames_match_the_cpu() {
 }
 
 /// The LOD scene over a grass density map whose columns alternate full and
-/// half grass, four blades a cell: cells hold blades the map leaves out
+/// half grass, two blades a cell: cells hold blades the map leaves out
 /// (`seg_len` 0, `Blades::is_present` false). Those are never hit, bent or
 /// averaged into a cell's offset (transitions, Eq. 12) or its billboard
 /// slope (`follow`) on either path. Before the GPU skipped them (session
 /// 32) the slopes were 1.12 apart and 1,448 blades differed in class.
+/// Two blades a cell since 2026-12-01 (four before: 112 s → 58 s on
+/// llvmpipe, the longest test of CI's GPU steps); each of the GPU's three
+/// skips put back (the hit in `narrow_phase.wgsl`, the offset in
+/// `transitions.wgsl`, the slope in `follow.wgsl`) still fails it: 710
+/// class differences, a slope difference of 1.24, one of 0.73.
 #[test]
 fn grass_left_out_by_a_density_map_matches_the_cpu() {
     let dir = std::env::temp_dir().join(format!("trample-gpu-density-{}", std::process::id()));
@@ -315,7 +362,7 @@ fn grass_left_out_by_a_density_map_matches_the_cpu() {
     img.save(dir.join("density.png")).unwrap();
     let text = scenes::LOD.replace(
         "cells_per_patch = 16 ",
-        "cells_per_patch = 16\nblades_per_cell = 4\n[field.maps]\ndensity = \"density.png\"\n#",
+        "cells_per_patch = 16\nblades_per_cell = 2\n[field.maps]\ndensity = \"density.png\"\n#",
     );
     assert_ne!(text, scenes::LOD);
     let scene = scenes::scene_in(&text, &dir);

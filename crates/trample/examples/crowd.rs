@@ -2,8 +2,9 @@
 //! of one size, so one shared OBB tree) wandering over a meadow of a
 //! million blades, each walking to a waypoint, standing there a while,
 //! then walking on — what a game's NPCs do. The host moves each one every
-//! frame ([`Simulation::move_body`]); a character standing still costs a
-//! comparison of the blades under it (`SimParams::reuse_at_rest`), and
+//! frame ([`Simulation::move_body`](trample::Simulation::move_body)); a
+//! character standing still costs a comparison of the blades under it
+//! (`SimParams::reuse_at_rest`), and
 //! with `far_every` above 1 the ones far from the camera step in turns
 //! and so does the recovery of the trails far from it
 //! (`SimParams::far_every`). The trails' blades creeping back slowly are
