@@ -262,6 +262,7 @@ fn walk(
     let mut best_sq = max_sq;
     let mut bound_sq = max_sq;
     let mut best: Option<SurfacePoint> = None;
+    let prune = keep.is_none();
     // (node, its box's squared distance, computed once when it is pushed).
     let mut stack = [(0u32, 0.0f32); STACK_SIZE];
     stack[0].1 = tree
@@ -290,10 +291,12 @@ fn walk(
                 let d = q.distance_squared(p);
                 if d <= best_sq && (best.is_none() || d < best_sq) {
                     best_sq = d;
+                    // The normal is that of the final triangle, taken
+                    // once after the walk.
                     best = Some(SurfacePoint {
                         point: q,
                         distance_sq: d,
-                        normal: (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero(),
+                        normal: Vec3::ZERO,
                         triangle: (first + k) as u32,
                         region,
                     });
@@ -323,12 +326,25 @@ fn walk(
             } else {
                 ((l, dl), (r, dr))
             };
-            stack[len] = far;
-            stack[len + 1] = near;
-            len += 2;
+            // Without `keep` the bound only shrinks, so a child beyond it
+            // now would be skipped when popped: it is not pushed. (With
+            // `keep` the bound may grow past `max_sq` at the first hit.)
+            if !(prune && far.1 > bound_sq) {
+                stack[len] = far;
+                len += 1;
+            }
+            if !(prune && near.1 > bound_sq) {
+                stack[len] = near;
+                len += 1;
+            }
         }
     }
-    best
+    best.map(|mut b| {
+        if let Some(tri) = tree.triangles.get(b.triangle as usize) {
+            b.normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
+        }
+        b
+    })
 }
 
 #[cfg(test)]
