@@ -219,7 +219,8 @@ fn check_state(
 /// 32 and after 120 frames of one run: at frame 32 a grazing contact once
 /// decided 2.3 cm between the two paths (an exact tie of the box test, all
 /// or nothing). One run instead of two (a 32-frame and a 120-frame one)
-/// since 2026-12-01: 29 s → 23 s on llvmpipe, the same checks.
+/// since 2026-12-01: 120 frames on both paths instead of 152, the same
+/// checks.
 #[test]
 fn default_scene_32_and_120_frames_match_the_cpu() {
     let scene = Scene::default_scene().unwrap();
