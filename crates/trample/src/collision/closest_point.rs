@@ -13,7 +13,7 @@
 use glam::{Vec3, Vec3A};
 
 use super::exact::STACK_SIZE;
-use crate::obb::pseudo_normals::{CORNER_A, EDGE_AB, EDGE_BC, EDGE_CA, FACE};
+use crate::obb::pseudo_normals::{CORNER_A, EDGE_AB, EDGE_BC, EDGE_CA, FACE, face_normal};
 use crate::obb::{Obb, ObbTree};
 
 /// Which feature of a triangle a closest point lies on.
@@ -341,7 +341,7 @@ fn walk(
     }
     best.map(|mut b| {
         if let Some(tri) = tree.triangles.get(b.triangle as usize) {
-            b.normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize_or_zero();
+            b.normal = face_normal(tri);
         }
         b
     })

@@ -34,6 +34,16 @@ pub const CORNER_A: u8 = 3;
 /// The face's interior: the face normal, not a pseudo-normal.
 pub const FACE: u8 = 6;
 
+/// The unit normal of triangle `t` (its corners counter-clockwise seen
+/// from the side it points to), zero for a degenerate one: a face's
+/// normal here and the closest point's
+/// ([`crate::collision::closest_point::SurfacePoint::normal`]).
+#[must_use]
+#[inline]
+pub fn face_normal(t: &[Vec3; 3]) -> Vec3 {
+    (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero()
+}
+
 /// Which corners and edges the triangles of a mesh share, by position (the
 /// bits of the coordinates, −0.0 = +0.0: an unwelded mesh counts as
 /// welded), computed once; [`MeshFeatures::normals`] turns positions into
@@ -164,11 +174,7 @@ impl MeshFeatures {
             at_corner,
         } = scratch;
         faces.clear();
-        faces.extend(
-            triangles
-                .iter()
-                .map(|t| (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero()),
-        );
+        faces.extend(triangles.iter().map(face_normal));
         at_edge.clear();
         at_edge.resize(self.edge_count, Vec3::ZERO);
         at_corner.clear();
