@@ -754,14 +754,9 @@ fn closest_walk(p: vec3<f32>, max_sq: f32, reach: f32) -> SurfacePoint {
                 let d = dot3(dv, dv);
                 if d <= best_sq && (!best.found || d < best_sq) {
                     best_sq = d;
-                    let a = corner(t, 0u);
-                    let nrm = cross_scalar(corner(t, 1u) - a, corner(t, 2u) - a);
-                    let nl = sqrt(dot3(nrm, nrm));
-                    var unit = vec3<f32>(0.0);
-                    if nl > 0.0 {
-                        unit = nrm * (1.0 / nl);
-                    }
-                    best = SurfacePoint(c.point, d, unit, c.region == FACE, true, t, c.region);
+                    // The normal is that of the final triangle, taken once
+                    // after the walk.
+                    best = SurfacePoint(c.point, d, vec3<f32>(0.0), c.region == FACE, true, t, c.region);
                     bound_sq = d;
                     if reach >= 0.0 {
                         bound_sq = (sqrt(d) + reach) * (sqrt(d) + reach);
@@ -786,9 +781,26 @@ fn closest_walk(p: vec3<f32>, max_sq: f32, reach: f32) -> SurfacePoint {
                 near = vec2<u32>(r, bitcast<u32>(dr));
                 far = vec2<u32>(l, bitcast<u32>(dl));
             }
-            cp_stack[len] = far;
-            cp_stack[len + 1u] = near;
-            len += 2u;
+            // Without `reach` the bound only shrinks, so a child beyond it
+            // now would be skipped when popped: it is not pushed. (With
+            // `reach` the bound may grow past max_sq at the first hit.)
+            if !(reach < 0.0 && bitcast<f32>(far.y) > bound_sq) {
+                cp_stack[len] = far;
+                len += 1u;
+            }
+            if !(reach < 0.0 && bitcast<f32>(near.y) > bound_sq) {
+                cp_stack[len] = near;
+                len += 1u;
+            }
+        }
+    }
+    if best.found {
+        let t = best.triangle;
+        let a = corner(t, 0u);
+        let nrm = cross_scalar(corner(t, 1u) - a, corner(t, 2u) - a);
+        let nl = sqrt(dot3(nrm, nrm));
+        if nl > 0.0 {
+            best.normal = nrm * (1.0 / nl);
         }
     }
     return best;
