@@ -4,8 +4,9 @@
 //! car and the cow (within ±4 % of the mesh's size along a triangle's
 //! normal, seeded), each asked with the bound a hint gives (the distance to
 //! the triangle the point was made from, as `push_out_hinted` bounds its
-//! walk) and with no bound. Prints the walk's cost in nodes at the end.
-//! Small mode: 2,000 points instead of 200,000.
+//! walk), with no bound, and as `push_out_hinted` asks it ("near": the
+//! hint's bound plus `PUSH_BLEND_M`, keeping the near points). Prints the
+//! walk's cost in nodes at the end. Small mode: 2,000 points instead of 200,000.
 
 mod common;
 
@@ -14,8 +15,9 @@ use glam::Vec3;
 use std::hint::black_box;
 use std::path::Path;
 use trample::collision::closest_point::{
-    closest_point_on_triangle_region, closest_point_within_sq,
+    NearPoints, closest_point_and_near, closest_point_on_triangle_region, closest_point_within_sq,
 };
+use trample::collision::contact::PUSH_BLEND_M;
 use trample::obb::{DEFAULT_MAX_DEPTH, ObbTree};
 use trample::object::shapes::{knot, sphere};
 use trample::object::{TriMesh, load_mesh_file};
@@ -88,6 +90,22 @@ fn bench(c: &mut Criterion) {
                 qs.iter()
                     .filter_map(|&(p, _)| {
                         closest_point_within_sq(&tree, black_box(p), f32::INFINITY)
+                    })
+                    .count()
+            });
+        });
+        // What the contact response asks (`push_out_hinted`): the hint's
+        // bound and the blend's reach past it, keeping the near points.
+        let reached: Vec<(Vec3, f32)> = queries
+            .iter()
+            .map(|&(p, d_sq)| (p, (d_sq.sqrt() + PUSH_BLEND_M).powi(2)))
+            .collect();
+        group.bench_with_input(BenchmarkId::new("near", name), &reached, |b, qs| {
+            b.iter(|| {
+                let mut near = NearPoints::default();
+                qs.iter()
+                    .filter_map(|&(p, bound)| {
+                        closest_point_and_near(&tree, black_box(p), bound, PUSH_BLEND_M, &mut near)
                     })
                     .count()
             });
