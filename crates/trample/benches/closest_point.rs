@@ -6,7 +6,8 @@
 //! the triangle the point was made from, as `push_out_hinted` bounds its
 //! walk), with no bound, and as `push_out_hinted` asks it ("near": the
 //! hint's bound plus `PUSH_BLEND_M`, keeping the near points). Prints the
-//! walk's cost in nodes at the end. Small mode: 2,000 points instead of 200,000.
+//! walk's cost in nodes at the end. Small mode: 2,000 points instead of
+//! 200,000.
 
 mod common;
 
