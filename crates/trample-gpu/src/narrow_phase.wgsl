@@ -334,39 +334,55 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     var len = 1u;
     let count = tree.x;
     let final_depth = tree.z;
-    if near_count != NEAR_NONE {
-        // The blade's final nodes (`list_near`), in the walk's order: the
-        // nodes the walk would end at, without the walk
-        // (`narrow_phase::contact_blade_near`). The root was hit.
+    // The blade's final nodes (`list_near`), in the walk's order: the
+    // nodes the walk would end at, without the walk
+    // (`narrow_phase::contact_blade_near`); else the walk from the root.
+    // One loop for both, so that `final_node` has one call site: shader
+    // compilers inline every call, and each copy of it holds a whole
+    // closest-point walk (BENCHMARKS.md, "Session 54": fewer copies, the
+    // pipelines compile and run about twice as fast on llvmpipe).
+    let listed = near_count != NEAR_NONE;
+    var j = 0u;
+    if listed {
+        // The root was hit.
         deepest = 1u;
         len = 0u;
-        for (var j = 0u; j < near_count; j++) {
-            let i = near[j];
-            if hits_local(framed(centre, half, i, false, shell)) {
-                final_node(i, centre, half, p0, p1, shell, &acc);
-            }
-        }
     }
-    while len > 0u {
-        len -= 1u;
-        let i = walk_stack[len].x;
-        let depth = walk_stack[len].y;
-        if i >= count {
-            continue;
-        }
-        let n = node_at(i);
-        let l = n.children.x;
-        let r = n.children.y;
-        let descend = depth < final_depth && l != NO_CHILD && l > i && r > i && len + 2u <= STACK_SIZE;
-        if !hits_local(framed(centre, half, i, descend, shell)) {
-            continue;
-        }
-        deepest = max(deepest, depth);
-        if descend {
-            walk_stack[len] = vec2<u32>(r, depth + 1u);
-            walk_stack[len + 1u] = vec2<u32>(l, depth + 1u);
-            len += 2u;
-            continue;
+    loop {
+        var i = 0u;
+        if listed {
+            if j >= near_count {
+                break;
+            }
+            i = near[j];
+            j++;
+            if !hits_local(framed(centre, half, i, false, shell)) {
+                continue;
+            }
+        } else {
+            if len == 0u {
+                break;
+            }
+            len -= 1u;
+            i = walk_stack[len].x;
+            let depth = walk_stack[len].y;
+            if i >= count {
+                continue;
+            }
+            let n = node_at(i);
+            let l = n.children.x;
+            let r = n.children.y;
+            let descend = depth < final_depth && l != NO_CHILD && l > i && r > i && len + 2u <= STACK_SIZE;
+            if !hits_local(framed(centre, half, i, descend, shell)) {
+                continue;
+            }
+            deepest = max(deepest, depth);
+            if descend {
+                walk_stack[len] = vec2<u32>(r, depth + 1u);
+                walk_stack[len + 1u] = vec2<u32>(l, depth + 1u);
+                len += 2u;
+                continue;
+            }
         }
         final_node(i, centre, half, p0, p1, shell, &acc);
     }

@@ -597,6 +597,10 @@ fn lerp2(a: vec2<f32>, b: vec2<f32>, t: f32) -> vec2<f32> {
 // partial, the tree sum alone elsewhere (`WindingGrid::sample`: the box in
 // `grid_*`, the voxels along u, v, w in their w lanes).
 fn winding_at(p: vec3<f32>) -> f32 {
+    // The grid's trust where it is partial and its sample: the tree sum
+    // below has one call site (a shader compiler inlines each call).
+    var trust = 0.0;
+    var sampled = 0.0;
     if extra.w != 0u {
         let n = vec3<f32>(obj.grid_u.w, obj.grid_v.w, obj.grid_w.w);
         let dd = p - obj.grid_center.xyz;
@@ -619,11 +623,16 @@ fn winding_at(p: vec3<f32>) -> f32 {
                 return s.x;
             }
             if s.y > 0.0 {
-                return s.y * s.x + (1.0 - s.y) * winding_number(p);
+                trust = s.y;
+                sampled = s.x;
             }
         }
     }
-    return winding_number(p);
+    let w = winding_number(p);
+    if trust > 0.0 {
+        return trust * sampled + (1.0 - trust) * w;
+    }
+    return w;
 }
 
 // `winding::ROOT_FADE_M`.
@@ -828,47 +837,69 @@ fn surface_and_side_near(p: vec3<f32>, open_depth: f32, bound_sq: f32, reach: f3
     if tree.x == 0u {
         return out;
     }
+    // The three kinds of mesh decide whether and how far to walk first, so
+    // that `closest_walk` has one call site: shader compilers inline every
+    // call, and three copies of the walk in each copy of this function made
+    // the narrow phase's and the contact's pipelines take a minute each to
+    // compile on llvmpipe (BENCHMARKS.md, "Session 54").
+    var walk_sq = bound_sq;
+    // The closed mesh's grid answer (1: inside, 2: ask the surface), or
+    // SIDE_WINDS / SIDE_SHEET for an open mesh.
+    var known = 0u;
+    var winding = 0.0;
     if tree.y != 0u {
-        let known = grid_classify(p);
+        known = grid_classify(p);
         if known == 0u {
             return out;
         }
-        out.s = closest_walk(p, bound_sq, reach);
-        if !out.s.found {
+    } else {
+        if !(open_depth >= 0.0) {
             return out;
         }
-        var inside = known == 1u;
-        if !inside {
-            if out.s.face {
-                inside = dot3(p - out.s.point, out.s.normal) < 0.0;
-            } else {
-                inside = inside_by_ray(p);
+        if winds() {
+            // Outside (factor 0) needs no closest point; no depth bound.
+            let fade = root_fade(p);
+            if !(fade > 0.0) {
+                return out;
             }
+            winding = inside_factor(winding_at(p)) * fade;
+            if !(winding > 0.0) {
+                return out;
+            }
+            known = SIDE_WINDS;
+        } else {
+            walk_sq = min(open_depth * open_depth, bound_sq);
+            known = SIDE_SHEET;
         }
-        out.inside = select(0.0, 1.0, inside);
+    }
+    out.s = closest_walk(p, walk_sq, reach);
+    if known == SIDE_WINDS {
+        out.inside = winding;
         return out;
     }
-    if !(open_depth >= 0.0) {
+    if known == SIDE_SHEET {
+        out.inside = select(0.0, 1.0, out.s.found && dot3(p - out.s.point, side_normal(out.s)) < 0.0);
         return out;
     }
-    if winds() {
-        // Outside (factor 0) needs no closest point; no depth bound.
-        let fade = root_fade(p);
-        if !(fade > 0.0) {
-            return out;
-        }
-        let inside = inside_factor(winding_at(p)) * fade;
-        if !(inside > 0.0) {
-            return out;
-        }
-        out.s = closest_walk(p, bound_sq, reach);
-        out.inside = inside;
+    if !out.s.found {
         return out;
     }
-    out.s = closest_walk(p, min(open_depth * open_depth, bound_sq), reach);
-    out.inside = select(0.0, 1.0, out.s.found && dot3(p - out.s.point, side_normal(out.s)) < 0.0);
+    var inside = known == 1u;
+    if !inside {
+        if out.s.face {
+            inside = dot3(p - out.s.point, out.s.normal) < 0.0;
+        } else {
+            inside = inside_by_ray(p);
+        }
+    }
+    out.inside = select(0.0, 1.0, inside);
     return out;
 }
+
+// `surface_and_side_near`'s kinds of open mesh (a closed mesh's are the
+// grid's answers, 1 and 2).
+const SIDE_WINDS: u32 = 3u;
+const SIDE_SHEET: u32 = 4u;
 
 // `contact::penetration`: (surface point, depth) in xyz and w when p is
 // inside the object, w < 0 when it is outside (a winding mesh's depth: the
