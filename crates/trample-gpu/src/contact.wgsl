@@ -69,15 +69,28 @@ fn turn_towards(dir: vec3<f32>, push: vec3<f32>, lean_in: vec3<f32>, len: f32) -
     return normalize_or(d * len + push + lean * bias, d);
 }
 
-// `contact::pinned`: how pinned under the object a vertex at p (world) is.
-fn pinned(p: vec3<f32>) -> f32 {
+// `contact::pinned` in two halves around the walk (`contact_blade` asks
+// `surface_and_side_near` at one call site for this and for the push): how
+// pinned under the object a vertex at p (world) is. The first half: how
+// near the ground p is (0: not pinned, no walk).
+fn pin_ground(p: vec3<f32>) -> f32 {
     let guard = ground_at(p.x, p.z) + max(params.b.x, 0.0);
-    let on_ground = clamp(1.0 - (p.y - guard) / PIN_HEIGHT, 0.0, 1.0);
+    return clamp(1.0 - (p.y - guard) / PIN_HEIGHT, 0.0, 1.0);
+}
+
+// Where `pinned` asks for the penetration (object frame): the point
+// PIN_HEIGHT above p, with PIN_HEIGHT as the open-mesh depth.
+fn pin_probe(p: vec3<f32>) -> vec3<f32> {
+    return to_local(p + vec3<f32>(0.0, 1.0, 0.0) * PIN_HEIGHT);
+}
+
+// The second half: the answer from `pin_ground(p)` and
+// `surface_and_side(pin_probe(p), PIN_HEIGHT, ∞)`.
+fn pin_from(on_ground: f32, side: Side) -> f32 {
     if !(on_ground > 0.0) {
         return 0.0;
     }
-    let above = to_local(p + vec3<f32>(0.0, 1.0, 0.0) * PIN_HEIGHT);
-    let pen = penetration(above, PIN_HEIGHT);
+    let pen = penetration_of(side);
     var under = 0.0;
     if pen.w >= 0.0 {
         under = min(pen.w / PIN_HEIGHT, 1.0);
@@ -133,33 +146,79 @@ fn contact_blade(b: u32) {
         hints[k] = NONE;
         pin_was[k] = -1.0;
     }
+    let none = Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), 0.0);
     for (var iter = 0u; iter < CONTACT_ITERATIONS; iter++) {
         var lowest = NONE;
-        for (var k = first; k <= n; k++) {
-            // A vertex with no triangle of its own yet tries the one below
-            // it (a few centimetres away: the walk is bounded near there
-            // instead of starting unbounded; the same answers).
-            var hint = hints[k];
-            if hint == NONE {
-                hint = hints[k - 1u];
-            }
-            let pushed = push_out_hinted(to_local(v[k]), open_depth, hint);
-            hints[k] = pushed.hint;
-            let out = pushed.to;
-            if out.w == 0.0 {
-                continue;
+        // One pass a question to `surface_and_side_near`: vertex k's way
+        // out, then, when k must move and the pin of its segment's start is
+        // not known, that pin in a pass of its own (`out`, w = 1, holds the
+        // way out meanwhile). One call site: shader compilers inline every
+        // call, and each copy holds a whole closest-point walk
+        // (BENCHMARKS.md, "Session 54").
+        var k = first;
+        var out = vec4<f32>(0.0);
+        var hint = NONE;
+        loop {
+            if k > n {
+                break;
             }
             let start = v[k - 1u];
+            let at = bitcast<vec3<u32>>(start);
+            let asks_pin = out.w != 0.0;
+            var ask = false;
+            var q = vec3<f32>(0.0);
+            var depth = open_depth;
+            var bound_sq = squared(3.0e38);
+            var reach = PUSH_BLEND_M;
+            var on_ground = 0.0;
+            if asks_pin {
+                on_ground = pin_ground(start);
+                ask = on_ground > 0.0;
+                if ask {
+                    q = pin_probe(start);
+                    depth = PIN_HEIGHT;
+                    reach = -1.0;
+                }
+            } else {
+                // A vertex with no triangle of its own yet tries the one
+                // below it (a few centimetres away: the walk is bounded
+                // near there instead of starting unbounded; the same
+                // answers).
+                hint = hints[k];
+                if hint == NONE {
+                    hint = hints[k - 1u];
+                }
+                q = to_local(v[k]);
+                bound_sq = push_bound_sq(q, hint);
+                ask = bound_sq >= 0.0;
+            }
+            var side = none;
+            if ask {
+                side = surface_and_side_near(q, depth, bound_sq, reach);
+            }
+            if asks_pin {
+                pin_at[k - 1u] = at;
+                pin_was[k - 1u] = pin_from(on_ground, side);
+            } else {
+                var pushed = Pushed(vec4<f32>(q, 0.0), hint);
+                if ask {
+                    pushed = push_from(q, side, hint);
+                }
+                hints[k] = pushed.hint;
+                out = pushed.to;
+                if out.w == 0.0 {
+                    k++;
+                    continue;
+                }
+                if pin_was[k - 1u] < 0.0 || any(pin_at[k - 1u] != at) {
+                    continue;
+                }
+            }
             let horizontal = vec3<f32>(1.0, 0.0, 1.0);
             let lean = normalize_or((v[k] - v[0]) * horizontal, vec3<f32>(0.0));
             let push = to_world(out.xyz) - v[k];
             let turned = turn_towards(v[k] - start, push, lean, seg_len);
             let flat = flat_direction(v[k] - start, v[k] - v[0], start - obj.position.xyz, seg_len, turned);
-            let at = bitcast<vec3<u32>>(start);
-            if pin_was[k - 1u] < 0.0 || any(pin_at[k - 1u] != at) {
-                pin_at[k - 1u] = at;
-                pin_was[k - 1u] = pinned(start);
-            }
             let pin = pin_was[k - 1u];
             let dir = normalize_or(turned * (1.0 - pin) + flat * pin, turned);
             v[k] = start + dir * seg_len;
@@ -167,6 +226,8 @@ fn contact_blade(b: u32) {
             if lowest == NONE {
                 lowest = k;
             }
+            out = vec4<f32>(0.0);
+            k++;
         }
         if lowest == NONE {
             break;

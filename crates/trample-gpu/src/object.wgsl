@@ -4,7 +4,8 @@
 // every other object's: `object.rs`), its pose, and the mesh
 // queries of `trample::collision` — the inside test (`exact.rs`,
 // `inside_grid.rs`), the closest point of the mesh (`closest_point.rs`) and
-// the contact test (`contact.rs`: `penetration`, `push_out_hinted`). Float op for
+// the contact test (`contact.rs`: `penetration`, `push_out_hinted`, the
+// latter in two halves). Float op for
 // float op as the CPU where it can be (glam's operation order).
 
 // Layout-compatible with `GpuNode` in object.rs.
@@ -906,7 +907,11 @@ const SIDE_SHEET: u32 = 4u;
 // distance times its winding factor). `open_depth`: how far behind an
 // open mesh a point still counts as inside by the sheet rule.
 fn penetration(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
-    let side = surface_and_side(p, open_depth, squared(3.0e38));
+    return penetration_of(surface_and_side(p, open_depth, squared(3.0e38)));
+}
+
+// `penetration` from the point's `surface_and_side`.
+fn penetration_of(side: Side) -> vec4<f32> {
     if !side.s.found || !(side.inside > 0.0) {
         return vec4<f32>(0.0, 0.0, 0.0, -1.0);
     }
@@ -935,30 +940,39 @@ fn way_out(p: vec3<f32>, open_depth: f32) -> vec4<f32> {
     return vec4<f32>(way, depth * side.inside);
 }
 
-// `contact::push_out_hinted`: where p must go to lie no deeper than the
-// contact tolerance (`to`, w = 1 when it must move, 0 when it stays),
-// trying triangle `hint` first (NONE: none): within the tolerance of it, p
-// stays without a walk; else the walk looks no farther than it. `hint`
-// comes back as the triangle of the closest point measured (kept when none
-// was). The same answers as without a hint.
+// `contact::push_out_hinted` in two halves around the walk (the contact
+// kernel asks `surface_and_side_near` at one call site for this and for
+// `pinned`): where p must go to lie no deeper than the contact tolerance
+// (`to`, w = 1 when it must move, 0 when it stays), trying triangle `hint`
+// first (NONE: none): within the tolerance of it, p stays without a walk;
+// else the walk looks no farther than it. `hint` comes back as the
+// triangle of the closest point measured (kept when none was). The same
+// answers as without a hint.
 struct Pushed {
     to: vec4<f32>,
     hint: u32,
 }
 
-fn push_out_hinted(p: vec3<f32>, open_depth: f32, hint: u32) -> Pushed {
+// The first half: how far (squared) the walk for p must look, or -1 when
+// p stays without one (within the tolerance of its hint).
+fn push_bound_sq(p: vec3<f32>, hint: u32) -> f32 {
     var bound_sq = squared(3.0e38);
     if hint != NONE {
         let c = closest_on_triangle(p, hint);
         let dv = c.point - p;
         let d = dot3(dv, dv);
         if sqrt(d) <= CONTACT_TOLERANCE_M {
-            return Pushed(vec4<f32>(p, 0.0), hint);
+            return -1.0;
         }
         // No farther than the hint and the blend past it (same answer).
         bound_sq = (sqrt(d) + PUSH_BLEND_M) * (sqrt(d) + PUSH_BLEND_M);
     }
-    let side = surface_and_side_near(p, open_depth, bound_sq, PUSH_BLEND_M);
+    return bound_sq;
+}
+
+// The second half: the answer from `surface_and_side_near(p, open_depth,
+// push_bound_sq(p, hint), PUSH_BLEND_M)`.
+fn push_from(p: vec3<f32>, side: Side, hint: u32) -> Pushed {
     if !side.s.found {
         return Pushed(vec4<f32>(p, 0.0), hint);
     }
