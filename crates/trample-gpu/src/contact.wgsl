@@ -146,7 +146,6 @@ fn contact_blade(b: u32) {
         hints[k] = NONE;
         pin_was[k] = -1.0;
     }
-    let none = Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), 0.0);
     for (var iter = 0u; iter < CONTACT_ITERATIONS; iter++) {
         var lowest = NONE;
         // One pass a question to `surface_and_side_near`: vertex k's way
@@ -157,7 +156,6 @@ fn contact_blade(b: u32) {
         // (BENCHMARKS.md, "Session 54").
         var k = first;
         var out = vec4<f32>(0.0);
-        var hint = NONE;
         loop {
             if k > n {
                 break;
@@ -171,6 +169,7 @@ fn contact_blade(b: u32) {
             var bound_sq = squared(3.0e38);
             var reach = PUSH_BLEND_M;
             var on_ground = 0.0;
+            var hint = NONE;
             if asks_pin {
                 on_ground = pin_ground(start);
                 ask = on_ground > 0.0;
@@ -192,7 +191,7 @@ fn contact_blade(b: u32) {
                 bound_sq = push_bound_sq(q, hint);
                 ask = bound_sq >= 0.0;
             }
-            var side = none;
+            var side = no_side();
             if ask {
                 side = surface_and_side_near(q, depth, bound_sq, reach);
             }
@@ -200,10 +199,7 @@ fn contact_blade(b: u32) {
                 pin_at[k - 1u] = at;
                 pin_was[k - 1u] = pin_from(on_ground, side);
             } else {
-                var pushed = Pushed(vec4<f32>(q, 0.0), hint);
-                if ask {
-                    pushed = push_from(q, side, hint);
-                }
+                let pushed = push_from(q, side, hint);
                 hints[k] = pushed.hint;
                 out = pushed.to;
                 if out.w == 0.0 {

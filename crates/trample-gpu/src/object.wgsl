@@ -827,6 +827,12 @@ struct Side {
     inside: f32,
 }
 
+// No surface point, outside: what `surface_and_side_near` answers without
+// a walk.
+fn no_side() -> Side {
+    return Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), 0.0);
+}
+
 fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
     return surface_and_side_near(p, open_depth, bound_sq, -1.0);
 }
@@ -834,7 +840,7 @@ fn surface_and_side(p: vec3<f32>, open_depth: f32, bound_sq: f32) -> Side {
 // `surface_and_side` with `near` (`reach` ≥ 0: PUSH_BLEND_M): the walk also
 // keeps the points within `reach` of the closest in `near_points`.
 fn surface_and_side_near(p: vec3<f32>, open_depth: f32, bound_sq: f32, reach: f32) -> Side {
-    var out = Side(SurfacePoint(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), false, false, 0u, 0u), 0.0);
+    var out = no_side();
     if tree.x == 0u {
         return out;
     }
@@ -971,7 +977,8 @@ fn push_bound_sq(p: vec3<f32>, hint: u32) -> f32 {
 }
 
 // The second half: the answer from `surface_and_side_near(p, open_depth,
-// push_bound_sq(p, hint), PUSH_BLEND_M)`.
+// push_bound_sq(p, hint), PUSH_BLEND_M)`, or from `no_side()` where that
+// bound is -1 (p stays).
 fn push_from(p: vec3<f32>, side: Side, hint: u32) -> Pushed {
     if !side.s.found {
         return Pushed(vec4<f32>(p, 0.0), hint);
