@@ -3,11 +3,13 @@
 //! and (ours, track everywhere) billboards and flatness that follow the
 //! blades. One WGSL file per stage (`classify.wgsl`, `billboards.wgsl`,
 //! `slopes.wgsl`, `transitions.wgsl`, `follow.wgsl`), each with the
-//! bindings it uses (at most 8 storage buffers). `classify` runs first in a
+//! bindings it uses (at most 9 storage buffers). `classify` runs first in a
 //! sub-step (the narrow phase needs the levels), and, with the transitions,
 //! only when the viewpoint or the distances changed (`lod_settle.rs`, as
 //! the CPU); the others after the blades bend, as in
-//! `trample::step::stages::substep`.
+//! `trample::step::stages::substep`. The transitions run in two dispatches
+//! a chunk: Eq. 12 over every cell, listing the cells coming back to
+//! geometry, then Eq. 13 over that list (`transitions.wgsl` says why).
 //!
 //! Differences from the CPU path, by design: every cell is classified (the
 //! CPU skips patches whose cells all keep one level: same result); every
@@ -27,6 +29,13 @@ use crate::active_patches::List;
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot, begin_pass};
+
+/// `transitions.wgsl`'s entry points: the pass over every cell (Eq. 12,
+/// and the list of the cells coming back to geometry), the indirect
+/// dispatch of that list, and Eq. 13 over it.
+const TRANSITIONS: usize = 0;
+const BACK_ARGS: usize = 1;
+const TRANSITIONS_BACK: usize = 2;
 
 /// The per-cell stages, one WGSL file each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -159,6 +168,12 @@ pub struct Cells {
     transitions: Kernel,
     slopes: Kernel,
     follow: Kernel,
+    /// `transitions_back`'s indirect dispatch (written by `back_args`).
+    back_args: wgpu::Buffer,
+    /// Bound in `back_args`'s slot while `transitions_back` reads the
+    /// arguments (a buffer is not both an indirect source and writable
+    /// storage in one dispatch).
+    unused_args: wgpu::Buffer,
 }
 
 impl Cells {
@@ -182,13 +197,15 @@ impl Cells {
                 &[Uniform, ReadWrite, Read, ReadWrite, Read, Uniform, Read],
                 "billboards",
             ),
-            transitions: k(
-                Stage::Transitions,
+            transitions: Kernel::new(
+                device,
                 "trample-gpu transitions",
+                &source(Stage::Transitions),
                 &[
                     Uniform, ReadWrite, Read, ReadWrite, ReadWrite, Read, ReadWrite, Uniform, Read,
+                    ReadWrite, ReadWrite,
                 ],
-                "transitions",
+                &["transitions", "back_args", "transitions_back"],
             ),
             slopes: k(
                 Stage::Slopes,
@@ -205,6 +222,16 @@ impl Cells {
                 ],
                 "follow",
             ),
+            back_args: args_buffer(
+                device,
+                "trample-gpu transitions back dispatch",
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            ),
+            unused_args: args_buffer(
+                device,
+                "trample-gpu transitions back dispatch (unused)",
+                wgpu::BufferUsages::STORAGE,
+            ),
         }
     }
 
@@ -219,8 +246,27 @@ impl Cells {
         world_roots: &wgpu::Buffer,
         broad: &BroadPhase,
     ) -> CellGroups {
-        CellGroups(
-            field
+        let transitions = |chunk: &crate::chunk::GpuChunk, args| {
+            self.transitions.bind(
+                device,
+                &[
+                    params,
+                    &field.cell_state,
+                    &field.cell_rest,
+                    &field.slope,
+                    &chunk.pos,
+                    &chunk.rest,
+                    &field.displaced,
+                    &chunk.uniform,
+                    &field.ground,
+                    &field.back_cells,
+                    args,
+                ],
+            )
+        };
+        CellGroups {
+            back_cells: field.back_cells.clone(),
+            chunks: field
                 .chunks
                 .iter()
                 .map(|chunk| ChunkGroups {
@@ -246,20 +292,8 @@ impl Cells {
                             &field.ground,
                         ],
                     ),
-                    transitions: self.transitions.bind(
-                        device,
-                        &[
-                            params,
-                            &field.cell_state,
-                            &field.cell_rest,
-                            &field.slope,
-                            &chunk.pos,
-                            &chunk.rest,
-                            &field.displaced,
-                            &chunk.uniform,
-                            &field.ground,
-                        ],
-                    ),
+                    transitions: transitions(chunk, &self.back_args),
+                    transitions_back: transitions(chunk, &self.unused_args),
                     slopes: self.slopes.bind(
                         device,
                         &[
@@ -289,35 +323,47 @@ impl Cells {
                     size: chunk.cell_groups,
                 })
                 .collect(),
-        )
+        }
     }
 
     /// Records the level of detail of every cell (before the narrow phase).
     pub fn record_classify(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        for g in &groups.0 {
+        for g in &groups.chunks {
             self.classify.dispatch(encoder, 0, &g.classify, g.size);
         }
     }
 
     /// Records billboards (Eq. 8), after the blades bend (the paper's mode).
     pub fn record_billboards(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        for g in &groups.0 {
+        for g in &groups.chunks {
             self.billboards.dispatch(encoder, 0, &g.billboards, g.size);
         }
     }
 
-    /// Records transitions (Eq. 9–13), after the billboards.
+    /// Records transitions (Eq. 9–13), after the billboards: per chunk,
+    /// Eq. 12 and the list of the cells coming back to geometry over every
+    /// cell, then Eq. 13 over that list (`transitions.wgsl` says why).
     pub fn record_transitions(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        for g in &groups.0 {
+        for g in &groups.chunks {
+            encoder.clear_buffer(&groups.back_cells, 0, Some(4));
+            let mut pass = begin_pass(encoder);
             self.transitions
-                .dispatch(encoder, 0, &g.transitions, g.size);
+                .dispatch_in(&mut pass, TRANSITIONS, &g.transitions, g.size);
+            self.transitions
+                .dispatch_in(&mut pass, BACK_ARGS, &g.transitions, (1, 1));
+            self.transitions.dispatch_indirect_in(
+                &mut pass,
+                TRANSITIONS_BACK,
+                &g.transitions_back,
+                &self.back_args,
+            );
         }
     }
 
     /// Records the recovery of bent billboards (after the blades recover;
     /// the paper's mode).
     pub fn record_recover_slopes(&self, encoder: &mut wgpu::CommandEncoder, groups: &CellGroups) {
-        for g in &groups.0 {
+        for g in &groups.chunks {
             self.slopes.dispatch(encoder, 0, &g.slopes, g.size);
         }
     }
@@ -332,7 +378,7 @@ impl Cells {
         groups: &CellGroups,
         broad: &BroadPhase,
     ) {
-        for (c, g) in groups.0.iter().enumerate() {
+        for (c, g) in groups.chunks.iter().enumerate() {
             self.follow.dispatch_indirect_at(
                 &mut begin_pass(encoder),
                 0,
@@ -349,13 +395,31 @@ struct ChunkGroups {
     classify: wgpu::BindGroup,
     billboards: wgpu::BindGroup,
     transitions: wgpu::BindGroup,
+    /// `transitions`' buffers with the unused arguments buffer in
+    /// `back_args`' slot (`transitions_back` reads the real one).
+    transitions_back: wgpu::BindGroup,
     slopes: wgpu::BindGroup,
     follow: wgpu::BindGroup,
     size: (u32, u32),
 }
 
 /// The per-chunk bind groups of [`Cells`] and their workgroup counts.
-pub struct CellGroups(Vec<ChunkGroups>);
+pub struct CellGroups {
+    chunks: Vec<ChunkGroups>,
+    /// The field's list of the cells coming back to geometry
+    /// (`GpuField::back_cells`), cleared before each chunk's transitions.
+    back_cells: wgpu::Buffer,
+}
+
+/// A 12-byte buffer for one indirect dispatch's workgroup counts.
+fn args_buffer(device: &wgpu::Device, label: &str, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: 12,
+        usage,
+        mapped_at_creation: false,
+    })
+}
 
 #[cfg(test)]
 mod tests {

@@ -81,6 +81,10 @@ pub struct GpuField {
     /// The terrain's table for the ground guard ([`crate::terrain`]); flat
     /// at 0 for a field made by [`GpuField::new`].
     pub(crate) ground: wgpu::Buffer,
+    /// The cells of one chunk coming back to geometry in a transitions pass
+    /// (`transitions.wgsl`): their count, then their indices; `u32`, one
+    /// word more than the largest chunk's cells (chunks take turns).
+    pub(crate) back_cells: wgpu::Buffer,
 }
 
 impl GpuField {
@@ -256,7 +260,7 @@ impl GpuField {
         let state: Vec<u32> = lod.iter().map(|&l| cell_state(l, false)).collect();
         let max_groups = device.limits().max_compute_workgroups_per_dimension;
         let units = blades.count as u32 / unit.max(1);
-        let chunks = plan
+        let chunks: Vec<GpuChunk> = plan
             .into_iter()
             .enumerate()
             .map(|(i, r)| {
@@ -303,7 +307,14 @@ impl GpuField {
             })
             .collect();
         let cells = lod.len() as u64;
+        let chunk_cells = chunks.iter().map(|c| c.cells).max().unwrap_or(0);
         Ok(Self {
+            back_cells: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu cells coming back to geometry"),
+                size: (1 + u64::from(chunk_cells)) * 4,
+                usage: U::STORAGE | U::COPY_DST,
+                mapped_at_creation: false,
+            }),
             count: blades.count as u32,
             segments: blades.segments as u32,
             blades_per_cell,

@@ -4,7 +4,17 @@
 // (Eq. 9–12); one coming back gets on its blades' last segment what its
 // billboard shows and they do not (Eq. 13, Eq. 5) — the paper's mode only:
 // with `track_everywhere` the blades hold the track already. One thread per
-// changed cell; it owns its blades.
+// cell; it owns its blades.
+//
+// Eq. 13 runs in a dispatch of its own over the cells coming back
+// (`transitions` lists them in `back`, `back_args` sizes the dispatch,
+// `transitions_back` bends their blades): the software drivers (llvmpipe,
+// lavapipe) run every branch of a kernel for every group of lanes, taken
+// or not, so Eq. 13's bending and its ground guard, inlined into the pass
+// over every cell, cost that pass ~90 ms a step on llvmpipe over the
+// default scene's 262,144 cells, whichever cells came back (BENCHMARKS.md,
+// "Session 55"). The same results: no cell's Eq. 12 reads or writes what
+// Eq. 13 reads or writes (the blades and slope of a cell coming back).
 
 @group(0) @binding(0) var<uniform> params: StepParams;
 @group(0) @binding(1) var<storage, read_write> cell_state: array<u32>;
@@ -16,6 +26,12 @@
 @group(0) @binding(6) var<storage, read_write> displaced: array<u32>;
 @group(0) @binding(7) var<uniform> chunk: Chunk;
 @group(0) @binding(8) var<storage, read> ground: array<f32>;
+// The cells coming back to geometry (Eq. 13): [0] their count (set to 0
+// before `transitions`), then their indices.
+@group(0) @binding(9) var<storage, read_write> back: array<atomic<u32>>;
+// `transitions_back`'s indirect dispatch (`back_args`); an unused buffer in
+// the bind group of `transitions_back` itself.
+@group(0) @binding(10) var<storage, read_write> back_dispatch: array<u32>;
 
 // `transition::blade_offset`: (tip − root − rest chord) / rest height.
 fn blade_offset(b: u32) -> vec3<f32> {
@@ -59,12 +75,10 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
     if from_level == UNCHANGED {
         return;
     }
-    let bpc = params.cells.y;
-    let n = min(params.counts.y, MAX_VERTS - 1u);
-    let origin = cell_rest[2u * c + 1u].xyz;
     if from_level == GEOMETRY {
         // Eq. 12: the billboard takes its blades' offset.
-        let sl = origin + cell_offset(c, bpc);
+        let origin = cell_rest[2u * c + 1u].xyz;
+        let sl = origin + cell_offset(c, params.cells.y);
         slope[c] = vec4<f32>(sl, 0.0);
         if any(sl != origin) {
             cell_state[c] = s | BENT;
@@ -74,8 +88,35 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
     if level(s) != GEOMETRY || params.cells.w != 0u {
         return;
     }
-    // Eq. 13: what the billboard shows and the blades do not acts on their
-    // last segment through Eq. 5 (`transition::bend_last_segment`).
+    // Eq. 13, in `transitions_back`.
+    let slot = atomicAdd(&back[0], 1u);
+    atomicStore(&back[1u + slot], c);
+}
+
+// One thread: the workgroups of `transitions_back` over the listed cells
+// (at most `counts.w` in x, as `blade_index` lays them out).
+@compute @workgroup_size(1)
+fn back_args() {
+    let groups = (atomicLoad(&back[0]) + 63u) / 64u;
+    let max_x = max(params.counts.w, 1u);
+    back_dispatch[0] = min(groups, max_x);
+    back_dispatch[1] = max((groups + max_x - 1u) / max_x, 1u);
+    back_dispatch[2] = 1u;
+}
+
+// Eq. 13 on each cell `transitions` listed: what the billboard shows and
+// the blades do not acts on their last segment through Eq. 5
+// (`transition::bend_last_segment`).
+@compute @workgroup_size(64)
+fn transitions_back(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = gid.x + gid.y * groups.x * 64u;
+    if i >= atomicLoad(&back[0]) {
+        return;
+    }
+    let c = atomicLoad(&back[1u + i]);
+    let bpc = params.cells.y;
+    let n = min(params.counts.y, MAX_VERTS - 1u);
+    let origin = cell_rest[2u * c + 1u].xyz;
     let missing = (slope[c].xyz - origin) - cell_offset(c, bpc);
     if dot3(missing, missing) < 1e-12 {
         return;
