@@ -85,6 +85,11 @@ pub struct GpuField {
     /// (`transitions.wgsl`): their count, then their indices; `u32`, one
     /// word more than the largest chunk's cells (chunks take turns).
     pub(crate) back_cells: wgpu::Buffer,
+    /// The blades of one chunk's listed patches that may touch an object in
+    /// a narrow phase (`narrow_phase.wgsl`'s `list_blades`): their count,
+    /// then their indices; `u32`, one word more than the largest chunk's
+    /// blades (chunks take turns).
+    pub(crate) near_blades: wgpu::Buffer,
 }
 
 impl GpuField {
@@ -308,7 +313,14 @@ impl GpuField {
             .collect();
         let cells = lod.len() as u64;
         let chunk_cells = chunks.iter().map(|c| c.cells).max().unwrap_or(0);
+        let chunk_blades = chunks.iter().map(|c| c.blades).max().unwrap_or(0);
         Ok(Self {
+            near_blades: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu blades near an object"),
+                size: (1 + u64::from(chunk_blades)) * 4,
+                usage: U::STORAGE | U::COPY_DST,
+                mapped_at_creation: false,
+            }),
             back_cells: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu cells coming back to geometry"),
                 size: (1 + u64::from(chunk_cells)) * 4,

@@ -23,7 +23,7 @@
 
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
-use crate::kernel::BindCache;
+use crate::kernel::{BindCache, begin_pass};
 use crate::object::GpuObjects;
 
 /// The WGSL source as compiled (`segment_obb.wgsl` and `chunk.wgsl` prepended).
@@ -41,7 +41,17 @@ pub fn source() -> String {
 /// The compiled narrow-phase pipeline; kept apart from the buffers it runs on.
 pub struct NarrowPhase {
     pipeline: wgpu::ComputePipeline,
+    /// `list_blades`, `near_args`, `collide_listed`: the simulation's
+    /// contacts over the broad phase's lists (`narrow_phase.wgsl` says why
+    /// in two dispatches).
+    list_blades: wgpu::ComputePipeline,
+    near_args: wgpu::ComputePipeline,
     listed: wgpu::ComputePipeline,
+    /// `collide_listed`'s indirect dispatch (written by `near_args`).
+    near_dispatch: wgpu::Buffer,
+    /// Bound in `near_dispatch`'s slot while `collide_listed` reads it, and
+    /// without a broad phase.
+    unused_args: wgpu::Buffer,
     /// Bound as the lists when there is no broad phase.
     no_lists: wgpu::Buffer,
     field_layout: wgpu::BindGroupLayout,
@@ -94,6 +104,8 @@ impl NarrowPhase {
                 storage_entry(3, false),
                 uniform_entry(4),
                 storage_entry(5, true),
+                storage_entry(6, false),
+                storage_entry(7, false),
             ],
         });
         let object_layout = object_layout(device);
@@ -114,7 +126,21 @@ impl NarrowPhase {
         };
         Self {
             pipeline: pipeline("collide"),
+            list_blades: pipeline("list_blades"),
+            near_args: pipeline("near_args"),
             listed: pipeline("collide_listed"),
+            near_dispatch: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu narrow phase dispatch"),
+                size: 12,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+                mapped_at_creation: false,
+            }),
+            unused_args: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("trample-gpu narrow phase dispatch (unused)"),
+                size: 12,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
             no_lists: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu no broad phase"),
                 size: 16,
@@ -165,7 +191,6 @@ impl NarrowPhase {
         if objects.is_empty() {
             return 0;
         }
-        let lists = broad.map_or(&self.no_lists, |b| &b.lists);
         objects.set_walk(
             precision,
             field.count,
@@ -174,39 +199,49 @@ impl NarrowPhase {
         );
         objects.write(device, queue, uploads, encoder);
         let object_group = objects.bind(device, &self.object_layout, &self.object_groups);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("trample-gpu narrow phase"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(if broad.is_some() {
-            &self.listed
-        } else {
-            &self.pipeline
-        });
-        pass.set_bind_group(1, &object_group, &[]);
         // One dispatch per chunk of patches (`chunk.wgsl`), one workgroup
         // deep in z: the shader takes gid.z as a 0 the driver cannot fold
-        // (`dispatch_args` writes z = 1 too).
+        // (`dispatch_args` and `near_args` write z = 1 too). With the broad
+        // phase, three: `list_blades`, `near_args`, `collide_listed`.
         for (c, chunk) in field.chunks.iter().enumerate() {
-            // Kept for two sets of lists (with and without the broad phase).
-            let group = self.field_groups.bind(
-                device,
-                &self.field_layout,
-                &[
-                    &chunk.pos,
-                    &field.cell_state,
-                    &field.force,
-                    &field.touch,
-                    &chunk.uniform,
-                    lists,
-                ],
-                2 * field.chunks.len(),
-            );
-            pass.set_bind_group(0, &group, &[]);
-            match broad {
-                Some(b) => pass.dispatch_workgroups_indirect(&b.args, c as u64 * 12),
-                None => pass.dispatch_workgroups(chunk.groups.0, chunk.groups.1, 1),
-            }
+            // Kept for three sets (with the broad phase's lists and either
+            // arguments buffer, and without them).
+            let group = |lists, args| {
+                self.field_groups.bind(
+                    device,
+                    &self.field_layout,
+                    &[
+                        &chunk.pos,
+                        &field.cell_state,
+                        &field.force,
+                        &field.touch,
+                        &chunk.uniform,
+                        lists,
+                        &field.near_blades,
+                        args,
+                    ],
+                    3 * field.chunks.len(),
+                )
+            };
+            let Some(b) = broad else {
+                let mut pass = begin_pass(encoder);
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(1, &object_group, &[]);
+                pass.set_bind_group(0, &group(&self.no_lists, &self.unused_args), &[]);
+                pass.dispatch_workgroups(chunk.groups.0, chunk.groups.1, 1);
+                continue;
+            };
+            encoder.clear_buffer(&field.near_blades, 0, Some(4));
+            let mut pass = begin_pass(encoder);
+            pass.set_bind_group(1, &object_group, &[]);
+            pass.set_bind_group(0, &group(&b.lists, &self.near_dispatch), &[]);
+            pass.set_pipeline(&self.list_blades);
+            pass.dispatch_workgroups_indirect(&b.args, c as u64 * 12);
+            pass.set_pipeline(&self.near_args);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_bind_group(0, &group(&b.lists, &self.unused_args), &[]);
+            pass.set_pipeline(&self.listed);
+            pass.dispatch_workgroups_indirect(&self.near_dispatch, 0);
         }
         field.chunks.len() as u32
     }

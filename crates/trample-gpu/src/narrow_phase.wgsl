@@ -44,6 +44,12 @@
 // is entry `chunk.groups.z`; the objects marked for patch p are the bits
 // of the words from `objects[0].z + p · objects[0].y` (`listed_objects`).
 @group(0) @binding(5) var<storage, read> lists: array<u32>;
+// The blades of the listed patches that may touch an object (`list_blades`):
+// [0] their count (0 before `list_blades`), then the blades.
+@group(0) @binding(6) var<storage, read_write> near_blades: array<atomic<u32>>;
+// `collide_listed`'s indirect dispatch (`near_args`); an unused buffer in
+// `collide_listed`'s own bind group.
+@group(0) @binding(7) var<storage, read_write> near_dispatch: array<u32>;
 
 const LOD_GEOMETRY: u32 = 0u;
 // `Walk::contact`: a sum of unit vectors shorter than this has cancelled.
@@ -325,7 +331,7 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
     }
     let centre = (p0 + p1) * 0.5;
     let half = (p1 - p0) * 0.5;
-    if !hits_local(framed(centre, half, 0u, true, shell)) {
+    if !meets_root(centre, half, shell) {
         return none;
     }
     var acc = Weighted(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, vec3<f32>(0.0), 0.0);
@@ -553,18 +559,97 @@ fn collide(@builtin(global_invocation_id) gid: vec3<u32>) {
     touch[b] = touched;
 }
 
+// The simulation's weighted contacts run in two dispatches a chunk (and
+// `near_args` between them): `list_blades` over every blade of the chunk's
+// patches the broad phase listed keeps the blades that may touch an object
+// (a segment meets one's root box grown by its shell: `contact_segment`'s
+// first test) and writes the others' zero force and contact; then
+// `collide_listed` runs the walks over the kept blades alone. The same
+// results as one pass over every blade (a blade no segment of which meets
+// a root box gets no contact), for a fraction of the work where most
+// blades of a listed patch are away from the objects: on the software
+// drivers, which run every branch of a kernel whether a lane takes it or
+// not, the walks cost every blade of a listed patch (BENCHMARKS.md,
+// "Session 55"); on a GPU the kept blades fill the warps.
+
+// Segment p0..p1 (centre and half, object frame) meets the loaded
+// object's root box grown by `shell` (`contact_segment`'s first test).
+fn meets_root(centre: vec3<f32>, half: vec3<f32>, shell: f32) -> bool {
+    return hits_local(framed(centre, half, 0u, true, shell));
+}
+
+// Whether `collide_blade(b, true, ..)` may find a contact with the loaded
+// object: the blade counts for it and a segment meets its root box.
+fn may_touch(b: u32) -> bool {
+    if tree.x == 0u || !counts_for_object(b, true) {
+        return false;
+    }
+    let segments = min(field.y, MAX_SEGMENTS);
+    let shell = obj.contact.x;
+    var prev = to_local(pos[vertex_at(0u, b)].xyz);
+    for (var k = 0u; k < segments; k++) {
+        let next = to_local(pos[vertex_at(k + 1u, b)].xyz);
+        if meets_root((prev + next) * 0.5, (next - prev) * 0.5, shell) {
+            return true;
+        }
+        prev = next;
+    }
+    return false;
+}
+
 // The blades of the chunk's patches the broad phase listed (indirect
 // dispatch of `dispatch_args`), against the objects it marked for the
-// blade's patch, in object order; forces and touches were cleared first:
-// the simulation's weighted contacts.
+// blade's patch: those that may touch one are listed for
+// `collide_listed`, the others get zero force and contact.
 @compute @workgroup_size(64)
-fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+fn list_blades(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let at = listed_thread(gid, groups);
     if at.slot >= lists[chunk.groups.z] {
         return;
     }
     let p = lists[at.entry];
     let b = p * at.per_patch + at.lane;
+    var near = false;
+    let words = objects[0].y;
+    for (var w = 0u; w < words; w++) {
+        var bits = lists[objects[0].z + p * words + w];
+        while bits != 0u && !near {
+            load_object(32u * w + countTrailingZeros(bits), gid.z);
+            bits &= bits - 1u;
+            near = may_touch(b);
+        }
+    }
+    if near {
+        let slot = atomicAdd(&near_blades[0], 1u);
+        atomicStore(&near_blades[1u + slot], b);
+    } else {
+        force[b] = vec4<f32>(0.0);
+        touch[b] = vec4<u32>(0u);
+    }
+}
+
+// One thread: the workgroups of `collide_listed` over the listed blades
+// (at most `chunk.groups.x` in x, as the chunk's blade dispatch).
+@compute @workgroup_size(1)
+fn near_args() {
+    let groups = (atomicLoad(&near_blades[0]) + 63u) / 64u;
+    let max_x = max(chunk.groups.x, 1u);
+    near_dispatch[0] = min(groups, max_x);
+    near_dispatch[1] = max((groups + max_x - 1u) / max_x, 1u);
+    near_dispatch[2] = 1u;
+}
+
+// The blades `list_blades` kept, against the objects the broad phase
+// marked for the blade's patch, in object order; forces and touches were
+// cleared first: the simulation's weighted contacts.
+@compute @workgroup_size(64)
+fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = gid.x + gid.y * groups.x * 64u;
+    if i >= atomicLoad(&near_blades[0]) {
+        return;
+    }
+    let b = atomicLoad(&near_blades[1u + i]);
+    let p = b / max(chunk.groups.w, 1u);
     var f = vec4<f32>(0.0);
     var touched = vec4<u32>(0u);
     let words = objects[0].y;
@@ -580,18 +665,24 @@ fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     touch[b] = touched;
 }
 
+// Whether blade b counts for the loaded object: a blade a grass map left
+// out (`seg_len` 0 in vertex 0's w, `Blades::is_present`) does not in the
+// simulation's contacts, as the CPU's blade lists leave it out
+// (`step::collide`; the plain test takes every blade), nor one whose cell
+// is not geometry unless the object tracks everywhere.
+fn counts_for_object(b: u32, weighted: bool) -> bool {
+    let cell = b / max(obj.field.z, 1u);
+    let everywhere = weighted && extra.y != 0u;
+    let present = !weighted || pos[vertex_at(0u, b)].w > 0.0;
+    return present && (everywhere || (cell_state[cell] & 3u) == LOD_GEOMETRY);
+}
+
 // Adds the loaded object's contacts with blade b to `f` (Σ force, Σ
 // weights) and `touched` (segment mask, firmest weight, its owner).
 fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: ptr<function, vec4<u32>>) {
     var mask = 0u;
     let segments = min(field.y, MAX_SEGMENTS);
-    let cell = b / max(obj.field.z, 1u);
-    let everywhere = weighted && extra.y != 0u;
-    // The simulation's contacts leave out blades a grass map left out
-    // (`seg_len` 0 in vertex 0's w, `Blades::is_present`), as the CPU's
-    // blade lists do (`step::collide`); the plain test takes every blade.
-    let present = !weighted || pos[vertex_at(0u, b)].w > 0.0;
-    if present && (everywhere || (cell_state[cell] & 3u) == LOD_GEOMETRY) {
+    if counts_for_object(b, weighted) {
         var sum = vec3<f32>(0.0);
         var weights = 0.0;
         let shell = obj.contact.x;
