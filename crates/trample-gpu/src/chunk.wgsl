@@ -58,7 +58,26 @@ struct ListedThread {
 
 fn listed_thread(gid: vec3<u32>, groups: vec3<u32>) -> ListedThread {
     let per_patch = max(chunk.groups.w, 1u);
-    let t = gid.x + gid.y * groups.x * 64u;
+    let t = list_thread(gid, groups);
     let slot = t / per_patch;
     return ListedThread(slot, chunk.range.x / per_patch + slot, t % per_patch, per_patch);
+}
+
+// The stages that list what they will work on, then work on the list in a
+// dispatch of its own (transitions, narrow phase, contact: the software
+// drivers run every branch of a kernel, taken or not, so rare heavy work
+// over a whole pass costs it everywhere; BENCHMARKS.md, "Session 55").
+
+// This thread's index in a dispatch of workgroups of 64 (x + y · x_groups
+// · 64, the layout of `list_dispatch`).
+fn list_thread(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return gid.x + gid.y * groups.x * 64u;
+}
+
+// The workgroups (x, y, 1) of a dispatch over `count` threads, at most
+// `max_x` in x.
+fn list_dispatch(count: u32, max_x: u32) -> vec3<u32> {
+    let groups = (count + 63u) / 64u;
+    let x = max(max_x, 1u);
+    return vec3<u32>(min(groups, x), max((groups + x - 1u) / x, 1u), 1u);
 }

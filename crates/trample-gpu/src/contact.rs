@@ -1,14 +1,14 @@
 //! The contact response on the GPU (ours, DESIGN §5 "Contact"): dispatches
-//! `contact.wgsl`, one thread per blade of the patches the broad phase
-//! listed, one dispatch per chunk of patches for all objects (each thread
-//! applies the objects marked for its patch, in object order), all in the
-//! caller's encoder: `trample::step::deform::resolve_contacts`, which runs
+//! `contact.wgsl`, one thread per touched blade of the patches the broad
+//! phase listed (listed first by `list_touched`), per chunk of patches for
+//! all objects (each thread applies the objects marked for its patch, in
+//! object order), all in the caller's encoder: `trample::step::deform::resolve_contacts`, which runs
 //! the same sets (the blades some object touched this sub-step, in the
 //! patches listed for each object, from the lowest segment touched).
 
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
-use crate::kernel::BindCache;
+use crate::kernel::{BindCache, begin_pass};
 use crate::object::GpuObjects;
 
 /// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`,
@@ -28,7 +28,15 @@ pub fn source() -> String {
 
 /// The compiled contact pipeline; kept apart from the buffers it runs on.
 pub struct Contact {
+    /// `list_touched`, `touched_args`, `contact_listed` (`contact.wgsl`
+    /// says why in two dispatches).
+    list_touched: wgpu::ComputePipeline,
+    touched_args: wgpu::ComputePipeline,
     pipeline: wgpu::ComputePipeline,
+    /// `contact_listed`'s indirect dispatch (written by `touched_args`).
+    touched_dispatch: wgpu::Buffer,
+    /// Bound in `touched_dispatch`'s slot while `contact_listed` reads it.
+    unused_args: wgpu::Buffer,
     field_layout: wgpu::BindGroupLayout,
     object_layout: wgpu::BindGroupLayout,
     /// The chunks' and the object table's bind groups, made once.
@@ -56,6 +64,8 @@ impl Contact {
                 storage_entry(5, true),
                 storage_entry(6, true),
                 storage_entry(7, false),
+                storage_entry(8, false),
+                storage_entry(9, false),
             ],
         });
         let object_layout = crate::narrow_phase::object_layout(device);
@@ -64,16 +74,31 @@ impl Contact {
             bind_group_layouts: &[Some(&field_layout), Some(&object_layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("contact_listed"),
-            layout: Some(&layout),
-            module: &module,
-            entry_point: Some("contact_listed"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
+            })
+        };
+        let args = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 12,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        use wgpu::BufferUsages as U;
         Self {
-            pipeline,
+            list_touched: pipeline("list_touched"),
+            touched_args: pipeline("touched_args"),
+            pipeline: pipeline("contact_listed"),
+            touched_dispatch: args("trample-gpu contact dispatch", U::STORAGE | U::INDIRECT),
+            unused_args: args("trample-gpu contact dispatch (unused)", U::STORAGE),
             field_layout,
             object_layout,
             field_groups: BindCache::default(),
@@ -86,7 +111,8 @@ impl Contact {
     /// wrote them) over the patches `broad` listed, after the bending.
     /// Counts the blades it moves (and in a far pass those it moves from
     /// rest) in `state`, the step's counters ([`crate::GpuCounters`]).
-    /// Returns the number of dispatches recorded: one per chunk of patches.
+    /// Returns the number of dispatches recorded: three per chunk of
+    /// patches (the touched blades listed, the list's size, the response).
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -101,31 +127,38 @@ impl Contact {
             return 0;
         }
         let object_group = objects.bind(device, &self.object_layout, &self.object_groups);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("trample-gpu contact"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(1, &object_group, &[]);
         for (c, chunk) in field.chunks.iter().enumerate() {
-            let group = self.field_groups.bind(
-                device,
-                &self.field_layout,
-                &[
-                    params,
-                    &chunk.pos,
-                    &field.touch,
-                    &field.displaced,
-                    &chunk.uniform,
-                    &field.ground,
-                    &broad.lists,
-                    state,
-                ],
-                field.chunks.len(),
-            );
-            pass.set_bind_group(0, &group, &[]);
+            let group = |args| {
+                self.field_groups.bind(
+                    device,
+                    &self.field_layout,
+                    &[
+                        params,
+                        &chunk.pos,
+                        &field.touch,
+                        &field.displaced,
+                        &chunk.uniform,
+                        &field.ground,
+                        &broad.lists,
+                        state,
+                        &field.near_blades,
+                        args,
+                    ],
+                    2 * field.chunks.len(),
+                )
+            };
+            encoder.clear_buffer(&field.near_blades, 0, Some(4));
+            let mut pass = begin_pass(encoder);
+            pass.set_bind_group(1, &object_group, &[]);
+            pass.set_bind_group(0, &group(&self.touched_dispatch), &[]);
+            pass.set_pipeline(&self.list_touched);
             pass.dispatch_workgroups_indirect(&broad.args, c as u64 * 12);
+            pass.set_pipeline(&self.touched_args);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_bind_group(0, &group(&self.unused_args), &[]);
+            pass.set_pipeline(&self.pipeline);
+            pass.dispatch_workgroups_indirect(&self.touched_dispatch, 0);
         }
-        field.chunks.len() as u32
+        3 * field.chunks.len() as u32
     }
 }

@@ -1,10 +1,11 @@
 // The contact response (ours, DESIGN §5 "Contact"): after the bending of
 // Eq. 5–7, every blade some object touched this sub-step is moved out of
 // this object — `trample::deform::contact::resolve_contact` as the CPU's
-// `step::deform::resolve_contacts` runs it: one dispatch (per chunk of
-// patches) for all objects, one thread per blade of the patches the broad
-// phase listed, each applying the objects it marked for the blade's patch
-// in object order (the CPU's order), from the lowest segment touched. A vertex inside the object turns
+// `step::deform::resolve_contacts` runs it: for all objects at once, one
+// thread per touched blade of the patches the broad phase listed (per chunk
+// of patches: `list_touched` lists them, `contact_listed` responds), each
+// applying the objects it marked for the blade's patch in object order
+// (the CPU's order), from the lowest segment touched. A vertex inside the object turns
 // its segment towards the way out (`turn_towards`), a segment starting at
 // a vertex pinned under the object is laid flat (`pinned`), the segments
 // above follow with the ground guard (`preserve_from`, guard.wgsl).
@@ -23,6 +24,13 @@
 // The step's counters: the blades moved, and in a far pass those moved
 // from rest (the main pass's recovery counts the displaced set itself).
 @group(0) @binding(7) var<storage, read_write> state: State;
+// The touched blades of the chunk's listed patches (`list_touched`): [0]
+// their count (0 before `list_touched`), then the blades (the field's
+// `near_blades`, which the narrow phase is done with).
+@group(0) @binding(8) var<storage, read_write> touched_blades: array<atomic<u32>>;
+// `contact_listed`'s indirect dispatch (`touched_args`); an unused buffer
+// in `contact_listed`'s own bind group.
+@group(0) @binding(9) var<storage, read_write> touched_dispatch: array<u32>;
 
 // `deform::contact::CONTACT_ITERATIONS`, `LEAN_BIAS`, `PIN_HEIGHT`,
 // `FLAT_LEAN`, `FLAT_OUT`, `FLAT_FLOOR`.
@@ -98,17 +106,44 @@ fn pin_from(on_ground: f32, side: Side) -> f32 {
     return on_ground * under;
 }
 
+// Two dispatches a chunk (and `touched_args` between them): `list_touched`
+// over every blade of the chunk's patches the broad phase listed keeps
+// those some object touched this sub-step, `contact_listed` responds on
+// them alone (the others it left as they were): the software drivers run
+// every branch of a kernel whether a lane takes it or not, so the response
+// cost every blade of a listed patch (BENCHMARKS.md, "Session 55").
 @compute @workgroup_size(64)
-fn contact_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+fn list_touched(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let at = listed_thread(gid, groups);
     if at.slot >= lists[chunk.groups.z] {
         return;
     }
-    let p = lists[at.entry];
-    let b = p * at.per_patch + at.lane;
-    if touch[b].x == 0u {
+    let b = lists[at.entry] * at.per_patch + at.lane;
+    if touch[b].x != 0u {
+        let slot = atomicAdd(&touched_blades[0], 1u);
+        atomicStore(&touched_blades[1u + slot], b);
+    }
+}
+
+// One thread: the workgroups of `contact_listed` over the touched blades.
+@compute @workgroup_size(1)
+fn touched_args() {
+    let d = list_dispatch(atomicLoad(&touched_blades[0]), chunk.groups.x);
+    touched_dispatch[0] = d.x;
+    touched_dispatch[1] = d.y;
+    touched_dispatch[2] = d.z;
+}
+
+// The blades `list_touched` kept, each against the objects the broad phase
+// marked for its patch, in object order.
+@compute @workgroup_size(64)
+fn contact_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = list_thread(gid, groups);
+    if i >= atomicLoad(&touched_blades[0]) {
         return;
     }
+    let b = atomicLoad(&touched_blades[1u + i]);
+    let p = b / max(chunk.groups.w, 1u);
     let words = objects[0].y;
     for (var w = 0u; w < words; w++) {
         var bits = lists[objects[0].z + p * words + w];

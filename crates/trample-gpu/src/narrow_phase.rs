@@ -163,8 +163,9 @@ impl NarrowPhase {
     /// `field`'s forces hold Σ EqF and `num` over all objects (zero for
     /// blades nothing hit); its hit masks the segments any object hit.
     /// With no object nothing is recorded (forces keep their old contents).
-    /// Returns the number of dispatches recorded: one per chunk of patches,
-    /// however many objects.
+    /// Returns the number of dispatches recorded, however many objects: with
+    /// `broad` three per chunk of patches (the blades that may touch an
+    /// object listed, the list's size, the walks), without it one.
     ///
     /// With `broad` (recorded earlier in `encoder`; `objects` made with its
     /// [`BroadPhase::mask_layout`]): the simulation's weighted contacts;
@@ -243,7 +244,7 @@ impl NarrowPhase {
             pass.set_pipeline(&self.listed);
             pass.dispatch_workgroups_indirect(&self.near_dispatch, 0);
         }
-        field.chunks.len() as u32
+        field.chunks.len() as u32 * if broad.is_some() { 3 } else { 1 }
     }
 }
 

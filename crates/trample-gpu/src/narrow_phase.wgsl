@@ -632,11 +632,10 @@ fn list_blades(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
 // (at most `chunk.groups.x` in x, as the chunk's blade dispatch).
 @compute @workgroup_size(1)
 fn near_args() {
-    let groups = (atomicLoad(&near_blades[0]) + 63u) / 64u;
-    let max_x = max(chunk.groups.x, 1u);
-    near_dispatch[0] = min(groups, max_x);
-    near_dispatch[1] = max((groups + max_x - 1u) / max_x, 1u);
-    near_dispatch[2] = 1u;
+    let d = list_dispatch(atomicLoad(&near_blades[0]), chunk.groups.x);
+    near_dispatch[0] = d.x;
+    near_dispatch[1] = d.y;
+    near_dispatch[2] = d.z;
 }
 
 // The blades `list_blades` kept, against the objects the broad phase
@@ -644,7 +643,7 @@ fn near_args() {
 // cleared first: the simulation's weighted contacts.
 @compute @workgroup_size(64)
 fn collide_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = gid.x + gid.y * groups.x * 64u;
+    let i = list_thread(gid, groups);
     if i >= atomicLoad(&near_blades[0]) {
         return;
     }

@@ -149,8 +149,9 @@ impl GpuSimulation {
     }
 
     /// Narrow-phase and contact-response dispatches recorded in the last
-    /// sub-step: one each per chunk of patches, however many objects
-    /// (issue 16 item 3; it was one each per object and chunk).
+    /// sub-step: three each per chunk of patches (the list of the blades
+    /// to work on, its size, the work), however many objects (issue 16
+    /// item 3; it was one each per object and chunk).
     #[must_use]
     pub fn object_dispatches(&self) -> u32 {
         self.object_dispatches

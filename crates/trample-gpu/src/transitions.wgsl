@@ -94,14 +94,13 @@ fn transitions(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // One thread: the workgroups of `transitions_back` over the listed cells
-// (at most `counts.w` in x, as `blade_index` lays them out).
+// (at most as many in x as the chunk's cell dispatch).
 @compute @workgroup_size(1)
 fn back_args() {
-    let groups = (atomicLoad(&back[0]) + 63u) / 64u;
-    let max_x = max(params.counts.w, 1u);
-    back_dispatch[0] = min(groups, max_x);
-    back_dispatch[1] = max((groups + max_x - 1u) / max_x, 1u);
-    back_dispatch[2] = 1u;
+    let d = list_dispatch(atomicLoad(&back[0]), chunk.groups.y);
+    back_dispatch[0] = d.x;
+    back_dispatch[1] = d.y;
+    back_dispatch[2] = d.z;
 }
 
 // Eq. 13 on each cell `transitions` listed: what the billboard shows and
@@ -109,7 +108,7 @@ fn back_args() {
 // (`transition::bend_last_segment`).
 @compute @workgroup_size(64)
 fn transitions_back(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let i = gid.x + gid.y * groups.x * 64u;
+    let i = list_thread(gid, groups);
     if i >= atomicLoad(&back[0]) {
         return;
     }

@@ -618,7 +618,7 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
         }
         assert_eq!(
             g.object_dispatches(),
-            2 * chunks,
+            6 * chunks,
             "narrow + contact dispatches"
         );
         touched += u64::from(cpu.timings.dbg_blades);
