@@ -28,7 +28,7 @@ use trample::obb::Obb;
 use crate::active_patches::List;
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
-use crate::kernel::{Kernel, Slot, begin_pass};
+use crate::kernel::{Kernel, Slot, args_buffer, begin_pass};
 
 /// `transitions.wgsl`'s entry points: the pass over every cell (Eq. 12,
 /// and the list of the cells coming back to geometry), the indirect
@@ -409,16 +409,6 @@ pub struct CellGroups {
     /// The field's list of the cells coming back to geometry
     /// (`GpuField::back_cells`), cleared before each chunk's transitions.
     back_cells: wgpu::Buffer,
-}
-
-/// A 12-byte buffer for one indirect dispatch's workgroup counts.
-fn args_buffer(device: &wgpu::Device, label: &str, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: 12,
-        usage,
-        mapped_at_creation: false,
-    })
 }
 
 #[cfg(test)]

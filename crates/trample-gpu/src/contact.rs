@@ -8,7 +8,7 @@
 
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
-use crate::kernel::{BindCache, begin_pass};
+use crate::kernel::{BindCache, args_buffer, begin_pass, compute_pipeline};
 use crate::object::GpuObjects;
 
 /// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`,
@@ -74,24 +74,8 @@ impl Contact {
             bind_group_layouts: &[Some(&field_layout), Some(&object_layout)],
             immediate_size: 0,
         });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                cache: None,
-            })
-        };
-        let args = |label, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: 12,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
+        let pipeline = |entry: &str| compute_pipeline(device, &layout, &module, entry);
+        let args = |label, usage| args_buffer(device, label, usage);
         use wgpu::BufferUsages as U;
         Self {
             list_touched: pipeline("list_touched"),

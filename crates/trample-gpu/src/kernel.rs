@@ -125,16 +125,7 @@ impl Kernel {
         });
         let pipelines = entries
             .iter()
-            .map(|e| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(e),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(e),
-                    compilation_options: wgpu::PipelineCompilationOptions::default(),
-                    cache: None,
-                })
-            })
+            .map(|e| compute_pipeline(device, &pipeline_layout, &module, e))
             .collect();
         Self {
             layout,
@@ -187,6 +178,41 @@ impl Kernel {
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
+}
+
+/// The pipeline of entry point `entry` of `module` over `layout`, labelled
+/// with the entry's name.
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: Some(layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions::default(),
+        cache: None,
+    })
+}
+
+/// A 12-byte buffer for one indirect dispatch's workgroup counts (written
+/// by a one-thread pass: `STORAGE | INDIRECT`), or one bound in its place
+/// while the dispatch reads them (`STORAGE`: a buffer is not both an
+/// indirect source and writable storage in one dispatch).
+pub(crate) fn args_buffer(
+    device: &wgpu::Device,
+    label: &str,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: 12,
+        usage,
+        mapped_at_creation: false,
+    })
 }
 
 /// A compute pass for [`Kernel::dispatch_in`] and

@@ -23,7 +23,7 @@
 
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
-use crate::kernel::{BindCache, begin_pass};
+use crate::kernel::{BindCache, args_buffer, begin_pass, compute_pipeline};
 use crate::object::GpuObjects;
 
 /// The WGSL source as compiled (`segment_obb.wgsl` and `chunk.wgsl` prepended).
@@ -114,33 +114,22 @@ impl NarrowPhase {
             bind_group_layouts: &[Some(&field_layout), Some(&object_layout)],
             immediate_size: 0,
         });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| compute_pipeline(device, &layout, &module, entry);
         Self {
             pipeline: pipeline("collide"),
             list_blades: pipeline("list_blades"),
             near_args: pipeline("near_args"),
             listed: pipeline("collide_listed"),
-            near_dispatch: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("trample-gpu narrow phase dispatch"),
-                size: 12,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-                mapped_at_creation: false,
-            }),
-            unused_args: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("trample-gpu narrow phase dispatch (unused)"),
-                size: 12,
-                usage: wgpu::BufferUsages::STORAGE,
-                mapped_at_creation: false,
-            }),
+            near_dispatch: args_buffer(
+                device,
+                "trample-gpu narrow phase dispatch",
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            ),
+            unused_args: args_buffer(
+                device,
+                "trample-gpu narrow phase dispatch (unused)",
+                wgpu::BufferUsages::STORAGE,
+            ),
             no_lists: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("trample-gpu no broad phase"),
                 size: 16,
