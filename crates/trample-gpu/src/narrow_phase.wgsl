@@ -7,11 +7,12 @@
 // Two walks, as on the CPU (`trample::collision::narrow_phase`):
 // - `collide` (every blade of the chunk): the paper's yes/no hit flags,
 //   `collide_segment`, for `trample collide` and the stage tests;
-// - `collide_listed` (the blades of the patches the broad phase listed):
-//   the simulation's weighted contacts, `contact_segment` (boxes grown by
-//   the contact shell, reach boxes for pruning, weights from how deep a
-//   segment reaches) and the forces of Eq. 2 as `trample::step::collide`
-//   sums them, with the track owner of the firmest contact.
+// - `collide_listed` (the blades of the patches the broad phase listed
+//   that `list_blades` kept): the simulation's weighted contacts,
+//   `contact_segment` (boxes grown by the contact shell, reach boxes for
+//   pruning, weights from how deep a segment reaches) and the forces of
+//   Eq. 2 as `trample::step::collide` sums them, with the track owner of
+//   the firmest contact.
 // Float op for float op as the CPU (glam's order), so the results agree
 // bit for bit where the shader compiler does not contract a*b+c.
 //
