@@ -73,29 +73,6 @@ pub fn region_words(patches: u32, chunks: u32) -> u64 {
     6 * u64::from(patches) + 2 + 2 * u64::from(chunks)
 }
 
-/// Records a stage that runs over the active patches: its entry point 1
-/// over `broad`'s `list` (indirect), or, without a broad phase (the stage
-/// tests), its entry point 0 over `full` workgroups.
-pub(crate) fn dispatch_listed(
-    kernel: &Kernel,
-    encoder: &mut wgpu::CommandEncoder,
-    group: &wgpu::BindGroup,
-    broad: Option<&BroadPhase>,
-    list: List,
-    full: (u32, u32),
-) {
-    match broad {
-        Some(b) => kernel.dispatch_indirect_at(
-            &mut begin_pass(encoder),
-            1,
-            group,
-            &b.args,
-            b.list_args_offset(list),
-        ),
-        None => kernel.dispatch(encoder, 0, group, full),
-    }
-}
-
 /// The compiled planning kernels.
 pub struct ActivePatches {
     kernel: Kernel,

@@ -1,33 +1,32 @@
 //! Blade deformation on the GPU (paper §6.1, Eq. 5–7, Fig. 7): dispatches
-//! `bend.wgsl` over the active patches' dirty patches
-//! ([`crate::active_patches`]; every blade without a broad phase); those
+//! `bend.wgsl` over the blades of the active patches' dirty patches
+//! ([`crate::active_patches`]) that propagation reached, listed first
+//! ([`crate::active_list`]; every blade without a broad phase); those
 //! with a force this sub-step (DBG or PBG) bend, as `trample::deform::bend::bend_blade` does, above the
 //! terrain's ground guard (`guard.wgsl`).
 
-use crate::active_patches::{List, dispatch_listed};
-use crate::broad_phase::{BroadPhase, NoBroad};
+use crate::active_list::{ActiveList, Listed, ListedWork};
+use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 
-/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`, `chunk.wgsl`,
-/// `broad_params.wgsl` and `active_chunk.wgsl` prepended).
+/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl` and
+/// `chunk.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}\n{}\n{}\n{}",
+        "{}\n{}\n{}\n{}",
         crate::BLADE_WGSL,
         crate::GUARD_WGSL,
         crate::CHUNK_WGSL,
-        include_str!("broad_params.wgsl"),
-        include_str!("active_chunk.wgsl"),
         include_str!("bend.wgsl")
     )
 }
 
-/// The compiled bending kernel.
+/// The compiled bending kernel and the list of its blades.
 pub struct Bend {
     kernel: Kernel,
-    no_broad: NoBroad,
+    list: ActiveList,
 }
 
 impl Bend {
@@ -41,18 +40,19 @@ impl Bend {
                 "trample-gpu bend",
                 &source(),
                 &[
-                    Uniform, ReadWrite, Read, Read, ReadWrite, Uniform, Read, Uniform, ReadWrite,
-                    ReadWrite,
+                    Uniform, ReadWrite, Read, Read, ReadWrite, Uniform, Read, ReadWrite, Read,
                 ],
-                &["bend", "bend_active"],
+                &["bend", "bend_listed"],
             ),
-            no_broad: NoBroad::new(device),
+            list: ActiveList::new(device),
         }
     }
 
-    /// Records the bending of every forced blade, one dispatch per chunk:
-    /// over `broad`'s active bend lists (the active patches' `record_lists`
-    /// recorded before, after propagation), or every blade without. A far
+    /// Records the bending of every forced blade, per chunk: over the
+    /// blades of `broad`'s active bend lists (the active patches'
+    /// `record_lists` recorded before, after propagation) with a
+    /// generation, listed first (three dispatches), or every blade without
+    /// (one). A far
     /// pass counts the blades it moves from rest in `state` (the step's
     /// counters, [`crate::GpuCounters`]).
     pub fn record(
@@ -64,7 +64,6 @@ impl Bend {
         state: &wgpu::Buffer,
         broad: Option<&BroadPhase>,
     ) {
-        let (broad_params, lists) = self.no_broad.or(broad);
         for (c, chunk) in field.chunks.iter().enumerate() {
             let group = self.kernel.bind(
                 device,
@@ -76,17 +75,25 @@ impl Bend {
                     &field.displaced,
                     &chunk.uniform,
                     &field.ground,
-                    broad_params,
-                    lists,
                     state,
+                    &field.near_blades,
                 ],
             );
-            dispatch_listed(
-                &self.kernel,
+            let work = ListedWork {
+                kernel: &self.kernel,
+                every: 0,
+                listed: 1,
+                group: &group,
+            };
+            self.list.record(
+                device,
                 encoder,
-                &group,
+                field,
+                chunk,
                 broad,
-                List::Bend(c as u32),
+                Listed::Bent(c as u32),
+                &field.generation,
+                &work,
                 crate::kernel::run_grid(chunk.groups),
             );
         }

@@ -12,14 +12,11 @@
 @group(0) @binding(4) var<storage, read_write> displaced: array<u32>;
 @group(0) @binding(5) var<uniform> chunk: Chunk;
 @group(0) @binding(6) var<storage, read> ground: array<f32>;
-// The broad phase's uniform and lists: the active patches' bend lists
-// (`active_patches.wgsl`; `BroadParams` and the layout: broad_params.wgsl,
-// prepended), read by `bend_active`.
-@group(0) @binding(7) var<uniform> broad: BroadParams;
-@group(0) @binding(8) var<storage, read_write> lists: array<atomic<u32>>;
 // The step's counters: a far pass counts the blades it moves from rest
 // (the main pass's recovery counts the displaced set itself).
-@group(0) @binding(9) var<storage, read_write> state: State;
+@group(0) @binding(7) var<storage, read_write> state: State;
+// The blades to bend (`active_list.wgsl`'s `list_bent`): [0] their count.
+@group(0) @binding(8) var<storage, read> listed: array<u32>;
 
 // `bend::offset_base` (Eq. 5): the part of v1 perpendicular to AB, over num.
 fn offset_base(ab: vec3<f32>, v1: vec3<f32>, num: f32) -> vec3<f32> {
@@ -45,14 +42,14 @@ fn bend(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// `bend` over the chunk's active bend list: the patches dirty this sub-step
-// (those `seed` ran over and those propagation listed a candidate in), the
-// only ones that hold a blade with a generation.
+// `bend` over the blades `list_bent` listed (`active_list.wgsl`): those of
+// the chunk's dirty patches (those `seed` ran over and those propagation
+// listed a candidate in) with a generation.
 @compute @workgroup_size(64)
-fn bend_active(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let b = active_chunk_blade(gid, groups, ACTIVE_BEND);
-    if b != NOT_IN_CHUNK && generation[b] != NO_GENERATION {
-        bend_blade(b);
+fn bend_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = list_thread(gid, groups);
+    if i < listed[0] {
+        bend_blade(listed[1u + i]);
     }
 }
 

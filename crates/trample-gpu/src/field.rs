@@ -87,9 +87,11 @@ pub struct GpuField {
     pub(crate) back_cells: wgpu::Buffer,
     /// The blades of one chunk's listed patches that may touch an object in
     /// a narrow phase (`narrow_phase.wgsl`'s `list_blades`), then, in the
-    /// contact response, those touched (`contact.wgsl`'s `list_touched`):
-    /// their count, then their indices; `u32`, one word more than the
-    /// largest chunk's blades (chunks take turns, each list cleared first).
+    /// contact response, those touched (`contact.wgsl`'s `list_touched`),
+    /// and the blades the bend and the recovery work on
+    /// (`active_list.wgsl`): their count, then their indices; `u32`, one
+    /// word more than the largest chunk's blades (stages and chunks take
+    /// turns, each list cleared first).
     pub(crate) near_blades: wgpu::Buffer,
 }
 

@@ -46,6 +46,7 @@
 //! cannot see as uniform (see `narrow_phase.wgsl`); `examples/stage_times.rs`
 //! with `MESA_SHADER_CACHE_DISABLE=true` shows a recompiling stage.
 
+pub mod active_list;
 pub mod active_patches;
 pub mod bend;
 pub mod broad_phase;
@@ -120,6 +121,7 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
     vec![
         ("broad_phase.wgsl", broad_phase::source()),
         ("active_patches.wgsl", active_patches::source()),
+        ("active_list.wgsl", active_list::source()),
         ("draw_lists.wgsl", draw_lists::source()),
         ("narrow_phase.wgsl", narrow_phase::source()),
         ("contact.wgsl", contact::source()),

@@ -1,12 +1,13 @@
 //! Recovery on the GPU (ours, DESIGN §6): dispatches `recovery.wgsl` over
-//! the active patches that may hold a displaced or touched blade
-//! ([`crate::active_patches`]; every blade without a broad phase); displaced ones relax towards rest as
+//! the displaced blades of the active patches that may hold one
+//! ([`crate::active_patches`]), listed first ([`crate::active_list`];
+//! every blade without a broad phase); displaced ones relax towards rest as
 //! `trample::step::recover` does (`recovery::recover_blade`, with each
 //! blade's track owner's settings and not while an object holds it), and
 //! are counted. Billboard slopes recover in `slopes.wgsl` (the paper's
 //! mode) or follow their blades (`follow.wgsl`).
 
-use crate::active_patches::{List, dispatch_listed};
+use crate::active_list::{ActiveList, Listed, ListedWork};
 use crate::broad_phase::{BroadPhase, NoBroad};
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
@@ -30,10 +31,11 @@ pub fn source() -> String {
 /// Track owners a recovery table holds (`Simulation::track_owner` is a `u8`).
 pub const OWNERS: usize = 256;
 
-/// The compiled recovery kernel and the table of the track owners'
-/// recovery settings.
+/// The compiled recovery kernel, the list of its blades and the table of
+/// the track owners' recovery settings.
 pub struct Recovery {
     kernel: Kernel,
+    list: ActiveList,
     owners: wgpu::Buffer,
     /// Per patch: this step's recovery time as a multiple of `h`
     /// (`Simulation::recovery_scale`), read when far patches take turns.
@@ -62,10 +64,11 @@ impl Recovery {
                 &source(),
                 &[
                     Uniform, ReadWrite, ReadWrite, Read, ReadWrite, Uniform, Read, Read, Read,
-                    Uniform, Uniform, ReadWrite, Read, ReadWrite,
+                    Uniform, Uniform, ReadWrite, Read, ReadWrite, Read,
                 ],
-                &["recover", "recover_active"],
+                &["recover", "recover_listed"],
             ),
+            list: ActiveList::new(device),
             no_broad: NoBroad::new(device),
             turns: turns_buffer(device, 16),
             clock: clock_buffer(device, 0),
@@ -151,10 +154,11 @@ impl Recovery {
         }
     }
 
-    /// Records the recovery of every displaced blade, one dispatch per
-    /// chunk: over `broad`'s active recover lists (the active patches'
-    /// `record_lists` recorded before in the sub-step, told that recovery
-    /// runs), or every blade without.
+    /// Records the recovery of every displaced blade, per chunk: over the
+    /// displaced blades of `broad`'s active recover lists (the active
+    /// patches' `record_lists` recorded before in the sub-step, told that
+    /// recovery runs), listed first (three dispatches), or every blade
+    /// without (one).
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -183,14 +187,24 @@ impl Recovery {
                     lists,
                     &self.turns,
                     &self.clock,
+                    &field.near_blades,
                 ],
             );
-            dispatch_listed(
-                &self.kernel,
+            let work = ListedWork {
+                kernel: &self.kernel,
+                every: 0,
+                listed: 1,
+                group: &group,
+            };
+            self.list.record(
+                device,
                 encoder,
-                &group,
+                field,
+                chunk,
                 broad,
-                List::Recover(c as u32),
+                Listed::Displaced(c as u32),
+                &field.displaced,
+                &work,
                 chunk.groups,
             );
         }

@@ -35,9 +35,9 @@
 @group(0) @binding(8) var<storage, read> blade_class: array<u32>;
 // Per track owner (0: `[sim]`, i: body i − 1): recovery_s (0 for ∞), trail.
 @group(0) @binding(9) var<uniform> owners: array<vec4<f32>, 256>;
-// The broad phase's uniform and lists: the active patches' recover lists
-// and kept marks (`active_patches.wgsl`; `BroadParams` and the layout:
-// broad_params.wgsl, prepended), for `recover_active`.
+// The broad phase's uniform and lists: the active patches' kept marks
+// (`active_patches.wgsl`; `BroadParams` and the layout: broad_params.wgsl,
+// prepended), for `recover_listed`.
 @group(0) @binding(10) var<uniform> broad: BroadParams;
 @group(0) @binding(11) var<storage, read_write> lists: array<atomic<u32>>;
 // Per patch: this step's recovery time as a multiple of h
@@ -45,6 +45,9 @@
 @group(0) @binding(12) var<storage, read> turns: array<f32>;
 // Per blade, with strides: the recovery time owed and the wait (s).
 @group(0) @binding(13) var<storage, read_write> clock: array<vec2<f32>>;
+// The blades to recover (`active_list.wgsl`'s `list_displaced`): [0] their
+// count.
+@group(0) @binding(14) var<storage, read> listed: array<u32>;
 
 // `trample::recovery::RECOVERY_WAIT_MAX_S`.
 const RECOVERY_WAIT_MAX_S: f32 = 0.25;
@@ -72,16 +75,18 @@ fn recover(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// `recover` over the chunk's active recover list: the patches dirty this
-// sub-step and those kept (where a blade may be displaced; every other
-// blade is at rest and untouched). A patch where a blade is left displaced
+// `recover` over the blades `list_displaced` listed (`active_list.wgsl`):
+// the displaced blades of the chunk's active recover list (the patches
+// dirty this sub-step and those kept, where a blade may be displaced;
+// every other blade is at rest). A patch where a blade is left displaced
 // is kept for the next recovery.
 @compute @workgroup_size(64)
-fn recover_active(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let b = active_chunk_blade(gid, groups, ACTIVE_RECOVER);
-    if b == NOT_IN_CHUNK {
+fn recover_listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = list_thread(gid, groups);
+    if i >= listed[0] {
         return;
     }
+    let b = listed[1u + i];
     recover_or_count(b);
     if displaced[b] != 0u {
         atomicStore(&lists[active_word(ACTIVE_KEEP, b / max(broad.dispatch.x, 1u))], 1u);
