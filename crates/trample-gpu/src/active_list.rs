@@ -12,7 +12,6 @@
 
 use crate::active_patches::List;
 use crate::broad_phase::BroadPhase;
-use crate::chunk::GpuChunk;
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot, args_buffer, begin_pass};
 
@@ -29,30 +28,39 @@ pub fn source() -> String {
     )
 }
 
-/// What a stage lists, in chunk `c`.
+/// What a stage lists.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Listed {
     /// The blades of the chunk's dirty patches with a generation (the bend).
-    Bent(u32),
+    Bent,
     /// The displaced blades of the chunk's dirty and kept patches (the
     /// recovery).
-    Displaced(u32),
+    Displaced,
 }
 
 impl Listed {
-    /// The list of active patches it runs over.
-    fn patches(self) -> List {
+    /// The list of active patches it runs over, in chunk `c`.
+    fn patches(self, c: u32) -> List {
         match self {
-            Self::Bent(c) => List::Bend(c),
-            Self::Displaced(c) => List::Recover(c),
+            Self::Bent => List::Bend(c),
+            Self::Displaced => List::Recover(c),
         }
     }
 
     /// Its entry point (`list_bent`, `list_displaced`).
     fn entry(self) -> usize {
         match self {
-            Self::Bent(_) => 0,
-            Self::Displaced(_) => 1,
+            Self::Bent => 0,
+            Self::Displaced => 1,
+        }
+    }
+
+    /// The per-blade flags its entry point reads: the generations, or the
+    /// displaced marks.
+    fn flags(self, field: &GpuField) -> &wgpu::Buffer {
+        match self {
+            Self::Bent => &field.generation,
+            Self::Displaced => &field.displaced,
         }
     }
 }
@@ -66,17 +74,6 @@ const LISTED_ARGS: usize = 2;
 pub struct ActiveList {
     kernel: Kernel,
     args: wgpu::Buffer,
-}
-
-/// A stage that works over the listed blades of a chunk: its kernel, its
-/// entry point over every blade of the chunk (no broad phase) and over the
-/// list, and its bind group (which binds [`GpuField::near_blades`], the
-/// list, read-only).
-pub(crate) struct ListedWork<'a> {
-    pub(crate) kernel: &'a Kernel,
-    pub(crate) every: usize,
-    pub(crate) listed: usize,
-    pub(crate) group: &'a wgpu::BindGroup,
 }
 
 impl ActiveList {
@@ -100,35 +97,35 @@ impl ActiveList {
         }
     }
 
-    /// Records `work` over chunk `chunk` of `field`: with `broad`, the
-    /// blades `what` names listed (`flags`: the generations for
-    /// [`Listed::Bent`], the displaced marks for [`Listed::Displaced`]), the
-    /// list's size, then `work.listed` over the list; without (the stage
-    /// tests), `work.every` over the chunk's `full` workgroups.
+    /// Records a stage's work over chunk `c` of `field`: with `broad`, the
+    /// blades `what` names listed, the list's size, then entry point 1 of
+    /// `kernel` over the list; without (the stage tests), its entry point 0
+    /// over the chunk's `full` workgroups. `group` is the stage's bind
+    /// group (with the field's `near_blades`, the list, read-only).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn record(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         field: &GpuField,
-        chunk: &GpuChunk,
+        c: usize,
         broad: Option<&BroadPhase>,
         what: Listed,
-        flags: &wgpu::Buffer,
-        work: &ListedWork<'_>,
+        (kernel, group): (&Kernel, &wgpu::BindGroup),
         full: (u32, u32),
     ) {
         let Some(broad) = broad else {
-            work.kernel.dispatch(encoder, work.every, work.group, full);
+            kernel.dispatch(encoder, 0, group, full);
             return;
         };
-        let group = self.kernel.bind(
+        let chunk = &field.chunks[c];
+        let list_group = self.kernel.bind(
             device,
             &[
                 &broad.params,
                 &broad.lists,
                 &chunk.uniform,
-                flags,
+                what.flags(field),
                 &field.near_blades,
                 &self.args,
             ],
@@ -138,13 +135,12 @@ impl ActiveList {
         self.kernel.dispatch_indirect_at(
             &mut pass,
             what.entry(),
-            &group,
+            &list_group,
             &broad.args,
-            broad.list_args_offset(what.patches()),
+            broad.list_args_offset(what.patches(c as u32)),
         );
         self.kernel
-            .dispatch_in(&mut pass, LISTED_ARGS, &group, (1, 1));
-        work.kernel
-            .dispatch_indirect_in(&mut pass, work.listed, work.group, &self.args);
+            .dispatch_in(&mut pass, LISTED_ARGS, &list_group, (1, 1));
+        kernel.dispatch_indirect_in(&mut pass, 1, group, &self.args);
     }
 }

@@ -5,7 +5,7 @@
 //! with a force this sub-step (DBG or PBG) bend, as `trample::deform::bend::bend_blade` does, above the
 //! terrain's ground guard (`guard.wgsl`).
 
-use crate::active_list::{ActiveList, Listed, ListedWork};
+use crate::active_list::{ActiveList, Listed};
 use crate::broad_phase::BroadPhase;
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
@@ -79,21 +79,14 @@ impl Bend {
                     &field.near_blades,
                 ],
             );
-            let work = ListedWork {
-                kernel: &self.kernel,
-                every: 0,
-                listed: 1,
-                group: &group,
-            };
             self.list.record(
                 device,
                 encoder,
                 field,
-                chunk,
+                c,
                 broad,
-                Listed::Bent(c as u32),
-                &field.generation,
-                &work,
+                Listed::Bent,
+                (&self.kernel, &group),
                 crate::kernel::run_grid(chunk.groups),
             );
         }

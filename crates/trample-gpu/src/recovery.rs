@@ -7,7 +7,7 @@
 //! are counted. Billboard slopes recover in `slopes.wgsl` (the paper's
 //! mode) or follow their blades (`follow.wgsl`).
 
-use crate::active_list::{ActiveList, Listed, ListedWork};
+use crate::active_list::{ActiveList, Listed};
 use crate::broad_phase::{BroadPhase, NoBroad};
 use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
@@ -190,21 +190,14 @@ impl Recovery {
                     &field.near_blades,
                 ],
             );
-            let work = ListedWork {
-                kernel: &self.kernel,
-                every: 0,
-                listed: 1,
-                group: &group,
-            };
             self.list.record(
                 device,
                 encoder,
                 field,
-                chunk,
+                c,
                 broad,
-                Listed::Displaced(c as u32),
-                &field.displaced,
-                &work,
+                Listed::Displaced,
+                (&self.kernel, &group),
                 chunk.groups,
             );
         }
