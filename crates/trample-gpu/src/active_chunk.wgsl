@@ -1,6 +1,7 @@
-// Shared by the stages that run over a chunk's active patches (bend,
-// recovery, follow; prepended after chunk.wgsl and broad_params.wgsl, not a
-// stage of its own).
+// Shared by the stages that run over a chunk's active patches (the lists of
+// the bend's and the recovery's blades, active_list.wgsl; follow;
+// prepended after chunk.wgsl and broad_params.wgsl, not a stage of its
+// own).
 
 // Where a thread of a dispatch over the chunk's `list` of active patches
 // (`ACTIVE_BEND` or `ACTIVE_RECOVER`; one thread a blade of each patch)

@@ -1,7 +1,8 @@
 // The broad phase's uniform (broad_phase.wgsl), also read by the stages
 // that run over the active patches (active_patches.wgsl, propagation.wgsl,
-// bend.wgsl, recovery.wgsl): prepended to each of their sources, each of
-// which binds the broad phase's lists as `lists: array<atomic<u32>>`.
+// active_list.wgsl, recovery.wgsl, follow.wgsl): prepended to each of their
+// sources, each of which binds the broad phase's lists as
+// `lists: array<atomic<u32>>`.
 // Layout-compatible with `GpuBroadParams` in broad_phase.rs.
 struct BroadParams {
     // patches, patches per chunk (all but the last), chunks, patches along x

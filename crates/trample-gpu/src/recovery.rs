@@ -13,17 +13,16 @@ use crate::field::GpuField;
 use crate::kernel::{Kernel, Slot};
 use trample::recovery::RecoveryParams;
 
-/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`, `chunk.wgsl`,
-/// `broad_params.wgsl` and `active_chunk.wgsl` prepended).
+/// The WGSL source as compiled (`blade.wgsl`, `guard.wgsl`, `chunk.wgsl`
+/// and `broad_params.wgsl` prepended).
 #[must_use]
 pub fn source() -> String {
     format!(
-        "{}\n{}\n{}\n{}\n{}\n{}",
+        "{}\n{}\n{}\n{}\n{}",
         crate::BLADE_WGSL,
         crate::GUARD_WGSL,
         crate::CHUNK_WGSL,
         include_str!("broad_params.wgsl"),
-        include_str!("active_chunk.wgsl"),
         include_str!("recovery.wgsl")
     )
 }
