@@ -320,6 +320,17 @@ fn cases() -> Vec<(&'static str, Want, String)> {
             outcome("[field]\npatches = [100000, 100000]\n", &[]),
         ),
         e(
+            "cells per patch past 2^14",
+            outcome("[field]\ncells_per_patch = 2147483648\n", &[]),
+        ),
+        e(
+            "field whose blade count overflows 64 bits",
+            outcome(
+                "[field]\npatches = [4294967295, 4294967295]\ncells_per_patch = 16384\n",
+                &[],
+            ),
+        ),
+        e(
             "unknown terrain kind",
             outcome("[field]\nterrain = { kind = \"mountains\" }\n", &[]),
         ),

@@ -64,17 +64,21 @@ impl Default for FieldParams {
 }
 
 impl FieldParams {
-    /// Total number of blades.
+    /// Total number of blades (`u64::MAX` when that overflows: no field
+    /// that large is valid, see [`MAX_BLADES`]).
     #[must_use]
     pub fn blade_count(&self) -> u64 {
-        self.cell_count() * u64::from(self.blades_per_cell)
+        self.cell_count()
+            .saturating_mul(u64::from(self.blades_per_cell))
     }
 
-    /// Total number of cells.
+    /// Total number of cells (`u64::MAX` when that overflows).
     #[must_use]
     pub fn cell_count(&self) -> u64 {
         let cpp = u64::from(self.cells_per_patch);
-        u64::from(self.patches[0]) * u64::from(self.patches[1]) * cpp * cpp
+        [self.patches[1].into(), cpp, cpp]
+            .into_iter()
+            .fold(u64::from(self.patches[0]), u64::saturating_mul)
     }
 
     /// Side lengths of the field (x, z), metres.
@@ -141,6 +145,10 @@ pub struct FieldError {
 /// vertex buffers would overflow.
 pub const MAX_BLADES: u64 = 1 << 28;
 
+/// Most cells along a patch side: 2^14, so that one patch's cells (2^28)
+/// fit [`MAX_BLADES`] and a `u32`.
+pub const MAX_CELLS_PER_PATCH: u32 = 1 << 14;
+
 impl FieldParams {
     /// Checks every value; the first bad one is reported.
     pub fn validate(&self) -> Result<(), FieldError> {
@@ -159,8 +167,12 @@ impl FieldParams {
                 "both counts must be at least 1",
             );
         }
-        if self.cells_per_patch == 0 {
-            return err("cells_per_patch", "0".into(), "must be at least 1");
+        if !(1..=MAX_CELLS_PER_PATCH).contains(&self.cells_per_patch) {
+            return err(
+                "cells_per_patch",
+                self.cells_per_patch.to_string(),
+                "must be 1..=16384 (one patch of more cells would exceed 2^28 blades)",
+            );
         }
         if !(1..=64).contains(&self.blades_per_cell) {
             return err(
