@@ -4,7 +4,7 @@ use anyhow::Result;
 use std::path::PathBuf;
 use trample::obb::ObbTree;
 use trample::obb::build::DEFAULT_MAX_DEPTH;
-use trample::scene::Scene;
+use trample::scene::{Scene, SceneError};
 
 /// Arguments of `trample check`.
 #[derive(clap::Args, Debug)]
@@ -17,6 +17,11 @@ pub struct Args {
 pub fn run(a: &Args) -> Result<()> {
     let scene = Scene::load(&a.scene)?;
     let f = &scene.file;
+    // The height map and the grass-map images, as a run reads them.
+    scene
+        .builder()
+        .load_ground()
+        .map_err(|e| SceneError::invalid(&scene.source, e))?;
     let objects = scene.objects()?;
     let [ex, ez] = f.field.extent_m();
     println!("{}: ok", scene.source);

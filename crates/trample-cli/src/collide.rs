@@ -32,7 +32,7 @@ pub struct Args {
     /// Output: .npy float32 (triangles, 3, 3): every object's triangles in world space at TIME.
     #[arg(long)]
     pub dump_object: Option<PathBuf>,
-    /// Worker threads (default: one per core).
+    /// Worker threads, 1..=1024 (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).

@@ -58,6 +58,12 @@ fn main() -> ExitCode {
             .map(|s| (*s).to_string())
             .or_else(|| info.payload().downcast_ref::<String>().cloned())
             .unwrap_or_else(|| "unknown panic".into());
+        // Output piped into a reader that stopped (`trample check s.toml |
+        // head -1`): not a bug; end quietly, as a process killed by
+        // SIGPIPE would (exit status 128 + 13).
+        if msg.starts_with("failed printing to stdout") && msg.contains("Broken pipe") {
+            std::process::exit(141);
+        }
         let at = info
             .location()
             .map(|l| format!(" at {}:{}", l.file(), l.line()))

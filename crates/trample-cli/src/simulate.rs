@@ -23,7 +23,7 @@ pub struct Args {
     /// Collision precision, OBB-tree depth 1..=32 (overrides `[sim] precision`).
     #[arg(long)]
     pub precision: Option<u32>,
-    /// Worker threads (default: one per core).
+    /// Worker threads, 1..=1024 (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
     /// Largest memory the field may take, GiB (overrides `[sim] memory_limit_gib`).

@@ -301,6 +301,25 @@ fn check_describes_the_scene() {
     );
 }
 
+/// Output into a pipe whose reader has gone (`trample check s.toml |
+/// head -1` once `head` is done) ends quietly with SIGPIPE's status, not
+/// with "internal error … please report it".
+#[test]
+fn output_into_a_closed_pipe_ends_quietly() {
+    let d = dir("pipe");
+    let scene = scene_in(&d);
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_trample"))
+        .args(["check", &scene])
+        .stdout(writer)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(141), "{err}");
+    assert!(err.is_empty(), "{err}");
+}
+
 #[test]
 fn bad_input_exits_non_zero_with_one_line() {
     let d = dir("bad");
@@ -328,6 +347,14 @@ fn bad_input_exits_non_zero_with_one_line() {
             scene.clone(),
             "--threads".into(),
             "0".into(),
+        ],
+        vec![
+            "simulate".into(),
+            scene.clone(),
+            "--threads".into(),
+            "100000".into(),
+            "--frames".into(),
+            "1".into(),
         ],
         vec![
             "simulate".into(),
@@ -386,6 +413,16 @@ fn bad_input_exits_non_zero_with_one_line() {
             "--out".into(),
             scene.clone(),
         ],
+        // `check` reads the height map as a run does.
+        vec!["check".into(), {
+            let p = d.join("no_height_map.toml");
+            std::fs::write(
+                &p,
+                "[field]\npatches = [2, 2]\nterrain = { kind = \"heightmap\", path = \"missing.png\", height_scale_m = 1.0 }\n",
+            )
+            .unwrap();
+            p.display().to_string()
+        }],
         // A mesh path that leaves the scene's folder.
         vec!["check".into(), {
             let p = d.join("escape.toml");

@@ -108,7 +108,7 @@ pub struct Args {
     /// run of the bench; 1 = every object every step).
     #[arg(long, value_name = "K")]
     pub far_every: Option<u32>,
-    /// Worker threads (default: one per core).
+    /// Worker threads, 1..=1024 (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
 }

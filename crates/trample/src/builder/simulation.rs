@@ -258,17 +258,7 @@ impl SimulationBuilder {
     /// # Errors
     /// The first [`BuildError`] found.
     pub fn build(&self) -> Result<Simulation, BuildError> {
-        self.validate()?;
-        let terrain = match &self.terrain {
-            Some(t) => t.clone(),
-            None => {
-                Terrain::from_params(&self.field.terrain, self.field.extent_m(), &self.base_dir)?
-            }
-        };
-        let maps = self.grass_maps()?;
-        if self.maps_from_images() {
-            self.check_memory(&maps)?;
-        }
+        let (terrain, maps) = self.load_ground()?;
         let estimate = self.estimate_bytes(&maps);
         let objects: Vec<Object> = self
             .bodies
@@ -303,6 +293,30 @@ impl SimulationBuilder {
             sim.classify_at_rest();
         }
         Ok(sim)
+    }
+
+    /// Checks ([`SimulationBuilder::validate`]) and reads the ground as
+    /// [`SimulationBuilder::build`] does: the terrain (its height map, if
+    /// any) and the grass maps (their images), then checks the memory
+    /// limit that waits for the maps. What `trample check` runs, so that a
+    /// bad height map or map image is found there, not only by a run. The
+    /// objects' meshes are not read ([`crate::scene::Scene::objects`]).
+    ///
+    /// # Errors
+    /// The first [`BuildError`] found.
+    pub fn load_ground(&self) -> Result<(Terrain, GrassMaps), BuildError> {
+        self.validate()?;
+        let terrain = match &self.terrain {
+            Some(t) => t.clone(),
+            None => {
+                Terrain::from_params(&self.field.terrain, self.field.extent_m(), &self.base_dir)?
+            }
+        };
+        let maps = self.grass_maps()?;
+        if self.maps_from_images() {
+            self.check_memory(&maps)?;
+        }
+        Ok((terrain, maps))
     }
 
     /// True when the grass maps are still to be read from images.
