@@ -37,7 +37,8 @@ pub fn body_position(sim: &Simulation, id: BodyId) -> Option<Vec3> {
 /// Moves body `id` over the next step of `dt` seconds from where it is to
 /// `position` with `rotation` (world from local), sweeping the grass on the
 /// way (the contact speed of Eq. 2 is the displacement over `dt`). Returns
-/// `false` for an unknown id or a value that is not finite.
+/// `false` (and the body stays) for an unknown id, a value that is not
+/// finite or a zero rotation.
 pub fn move_body(
     sim: &mut Simulation,
     id: BodyId,
@@ -51,7 +52,8 @@ pub fn move_body(
 
 /// Moves body `id` to `position` with `rotation` at once, without sweeping
 /// the grass between where it was and there (a respawn). Returns `false`
-/// for an unknown id or a value that is not finite.
+/// (and the body stays) for an unknown id, a value that is not finite or a
+/// zero rotation.
 pub fn teleport_body(sim: &mut Simulation, id: BodyId, position: Vec3, rotation: Quat) -> bool {
     sim.teleport_body(id, core_vec3(position), core_quat(rotation))
         .is_ok()

@@ -201,3 +201,40 @@ fn ids_stay_valid_while_bodies_come_and_go() {
     assert_eq!(sim.body(b).unwrap().pose, before);
     sim.step(sim.params.dt_s).unwrap();
 }
+
+/// A zero quaternion names no rotation: moving or teleporting a body with
+/// one is refused with a [`BodyError::NotFinite`] that says so, and the
+/// body stays as it was (glam's `normalize` made its pose NaN, a body that
+/// silently hit nothing). A quaternion of any other size is the rotation it
+/// points at, however small or large its components.
+#[test]
+fn a_zero_rotation_is_refused_and_any_other_size_is_normalised() {
+    let mut sim = field(f32::INFINITY);
+    let dt = sim.params.dt_s;
+    let at = Vec3::new(0.0, Y, 0.0);
+    let id = sim.add_body(BodyBuilder::cuboid("crate", HALF).at(at).build().unwrap());
+    let zero = Quat::from_xyzw(0.0, 0.0, 0.0, 0.0);
+    let e = sim
+        .move_body(id, at + Vec3::X * 0.02, zero, dt)
+        .unwrap_err();
+    assert!(
+        matches!(&e, BodyError::NotFinite { .. }) && e.to_string().contains("rotation not zero"),
+        "{e}"
+    );
+    let e = sim.teleport_body(id, at + Vec3::X, zero).unwrap_err();
+    assert!(e.to_string().contains("rotation not zero"), "{e}");
+    sim.step(dt).unwrap();
+    let pose = sim.body(id).unwrap().pose;
+    assert_eq!((pose.position, pose.rotation), (at, Quat::IDENTITY));
+
+    let turn = Quat::from_rotation_y(0.5);
+    for scale in [1e-30, 1e30] {
+        let q = Quat::from_vec4(glam::Vec4::from(turn) * scale);
+        sim.move_body(id, at, q, dt).unwrap();
+        sim.step(dt).unwrap();
+        let r = sim.body(id).unwrap().pose.rotation;
+        assert!(r.abs_diff_eq(turn, 1e-6), "{scale}: {r}");
+        sim.teleport_body(id, at, q).unwrap();
+        assert!(sim.body(id).unwrap().pose.rotation.abs_diff_eq(turn, 1e-6));
+    }
+}

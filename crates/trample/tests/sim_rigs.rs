@@ -331,6 +331,22 @@ fn host_poses_a_part_by_name_or_index_and_it_presses_the_grass() {
     let body = sim.body(id).unwrap();
     assert!((body.parts[0].pose.position - Vec3::new(0.0, 1.0, 0.0)).length() < 1e-5);
     assert_eq!(body.parts[1].pose.rotation, Quat::IDENTITY);
+    // A zero rotation names none: refused, the boot stays at rest.
+    let zero = Pose {
+        rotation: Quat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+        ..lowered
+    };
+    let e = sim
+        .set_part_pose(id, PartRef::Name("boot"), Some(zero))
+        .unwrap_err();
+    assert!(
+        matches!(&e, BodyError::NotFinite { .. }) && e.to_string().contains("rotation not zero"),
+        "{e}"
+    );
+    run(&mut sim, 1);
+    assert!(
+        (sim.body(id).unwrap().parts[0].pose.position - Vec3::new(0.0, 1.0, 0.0)).length() < 1e-5
+    );
     for (part, problem) in [
         (PartRef::Name("arm"), "no such part"),
         (PartRef::Index(2), "no such part"),

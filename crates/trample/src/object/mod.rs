@@ -49,7 +49,7 @@ pub use object::{
 };
 pub use parts::{Articulation, PartError, PartParams};
 pub use path::{Path, PathError, PathParams};
-pub use pose::Pose;
+pub use pose::{Pose, unit_rotation};
 pub use rig_error::RigError;
 pub use sanitize::{SanitizeReport, sanitize};
 pub use skin::{NodeTransform, Skeleton, SkinnedMesh};

@@ -15,6 +15,28 @@ pub struct Pose {
     pub angular_velocity: Vec3,
 }
 
+/// `q` made a unit quaternion, the rotation a host means by it: any finite,
+/// non-zero quaternion, however small or large (scaled to its largest
+/// component first, so that neither its length's square underflows nor
+/// overflows); `None` for a zero or non-finite one, which names no rotation
+/// (glam's `normalize` would make it NaN or zero, a pose that hits nothing
+/// and draws nowhere).
+#[must_use]
+pub fn unit_rotation(q: Quat) -> Option<Quat> {
+    // Ordinary sizes: glam's own, the same bits as before this check.
+    let n = q.normalize();
+    if n.is_finite() && n.length_squared() > 0.5 {
+        return Some(n);
+    }
+    let v = glam::Vec4::from(q);
+    let m = v.abs().max_element();
+    if !(m.is_finite() && m > 0.0) {
+        return None;
+    }
+    let u = (v / m).normalize();
+    u.is_finite().then(|| Quat::from_vec4(u))
+}
+
 impl Pose {
     /// A pose at rest at `position`.
     #[must_use]
@@ -80,6 +102,27 @@ mod tests {
     use super::*;
     use crate::obb::Obb;
     use crate::test_rng::XorShift;
+
+    /// A host's quaternion of any finite, non-zero size is the rotation it
+    /// points at; a zero or non-finite one is none (glam's `normalize`
+    /// gave NaN for zero and 1e-30, and zero for 1e30).
+    #[test]
+    fn unit_rotation_takes_any_non_zero_size_and_refuses_zero() {
+        let turn = Quat::from_rotation_y(0.7);
+        for scale in [1.0, 1e-30, 1e-40, 1e30, 3e38] {
+            let q = Quat::from_vec4(glam::Vec4::from(turn) * scale);
+            let u = unit_rotation(q).unwrap();
+            assert!(u.abs_diff_eq(turn, 1e-6), "{scale}: {u}");
+        }
+        assert_eq!(unit_rotation(Quat::IDENTITY), Some(Quat::IDENTITY));
+        for bad in [
+            Quat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+            Quat::from_xyzw(f32::NAN, 0.0, 0.0, 1.0),
+            Quat::from_xyzw(0.0, f32::INFINITY, 0.0, 1.0),
+        ] {
+            assert_eq!(unit_rotation(bad), None, "{bad}");
+        }
+    }
 
     /// No point of the box moves faster by the spin than `spin_speed`, and
     /// a corner moves that fast; for a box offset from the origin that is

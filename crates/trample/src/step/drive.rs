@@ -22,7 +22,7 @@
 use super::bodies::BodyError;
 use super::body::BodyId;
 use super::simulation::Simulation;
-use crate::object::Pose;
+use crate::object::{Pose, unit_rotation};
 use glam::{Quat, Vec3};
 
 /// How far past the end of a drive, as a fraction of its step, a pose
@@ -93,14 +93,19 @@ impl Simulation {
     /// sweeping the grass on the way. Call it before each [`Simulation::step`]
     /// of that `dt`; between calls the body stays where it was left, at rest.
     /// [`Simulation::release`] gives it back to its path. Returns `false`
-    /// (and does nothing) when there is no such body or a value is not finite.
-    /// See also [`Simulation::move_body`], the same by [`BodyId`].
+    /// (and does nothing) when there is no such body, a value is not
+    /// finite or `rotation` is zero ([`unit_rotation`]; any other size is
+    /// normalised). See also [`Simulation::move_body`], the same by
+    /// [`BodyId`].
     pub fn drive(&mut self, index: usize, position: Vec3, rotation: Quat, dt: f32) -> bool {
         let now = self.time as f32;
         let Some(body) = self.bodies.get_mut(index) else {
             return false;
         };
-        if !(position.is_finite() && rotation.is_finite() && dt.is_finite() && dt > 0.0) {
+        let Some(rotation) = unit_rotation(rotation) else {
+            return false;
+        };
+        if !(position.is_finite() && dt.is_finite() && dt > 0.0) {
             return false;
         }
         // A body that sat out steps (far from the camera, waiting for its
@@ -117,7 +122,7 @@ impl Simulation {
             from,
             to: Pose {
                 position,
-                rotation: rotation.normalize(),
+                rotation,
                 velocity: Vec3::ZERO,
                 angular_velocity: Vec3::ZERO,
             },
@@ -134,8 +139,8 @@ impl Simulation {
     /// where it was, at rest.
     ///
     /// # Errors
-    /// [`BodyError`] (and nothing changes) for an unknown id or a value
-    /// that is not finite (or `dt ≤ 0`).
+    /// [`BodyError`] (and nothing changes) for an unknown id, a value that
+    /// is not finite (or `dt ≤ 0`) or a zero `rotation`.
     pub fn move_body(
         &mut self,
         id: BodyId,
@@ -150,7 +155,7 @@ impl Simulation {
             Err(BodyError::NotFinite {
                 id,
                 what: format!("position = {position}, rotation = {rotation}, dt = {dt}"),
-                extra: "; dt > 0",
+                extra: "; dt > 0 and the rotation not zero",
             })
         }
     }
@@ -163,8 +168,8 @@ impl Simulation {
     /// to its path ([`Simulation::release`]).
     ///
     /// # Errors
-    /// [`BodyError`] (and nothing changes) for an unknown id or a value
-    /// that is not finite.
+    /// [`BodyError`] (and nothing changes) for an unknown id, a value that
+    /// is not finite or a zero `rotation`.
     pub fn teleport_body(
         &mut self,
         id: BodyId,
@@ -172,17 +177,18 @@ impl Simulation {
         rotation: Quat,
     ) -> Result<(), BodyError> {
         let index = self.index_of(id)?;
-        if !(position.is_finite() && rotation.is_finite()) {
+        let unit = unit_rotation(rotation).filter(|_| position.is_finite());
+        let Some(rotation) = unit else {
             return Err(BodyError::NotFinite {
                 id,
                 what: format!("position = {position}, rotation = {rotation}"),
-                extra: "",
+                extra: "; the rotation not zero",
             });
-        }
+        };
         let t = self.time as f32;
         let pose = Pose {
             position,
-            rotation: rotation.normalize(),
+            rotation,
             velocity: Vec3::ZERO,
             angular_velocity: Vec3::ZERO,
         };

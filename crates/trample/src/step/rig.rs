@@ -26,7 +26,7 @@ use crate::obb::{Obb, ObbTree};
 use crate::object::animated::AnimatedScratch;
 use crate::object::parts::Joint;
 use crate::object::parts::{PartPose, PartsInput, WheelOdometer};
-use crate::object::{Articulation, Object, Pose};
+use crate::object::{Articulation, Object, Pose, unit_rotation};
 use glam::Vec3;
 
 /// Longest time slice, seconds, over which the wheel odometer integrates
@@ -341,7 +341,8 @@ impl Simulation {
     /// # Errors
     /// [`BodyError::Unknown`] for no such body, [`BodyError::Part`] for no
     /// such part or a part whose joint is not `host`,
-    /// [`BodyError::NotFinite`] for a pose with a NaN or infinite value.
+    /// [`BodyError::NotFinite`] for a pose with a NaN or infinite value or
+    /// a zero rotation.
     pub fn set_part_pose(
         &mut self,
         id: BodyId,
@@ -385,24 +386,26 @@ impl Simulation {
                 allowed: host_parts(),
             });
         }
-        if let Some(p) = pose {
-            let finite = p.position.is_finite()
-                && p.rotation.is_finite()
-                && p.velocity.is_finite()
-                && p.angular_velocity.is_finite();
-            if !finite {
-                return Err(BodyError::NotFinite {
-                    id,
-                    what: format!("part {shown} pose = {p:?}"),
-                    extra: "",
-                });
+        let pose = match pose {
+            None => None,
+            Some(p) => {
+                let finite = p.position.is_finite()
+                    && p.velocity.is_finite()
+                    && p.angular_velocity.is_finite();
+                match unit_rotation(p.rotation).filter(|_| finite) {
+                    Some(rotation) => Some(Pose { rotation, ..p }),
+                    None => {
+                        return Err(BodyError::NotFinite {
+                            id,
+                            what: format!("part {shown} pose = {p:?}"),
+                            extra: "; the rotation not zero",
+                        });
+                    }
+                }
             }
-        }
+        };
         body.host_poses.resize(parts.parts.len(), None);
-        body.host_poses[k] = pose.map(|p| Pose {
-            rotation: p.rotation.normalize(),
-            ..p
-        });
+        body.host_poses[k] = pose;
         Ok(())
     }
 }
