@@ -13,7 +13,9 @@ another length or of other values; the line deleted or repeated. Seeded:
 the same seed gives the same mutants.
 
 Usage: scripts/mutate_scenes.py [--bin target/release/trample] [--seed N]
-       [--count N] [--timeout S]
+       [--count N] [--timeout S] [--backend cpu|gpu|auto]
+(`--backend gpu` runs `simulate` on the GPU path; on a machine without a GPU
+set `WGPU_BACKEND=gl` for llvmpipe.)
 Prints one FOUND line a finding (the scene, the line, the mutant, the
 command and its stderr's tail) and keeps the finding's folder under
 /tmp/trample-mutants; exits 1 when something was found.
@@ -79,6 +81,7 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--count", type=int, default=200)
     ap.add_argument("--timeout", type=float, default=90.0)
+    ap.add_argument("--backend", default="cpu", choices=["cpu", "gpu", "auto"])
     a = ap.parse_args()
     if not os.access(a.bin, os.X_OK):
         sys.exit(f"{a.bin}: not an executable (cargo build --release -p trample-cli)")
@@ -105,7 +108,8 @@ def main():
                 os.symlink(os.path.join(SCENES, sub), link)
         with open(os.path.join(d, "s.toml"), "w") as f:
             f.write(text)
-        for args in (["check", "s.toml"], ["simulate", "s.toml", "--frames", "3", "--out", "o"]):
+        simulate = ["simulate", "s.toml", "--frames", "3", "--out", "o", "--backend", a.backend]
+        for args in (["check", "s.toml"], simulate):
             rc, err = run(a.bin, args, d, a.timeout)
             if rc == "timeout" or "internal error" in err or rc not in (0, 1, 2):
                 found += 1
