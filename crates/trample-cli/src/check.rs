@@ -18,8 +18,8 @@ pub fn run(a: &Args) -> Result<()> {
     let scene = Scene::load(&a.scene)?;
     let f = &scene.file;
     // The height map and the grass-map images, as a run reads them.
-    scene
-        .builder()
+    let builder = scene.builder();
+    let (_, maps) = builder
         .load_ground()
         .map_err(|e| SceneError::invalid(&scene.source, e))?;
     let objects = scene.objects()?;
@@ -50,7 +50,7 @@ pub fn run(a: &Args) -> Result<()> {
     );
     println!(
         "  memory: about {:.1} MiB (limit {} GiB)",
-        scene.builder().memory_estimate_bytes()? as f64 / (1024.0 * 1024.0),
+        builder.memory_estimate_bytes_with(&maps) as f64 / (1024.0 * 1024.0),
         f.sim.memory_limit_gib
     );
     println!(

@@ -231,16 +231,19 @@ impl SimulationBuilder {
     /// [`BuildError::Maps`] when a map image cannot be read.
     pub fn memory_estimate_bytes(&self) -> Result<u64, BuildError> {
         let maps = self.grass_maps()?;
-        Ok(self.estimate_bytes(&maps))
+        Ok(self.memory_estimate_bytes_with(&maps))
     }
 
+    /// [`SimulationBuilder::memory_estimate_bytes`] with grass maps read
+    /// already (e.g. by [`SimulationBuilder::load_ground`]):
     /// [`FieldParams::memory_estimate_bytes_for`] the blades `maps` let
     /// grow, plus, with slow blades recovering in strides
     /// (`sim.recovery_stride_m` > 0), their clock: [`RECOVERY_CLOCK_BYTES`]
     /// a blade (`Scratch::recover_clock`, made when some owner recovers —
     /// a body the host adds later may, so it is counted whatever the
     /// scene's own recovery).
-    fn estimate_bytes(&self, maps: &GrassMaps) -> u64 {
+    #[must_use]
+    pub fn memory_estimate_bytes_with(&self, maps: &GrassMaps) -> u64 {
         let clock = if self.sim.recovery_stride_m > 0.0 {
             self.field.blade_count() * RECOVERY_CLOCK_BYTES
         } else {
@@ -259,7 +262,7 @@ impl SimulationBuilder {
     /// The first [`BuildError`] found.
     pub fn build(&self) -> Result<Simulation, BuildError> {
         let (terrain, maps) = self.load_ground()?;
-        let estimate = self.estimate_bytes(&maps);
+        let estimate = self.memory_estimate_bytes_with(&maps);
         let objects: Vec<Object> = self
             .bodies
             .par_iter()
@@ -337,7 +340,7 @@ impl SimulationBuilder {
     }
 
     fn check_memory(&self, maps: &GrassMaps) -> Result<(), BuildError> {
-        let need = self.estimate_bytes(maps);
+        let need = self.memory_estimate_bytes_with(maps);
         let limit = (f64::from(self.sim.memory_limit_gib) * 1024f64.powi(3)) as u64;
         if need > limit {
             return Err(BuildError::Memory {

@@ -386,24 +386,21 @@ impl Simulation {
                 allowed: host_parts(),
             });
         }
-        let pose = match pose {
-            None => None,
-            Some(p) => {
+        let pose = pose
+            .map(|p| {
                 let finite = p.position.is_finite()
                     && p.velocity.is_finite()
                     && p.angular_velocity.is_finite();
-                match unit_rotation(p.rotation).filter(|_| finite) {
-                    Some(rotation) => Some(Pose { rotation, ..p }),
-                    None => {
-                        return Err(BodyError::NotFinite {
-                            id,
-                            what: format!("part {shown} pose = {p:?}"),
-                            extra: "; the rotation not zero",
-                        });
-                    }
-                }
-            }
-        };
+                unit_rotation(p.rotation)
+                    .filter(|_| finite)
+                    .map(|rotation| Pose { rotation, ..p })
+                    .ok_or_else(|| BodyError::NotFinite {
+                        id,
+                        what: format!("part {shown} pose = {p:?}"),
+                        extra: "; the rotation not zero",
+                    })
+            })
+            .transpose()?;
         body.host_poses.resize(parts.parts.len(), None);
         body.host_poses[k] = pose;
         Ok(())
