@@ -22,17 +22,60 @@ pub(crate) struct Kernel {
 /// Bind groups kept for reuse, by the buffers they bind (binding `i` =
 /// the `i`-th buffer): a stage binds the same buffers step after step, and
 /// making a bind group is validation and bookkeeping the host would pay
-/// again every step. One that binds others (a table made again) pushes the
-/// oldest out past `keep`, and with it the hold on its buffers.
+/// again every step. The least recently bound group is pushed out past the
+/// cache's size, and with it the hold on its buffers (a table made again
+/// leaves its old groups unbound: they go first). The size starts at the
+/// caller's `keep` and doubles (up to [`MOST_KEPT_GROUPS`]) whenever a set
+/// pushed out is asked for again: a step that binds more sets than the
+/// cache holds (a field of many chunks) would otherwise make every group
+/// again every step.
 #[derive(Default)]
 pub(crate) struct BindCache {
-    kept: std::sync::Mutex<Vec<(Vec<wgpu::Buffer>, wgpu::BindGroup)>>,
+    kept: std::sync::Mutex<Kept>,
+}
+
+/// [`BindCache`]'s contents.
+#[derive(Default)]
+struct Kept {
+    /// The groups and their buffers, least recently bound first.
+    groups: Vec<(Vec<wgpu::Buffer>, wgpu::BindGroup)>,
+    /// Fingerprints of the sets pushed out (most recent last, at most
+    /// [`MOST_KEPT_GROUPS`]); the buffers themselves are not held.
+    pushed_out: Vec<u64>,
+    /// The size grown to (0: the caller's `keep`).
+    grown: usize,
+}
+
+/// The most bind groups one cache keeps, however often it is asked again
+/// for sets it pushed out.
+pub(crate) const MOST_KEPT_GROUPS: usize = 256;
+
+/// Bind groups made by every cache of this process since it started
+/// ([`bind_groups_made`]).
+static GROUPS_MADE: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// How many bind groups the kernels' caches have made in this process: a
+/// diagnostic (a steady step should make none; `tests/bind_groups.rs`).
+#[must_use]
+pub fn bind_groups_made() -> u64 {
+    GROUPS_MADE.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// A fingerprint of a set of buffers (by identity, as `==` compares them).
+fn fingerprint(buffers: &[&wgpu::Buffer]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    buffers.len().hash(&mut h);
+    for b in buffers {
+        b.hash(&mut h);
+    }
+    h.finish()
 }
 
 impl BindCache {
     /// The group of `buffers` for `layout`: the one made before if still
-    /// kept, else a new one, kept (at most `keep`, the oldest dropped).
-    /// One cache serves one layout.
+    /// kept, else a new one, kept (the cache holds at least `keep`, the
+    /// least recently bound pushed out). One cache serves one layout.
     pub(crate) fn bind(
         &self,
         device: &wgpu::Device,
@@ -47,14 +90,32 @@ impl BindCache {
         let same = |b: &[wgpu::Buffer]| {
             b.len() == buffers.len() && b.iter().zip(buffers).all(|(a, b)| a == *b)
         };
-        if let Some((_, group)) = kept.iter().find(|(b, _)| same(b)) {
-            return group.clone();
+        if let Some(at) = kept.groups.iter().position(|(b, _)| same(b)) {
+            let entry = kept.groups.remove(at);
+            let group = entry.1.clone();
+            kept.groups.push(entry);
+            return group;
         }
+        let print = fingerprint(buffers);
+        let size = kept.grown.max(keep).clamp(1, MOST_KEPT_GROUPS);
+        if let Some(at) = kept.pushed_out.iter().position(|&f| f == print) {
+            // Asked again for a set it let go: too small for a step.
+            kept.pushed_out.remove(at);
+            kept.grown = (size * 2).min(MOST_KEPT_GROUPS);
+        }
+        let size = kept.grown.max(keep).clamp(1, MOST_KEPT_GROUPS);
         let group = make_group(device, layout, buffers);
-        while kept.len() >= keep.max(1) {
-            kept.remove(0);
+        GROUPS_MADE.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        while kept.groups.len() >= size {
+            let (old, _) = kept.groups.remove(0);
+            let old: Vec<&wgpu::Buffer> = old.iter().collect();
+            if kept.pushed_out.len() >= MOST_KEPT_GROUPS {
+                kept.pushed_out.remove(0);
+            }
+            kept.pushed_out.push(fingerprint(&old));
         }
-        kept.push((buffers.iter().map(|&b| b.clone()).collect(), group.clone()));
+        kept.groups
+            .push((buffers.iter().map(|&b| b.clone()).collect(), group.clone()));
         group
     }
 }
@@ -80,7 +141,8 @@ fn make_group(
     })
 }
 
-/// Bind groups a kernel keeps for reuse ([`BindCache`]; a few per chunk).
+/// Bind groups a kernel keeps for reuse at first ([`BindCache`]; a few per
+/// chunk; more once a step binds more).
 const KEPT_GROUPS: usize = 8;
 
 impl Kernel {

@@ -75,6 +75,7 @@ pub mod upload;
 pub use chunk::{GpuChunk, GpuChunkParams};
 pub use error::GpuError;
 pub use field::{GpuField, GpuForce};
+pub use kernel::bind_groups_made;
 pub use limits::{required_features, required_limits};
 pub use narrow_phase::NarrowPhase;
 pub use object::{GpuNode, GpuObjectParams, GpuObjects, TableLayout};
