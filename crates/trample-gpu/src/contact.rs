@@ -146,3 +146,28 @@ impl Contact {
         3 * field.chunks.len() as u32
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// `contact.wgsl`'s and `narrow_phase.wgsl`'s rule constants are the
+    /// CPU's, bit for bit (a drift would show in the parity tests only as
+    /// a small error, or not at all on their scenes).
+    #[test]
+    fn the_shaders_contact_constants_are_the_cpus() {
+        use trample::collision::narrow_phase::AGREED;
+        use trample::deform::contact::{FLAT_FLOOR, FLAT_LEAN, FLAT_OUT, PIN_HEIGHT, PIN_REACH};
+        let value = crate::wgsl_f32_const;
+        let contact = include_str!("contact.wgsl");
+        for (name, want) in [
+            ("PIN_HEIGHT", PIN_HEIGHT),
+            ("FLAT_LEAN", FLAT_LEAN),
+            ("FLAT_OUT", FLAT_OUT),
+            ("FLAT_FLOOR", FLAT_FLOOR),
+            ("PIN_REACH", PIN_REACH),
+        ] {
+            assert_eq!(value(contact, name).to_bits(), want.to_bits(), "{name}");
+        }
+        let narrow = include_str!("narrow_phase.wgsl");
+        assert_eq!(value(narrow, "AGREED").to_bits(), AGREED.to_bits());
+    }
+}

@@ -40,6 +40,23 @@ const PIN_HEIGHT: f32 = 0.02;
 const FLAT_LEAN: f32 = 0.1;
 const FLAT_OUT: f32 = 2.0;
 const FLAT_FLOOR: f32 = 0.25;
+// `deform::contact::PIN_REACH`.
+const PIN_REACH: f32 = 0.75;
+
+// `deform::contact::pin_for_push`: how far towards flat a segment `pin`
+// pinned at its start is turned when its end is pushed by `push` metres,
+// `turn` = |flat − turned|: pin · min(push / (min(turn, PIN_REACH) ·
+// seg_len), 1), 0 for a push not positive or NaN.
+fn pin_for_push(pin: f32, push: f32, turn: f32, seg_len: f32) -> f32 {
+    if !(push > 0.0) {
+        return 0.0;
+    }
+    let span = min(turn, PIN_REACH) * seg_len;
+    if !(span > push) {
+        return pin;
+    }
+    return pin * (push / span);
+}
 
 // glam `Vec3A::try_normalize`, with a fallback.
 fn normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -250,7 +267,7 @@ fn contact_blade(b: u32) {
             let push = to_world(out.xyz) - v[k];
             let turned = turn_towards(v[k] - start, push, lean, seg_len);
             let flat = flat_direction(v[k] - start, v[k] - v[0], start - obj.position.xyz, seg_len, turned);
-            let pin = pin_was[k - 1u];
+            let pin = pin_for_push(pin_was[k - 1u], length(push), length(flat - turned), seg_len);
             let dir = normalize_or(turned * (1.0 - pin) + flat * pin, turned);
             v[k] = start + dir * seg_len;
             preserve_from(&v, k, n, seg_len);

@@ -137,3 +137,16 @@ pub fn shader_sources() -> Vec<(&'static str, String)> {
         ("track_owners.wgsl", track_owners::source()),
     ]
 }
+
+/// The value of `const NAME: f32 = …;` in `wgsl` (for the tests that check
+/// a shader's constants against the CPU's, bit for bit).
+#[cfg(test)]
+pub(crate) fn wgsl_f32_const(wgsl: &str, name: &str) -> f32 {
+    let at = wgsl
+        .find(&format!("const {name}: f32 = "))
+        .unwrap_or_else(|| panic!("no const {name}"));
+    let rest = &wgsl[at..];
+    let text = rest[rest.find('=').unwrap() + 1..rest.find(';').unwrap()].trim();
+    text.parse()
+        .unwrap_or_else(|e| panic!("{name} = {text}: {e}"))
+}

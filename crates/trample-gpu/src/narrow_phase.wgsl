@@ -126,6 +126,8 @@ struct Contact {
     weight: f32,
     // `SegmentContact::velocity`: the deforming mesh's own velocity there.
     velocity: vec3<f32>,
+    // `SegmentContact::agree`: how much the final nodes' directions agree.
+    agree: f32,
 }
 
 fn contact(w: Walk, p0: vec3<f32>, p1: vec3<f32>) -> Contact {
@@ -135,7 +137,7 @@ fn contact(w: Walk, p0: vec3<f32>, p1: vec3<f32>) -> Contact {
         dir = w.sum * (1.0 / sqrt(len2));
     }
     let n = node_at(w.first);
-    return Contact(dir, closest_point(p0, p1, n.center.xyz), 1.0, n.velocity.xyz);
+    return Contact(dir, closest_point(p0, p1, n.center.xyz), 1.0, n.velocity.xyz, 1.0);
 }
 
 // `narrow_phase::collide_segment`: hit flag in `hit`, contact when hit.
@@ -145,7 +147,7 @@ struct SegmentHit {
 }
 
 fn collide_segment(p0: vec3<f32>, p1: vec3<f32>) -> SegmentHit {
-    let miss = SegmentHit(false, Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0)));
+    let miss = SegmentHit(false, Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0), 0.0));
     if tree.x == 0u {
         return miss;
     }
@@ -240,6 +242,23 @@ fn ramp_at(p: vec3<f32>, deform: vec3<f32>) -> f32 {
     return 0.0;
 }
 
+// `narrow_phase::AGREED`.
+const AGREED: f32 = 0.25;
+
+// `narrow_phase::agreement`: min(len / (AGREED · sum), 1), exactly 1 from
+// AGREED on, 0 for a sum not positive or NaN.
+fn agreement(len: f32, sum: f32) -> f32 {
+    let full = AGREED * sum;
+    if len >= full {
+        return 1.0;
+    }
+    let a = len / full;
+    if a > 0.0 {
+        return a;
+    }
+    return 0.0;
+}
+
 // `narrow_phase::Weighted`.
 struct Weighted {
     dir: vec3<f32>,
@@ -326,7 +345,7 @@ fn below_patch(c: vec3<f32>, n: vec3<f32>, p0: vec3<f32>, p1: vec3<f32>, shell: 
 
 // `narrow_phase::contact_segment`: the weighted contact (weight 0: none).
 fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
-    let none = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0));
+    let none = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0), 0.0);
     if tree.x == 0u {
         return none;
     }
@@ -431,7 +450,7 @@ fn contact_segment(p0: vec3<f32>, p1: vec3<f32>, shell: f32) -> Contact {
             dir = acc.dir * rcp;
         }
     }
-    return Contact(dir, acc.point / acc.sum, acc.max_w, acc.velocity / acc.sum);
+    return Contact(dir, acc.point / acc.sum, acc.max_w, acc.velocity / acc.sum, agreement(dl, acc.sum));
 }
 
 // `narrow_phase::contact_node`: final node i, whose box (grown by the
@@ -706,7 +725,7 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
         for (var k = 0u; k < segments; k++) {
             let next = blade_local[k + 1u];
             pen_segment = k;
-            var c = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0));
+            var c = Contact(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, vec3<f32>(0.0), 0.0);
             if weighted {
                 c = contact_segment(prev, next, shell);
             } else {
@@ -728,7 +747,7 @@ fn collide_blade(b: u32, weighted: bool, f: ptr<function, vec4<f32>>, touched: p
                 if rcp < 3.0e38 && rcp > 0.0 {
                     var eqf = (dir * rcp) * abs(speed);
                     if weighted {
-                        eqf = eqf * (c.weight * press);
+                        eqf = eqf * (c.weight * c.agree * press);
                     }
                     sum += eqf;
                 }

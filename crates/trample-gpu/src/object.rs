@@ -632,15 +632,7 @@ mod tests {
             ATAN_POLY, FAR_HI, FAR_LO, WINDING_INSIDE_HI, WINDING_INSIDE_LO,
         };
         let wgsl = crate::OBJECT_WGSL;
-        let value = |name: &str| -> f32 {
-            let at = wgsl
-                .find(&format!("const {name}: f32 = "))
-                .unwrap_or_else(|| panic!("object.wgsl has no {name}"));
-            let rest = &wgsl[at..];
-            let text = rest[rest.find('=').unwrap() + 1..rest.find(';').unwrap()].trim();
-            text.parse()
-                .unwrap_or_else(|e| panic!("{name} = {text}: {e}"))
-        };
+        let value = |name: &str| crate::wgsl_f32_const(wgsl, name);
         let names = [
             "ATAN_C1", "ATAN_C3", "ATAN_C5", "ATAN_C7", "ATAN_C9", "ATAN_C11",
         ];

@@ -19,7 +19,9 @@
 //! object resting on the ground lies flat under it, and comes out from
 //! under it where it is long enough. How pinned a point is goes from 0 to 1
 //! with how deep under the object the point just above it lies
-//! (`pinned`), so the two rules blend without a jump. One turn settles a
+//! (`pinned`), so the two rules blend without a jump; the flat rule comes
+//! in with the push ([`pin_for_push`]), so a vertex that only just passes
+//! the tolerance is not laid down at once. One turn settles a
 //! flat surface; for a curved one the vertices are tested again, up to
 //! [`CONTACT_ITERATIONS`] rounds, each round starting at the lowest vertex
 //! moved in the one before (vertices below it are final).
@@ -196,6 +198,7 @@ pub fn resolve_contact_hinted(
                     pin
                 }
             };
+            let pin = pin_for_push(pin, push.length(), (flat - turned).length(), seg_len);
             let dir = turned.lerp(flat, pin).try_normalize().unwrap_or(turned);
             verts[k] = start + dir * seg_len;
             preserve_from(verts, k, seg_len, terrain, clearance);
@@ -245,6 +248,44 @@ pub fn flat_direction(seg: Vec3A, lean: Vec3A, out: Vec3A, seg_len: f32) -> Opti
     (part(seg) + part(lean) * FLAT_LEAN + part(out) * FLAT_OUT).try_normalize()
 }
 
+/// How far a pinned segment's end must be pushed for the flat rule to take
+/// it all the way (see [`pin_for_push`]), as a share of the segment's
+/// length: three quarters.
+pub const PIN_REACH: f32 = 0.75;
+
+/// How far towards flat a segment whose lower end is `pin` pinned
+/// (`pinned`, 0 to 1) is turned, when its upper end is pushed out by
+/// `push` metres, `turn` is the distance between the unit directions it
+/// would take lying flat and turned by the push alone (0 to 2), and
+/// `seg_len` its length: `pin · min(push / span, 1)` with `span =
+/// min(turn, PIN_REACH) · seg_len`, the way the end would go towards flat.
+/// A small push moves the end towards flat by about `pin · push`, not
+/// more, and a push of a few ulp turns the segment by a few ulp, as
+/// [`turn_towards`] does; a vertex deep under an object (pushed by three
+/// quarters of a segment or more) is laid flat whole, whatever its push's
+/// direction.
+///
+/// Why: applied whole the moment a vertex's depth passed the contact
+/// tolerance, the rule laid a segment down by centimetres for one ulp of
+/// depth (4 cm from a 1e-7 m change of a capsule's height,
+/// `tests/contact_continuity.rs`). A ramp over a fixed centimetre of push
+/// kept a gain of ~15 that grew step after step (115 runs of 1,500 moved a
+/// blade by over 1 mm for 1e-7 m, against 11 with the whole rule); over
+/// `turn · seg_len` alone, a vertex 14 cm deep was laid only 79 % flat and
+/// took the rest from its push, whose way turns fast deep in a box. 0 for
+/// a push that is not positive (or NaN).
+#[must_use]
+pub fn pin_for_push(pin: f32, push: f32, turn: f32, seg_len: f32) -> f32 {
+    if push.is_nan() || push <= 0.0 {
+        return 0.0;
+    }
+    let span = turn.min(PIN_REACH) * seg_len;
+    if span.is_nan() || span <= push {
+        return pin;
+    }
+    pin * (push / span)
+}
+
 /// How pinned under the object a vertex at `p` (world) is, in [0, 1]: how
 /// close it is to the ground guard (1 on it, 0 from [`PIN_HEIGHT`] above
 /// it) times how deep under the object the point [`PIN_HEIGHT`] above it
@@ -292,6 +333,37 @@ mod tests {
         assert_eq!(turn_towards(d, Vec3A::ZERO, Vec3A::X, 0.1), d);
         let tiny = turn_towards(d, Vec3A::new(1e-7, 0.0, 0.0), Vec3A::X, 0.1);
         assert!((tiny - d).length() < 1e-5);
+    }
+
+    /// The flat rule comes in with the push: nothing for no push (or NaN),
+    /// an end moved towards flat by about `pin · push` while the push is
+    /// short of the way to flat (or of `PIN_REACH` of the segment), the
+    /// whole pin beyond; and a few ulp of push more change it by as
+    /// little (the rule applied whole before, this failed at once).
+    #[test]
+    fn the_flat_rule_comes_in_with_the_push() {
+        let len = 0.12;
+        assert_eq!(pin_for_push(1.0, 0.0, 1.2, len), 0.0);
+        assert_eq!(pin_for_push(1.0, f32::NAN, 1.2, len), 0.0);
+        assert_eq!(pin_for_push(1.0, -1e-3, 1.2, len), 0.0);
+        // Deep: the whole pin, whatever the push's way.
+        assert_eq!(pin_for_push(0.8, 0.2, 1.2, len), 0.8);
+        assert_eq!(pin_for_push(0.8, PIN_REACH * len, 1.9, len), 0.8);
+        // Short: in proportion to the push over the way to flat.
+        let p = pin_for_push(1.0, 0.01, 0.5, len);
+        assert!((p - 0.01 / (0.5 * len)).abs() < 1e-6, "{p}");
+        let p = pin_for_push(0.5, 0.01, 1.5, len);
+        assert!((p - 0.5 * 0.01 / (PIN_REACH * len)).abs() < 1e-6, "{p}");
+        // Continuous from the tolerance on: a push of 1e-7 m, a pin of ~1e-6.
+        let tiny = pin_for_push(1.0, 1e-7, 1.2, len);
+        assert!(tiny > 0.0 && tiny < 2e-6, "{tiny}");
+        let mut last = 0.0;
+        for k in 1..=2000 {
+            let p = pin_for_push(0.9, k as f32 * 1e-4, 1.0, len);
+            assert!(p >= last && p - last < 2e-3, "{k}: {last} → {p}");
+            last = p;
+        }
+        assert_eq!(last, 0.9);
     }
 
     /// Whatever triangles the hints name — none, the right ones, wrong

@@ -182,7 +182,7 @@ impl<'a> ColliderNarrow<'a> {
                     let speed = (pose.point_velocity(pose.to_world(c.point))
                         + pose.rotation * c.velocity)
                         .length();
-                    force += eqf(speed, pose.rotation * c.dir) * (c.weight * self.press);
+                    force += eqf(speed, pose.rotation * c.dir) * (c.weight * c.agree * self.press);
                 }
             }
             hits.push(BladeHit {
