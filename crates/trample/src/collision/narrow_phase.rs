@@ -208,7 +208,8 @@ pub fn collide_segment(
 /// 1 at the shell's depth.
 /// The segment's weight is `max_j w_j`; its direction the normalised
 /// `Σ w_j · dir_j` (`dir_j` = [`ObbTree::eqn_direction`]; where the sum
-/// cancels, the direction of the heaviest node); its point `Σ w_j · c_j /
+/// cancels, the direction of the heaviest node), its push fading where
+/// the sum is short ([`SegmentContact::agree`]); its point `Σ w_j · c_j /
 /// Σ w_j` with `c_j` the point of the segment closest to node `j`'s centre.
 /// With `shell ≤ 0` or NaN this is [`collide_segment`] with every weight 1.
 ///
@@ -1109,6 +1110,10 @@ fn walk(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::obb::Obb;
+    use crate::object::shapes::{cuboid, knot, sphere};
+    use crate::test_rng::XorShift;
+    use glam::Quat;
 
     /// `agreement`: exactly 1 from `AGREED` on (the push of every contact
     /// whose nodes agree keeps its bits), in proportion below, 0 where the
@@ -1137,10 +1142,6 @@ mod tests {
             last = Some(force);
         }
     }
-    use crate::obb::Obb;
-    use crate::object::shapes::{cuboid, knot, sphere};
-    use crate::test_rng::XorShift;
-    use glam::Quat;
 
     /// A segment of a still object's contact whose lower end is moved in
     /// steps of 1 µm from 0.2 mm outside a tessellated ball to 0.2 mm
