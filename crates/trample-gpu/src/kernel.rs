@@ -97,11 +97,10 @@ impl BindCache {
             return group;
         }
         let print = fingerprint(buffers);
-        let size = kept.grown.max(keep).clamp(1, MOST_KEPT_GROUPS);
         if let Some(at) = kept.pushed_out.iter().position(|&f| f == print) {
             // Asked again for a set it let go: too small for a step.
             kept.pushed_out.remove(at);
-            kept.grown = (size * 2).min(MOST_KEPT_GROUPS);
+            kept.grown = kept.grown.max(keep).max(1).saturating_mul(2);
         }
         let size = kept.grown.max(keep).clamp(1, MOST_KEPT_GROUPS);
         let group = make_group(device, layout, buffers);
