@@ -36,27 +36,36 @@ pub fn body_position(sim: &Simulation, id: BodyId) -> Option<Vec3> {
 
 /// Moves body `id` over the next step of `dt` seconds from where it is to
 /// `position` with `rotation` (world from local), sweeping the grass on the
-/// way (the contact speed of Eq. 2 is the displacement over `dt`). Returns
-/// `false` (and the body stays) for an unknown id, a value that is not
-/// finite or a zero rotation.
+/// way (the contact speed of Eq. 2 is the displacement over `dt`).
+///
+/// # Errors
+/// The core's message (and the body stays) for an unknown id, a value that
+/// is not finite, `dt ≤ 0` or a zero rotation.
 pub fn move_body(
     sim: &mut Simulation,
     id: BodyId,
     position: Vec3,
     rotation: Quat,
     dt: f32,
-) -> bool {
+) -> Result<(), String> {
     sim.move_body(id, core_vec3(position), core_quat(rotation), dt)
-        .is_ok()
+        .map_err(|e| e.to_string())
 }
 
 /// Moves body `id` to `position` with `rotation` at once, without sweeping
-/// the grass between where it was and there (a respawn). Returns `false`
-/// (and the body stays) for an unknown id, a value that is not finite or a
-/// zero rotation.
-pub fn teleport_body(sim: &mut Simulation, id: BodyId, position: Vec3, rotation: Quat) -> bool {
+/// the grass between where it was and there (a respawn).
+///
+/// # Errors
+/// The core's message (and the body stays) for an unknown id, a value that
+/// is not finite or a zero rotation.
+pub fn teleport_body(
+    sim: &mut Simulation,
+    id: BodyId,
+    position: Vec3,
+    rotation: Quat,
+) -> Result<(), String> {
     sim.teleport_body(id, core_vec3(position), core_quat(rotation))
-        .is_ok()
+        .map_err(|e| e.to_string())
 }
 
 /// Hands the host's camera to `sim` for the level of detail and culling:

@@ -23,7 +23,7 @@ pub mod trampler;
 pub use error::TrampleError;
 pub use field::TrampleField;
 pub use step::TrampleCamera;
-pub use trampler::{Trampler, TramplerBody, TramplerError, TramplerShape};
+pub use trampler::{Trampler, TramplerBody, TramplerError, TramplerPoseRefused, TramplerShape};
 
 use bevy::prelude::*;
 use bevy::transform::TransformSystems;

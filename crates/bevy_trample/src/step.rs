@@ -5,7 +5,7 @@
 use crate::diagnostics;
 use crate::field::TrampleField;
 use crate::host;
-use crate::trampler::{Trampler, TramplerBody};
+use crate::trampler::{Trampler, TramplerBody, TramplerPoseRefused, note_pose};
 use bevy::diagnostic::Diagnostics;
 use bevy::prelude::*;
 use bevy::transform::helper::TransformHelper;
@@ -21,15 +21,19 @@ pub struct TrampleCamera;
 /// `teleport_speed_m_s` does not sweep), the trample camera sets the
 /// viewpoint, then `Simulation::step`. Transforms are read through
 /// [`TransformHelper`], so a game that moves its entities in `FixedUpdate`
-/// before [`crate::TrampleSystems::Step`] is seen at once.
+/// before [`crate::TrampleSystems::Step`] is seen at once. A transform the
+/// core refuses (not finite: a NaN, a zero scale) leaves the body where it
+/// was and puts a [`TramplerPoseRefused`] on the entity until a pose is
+/// taken again.
 #[allow(clippy::type_complexity)]
 pub fn step_field(
     time: Res<Time>,
     field: Option<ResMut<TrampleField>>,
     transforms: TransformHelper,
-    tramplers: Query<(Entity, &Trampler, &TramplerBody)>,
+    tramplers: Query<(Entity, &Trampler, &TramplerBody, Has<TramplerPoseRefused>)>,
     cameras: Query<(Entity, &Projection), With<TrampleCamera>>,
     mut diagnostics: Diagnostics,
+    mut commands: Commands,
 ) {
     let Some(mut field) = field else { return };
     let field = &mut *field;
@@ -37,18 +41,19 @@ pub fn step_field(
     if dt <= 0.0 {
         return;
     }
-    for (entity, trampler, body) in &tramplers {
+    for (entity, trampler, body, refused) in &tramplers {
         let Ok(global) = transforms.compute_global_transform(entity) else {
             continue;
         };
         let (_, rotation, position) = global.to_scale_rotation_translation();
         let here = host::body_position(&field.sim, body.id);
         let jump = here.is_some_and(|p| p.distance(position) > trampler.teleport_speed_m_s * dt);
-        if jump {
-            host::teleport_body(&mut field.sim, body.id, position, rotation);
+        let posed = if jump {
+            host::teleport_body(&mut field.sim, body.id, position, rotation)
         } else {
-            host::move_body(&mut field.sim, body.id, position, rotation, dt);
-        }
+            host::move_body(&mut field.sim, body.id, position, rotation, dt)
+        };
+        note_pose(&mut commands, entity, posed, refused);
     }
     let view = cameras.iter().next().and_then(|(entity, projection)| {
         let global = transforms.compute_global_transform(entity).ok()?;

@@ -85,6 +85,35 @@ pub struct TramplerBody {
 #[derive(Component, Clone, Debug, PartialEq, Eq)]
 pub struct TramplerError(pub String);
 
+/// On a trampler whose transform the simulation step could not pose its
+/// body with (a position or rotation that is not finite, as a zero or NaN
+/// scale gives): the core's message. The body stays where it was and the
+/// game goes on; the component goes once a pose is taken again. Logged
+/// when it appears, not at every step.
+#[derive(Component, Clone, Debug, PartialEq, Eq)]
+pub struct TramplerPoseRefused(pub String);
+
+/// Puts `refused` on `entity` (logging it) when the pose was refused and
+/// the entity did not say so yet; takes it off when a pose was taken and
+/// it did.
+pub(crate) fn note_pose(
+    commands: &mut Commands,
+    entity: Entity,
+    posed: Result<(), String>,
+    refused: bool,
+) {
+    match posed {
+        Ok(()) if refused => {
+            commands.entity(entity).remove::<TramplerPoseRefused>();
+        }
+        Err(e) if !refused => {
+            warn!("bevy_trample: entity {entity}: pose refused, its body stays where it was: {e}");
+            commands.entity(entity).insert(TramplerPoseRefused(e));
+        }
+        _ => {}
+    }
+}
+
 /// Adds, rebuilds and removes bodies: a new or changed [`Trampler`], a
 /// changed mesh asset or a changed scale rebuilds the body; an entity that
 /// lost its `Trampler` (or was despawned) loses its body. Runs in
@@ -135,7 +164,7 @@ pub fn sync_bodies(
             field.tramplers -= 1;
         }
         if let Ok(mut e) = commands.get_entity(entity) {
-            e.try_remove::<(TramplerBody, TramplerError)>();
+            e.try_remove::<(TramplerBody, TramplerError, TramplerPoseRefused)>();
         }
     }
 
@@ -195,7 +224,8 @@ pub fn sync_bodies(
             Ok(b) => {
                 let id = host::add_body(&mut field.sim, b);
                 // Where the entity is, without sweeping the grass from the origin.
-                host::teleport_body(&mut field.sim, id, position, rotation);
+                let posed = host::teleport_body(&mut field.sim, id, position, rotation);
+                note_pose(&mut commands, entity, posed, false);
                 field.tramplers += 1;
                 known.insert(entity, id);
                 commands

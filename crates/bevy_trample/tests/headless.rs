@@ -2,11 +2,14 @@
 //! "Tests that must exist": a `Trampler` with a sphere mesh moved by a
 //! system across the field bends the blades on its path and not elsewhere;
 //! removing the component removes the body; a changed mesh asset rebuilds
-//! its tree.
+//! its tree. And a transform the core cannot pose a body with leaves the
+//! body where it was, says so on the entity, and the game goes on.
 
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
-use bevy_trample::{TrampleField, TramplePlugin, TrampleSystems, Trampler, TramplerBody};
+use bevy_trample::{
+    TrampleField, TramplePlugin, TrampleSystems, Trampler, TramplerBody, TramplerPoseRefused,
+};
 use std::time::Duration;
 use trample::builder::SimulationBuilder;
 use trample::field::{FieldParams, LodParams};
@@ -250,4 +253,62 @@ fn a_changed_mesh_asset_rebuilds_the_tree() {
             .is_some()
     );
     assert!(app.world().resource::<TrampleField>().sim.bodies.is_empty());
+}
+
+#[test]
+fn a_transform_that_cannot_pose_the_body_leaves_it_where_it_was() {
+    let mut app = app();
+    let (entity, _) = spawn_sphere(&mut app, RADIUS);
+    for _ in 0..10 {
+        app.update();
+    }
+    let id = app.world().get::<TramplerBody>(entity).expect("a body").id;
+    let position = |app: &App| {
+        let field = app.world().resource::<TrampleField>();
+        field.sim.body(id).expect("still simulated").pose.position
+    };
+    let before = position(&app);
+    assert!(app.world().get::<TramplerPoseRefused>(entity).is_none());
+
+    // A NaN rotation (a zero scale is a changed scale: the body is
+    // rebuilt, and a `TramplerError` says why it cannot be).
+    app.world_mut()
+        .get_mut::<Transform>(entity)
+        .unwrap()
+        .rotation = Quat::from_xyzw(f32::NAN, 0.0, 0.0, 1.0);
+    for _ in 0..5 {
+        app.update();
+    }
+    let refused = app
+        .world()
+        .get::<TramplerPoseRefused>(entity)
+        .expect("the refusal is on the entity");
+    assert!(refused.0.contains("must be finite"), "{}", refused.0);
+    assert_eq!(position(&app), before, "the body moved on a refused pose");
+    assert_eq!(app.world().resource::<TrampleField>().tramplers(), 1);
+
+    // A NaN position: the same.
+    {
+        let mut t = app.world_mut().get_mut::<Transform>(entity).unwrap();
+        t.rotation = Quat::IDENTITY;
+        t.translation.y = f32::NAN;
+    }
+    app.update();
+    assert_eq!(position(&app), before);
+    assert!(app.world().get::<TramplerPoseRefused>(entity).is_some());
+
+    // A pose it can take again: the body follows, the refusal goes.
+    app.world_mut()
+        .get_mut::<Transform>(entity)
+        .unwrap()
+        .translation
+        .y = CENTRE_Y;
+    app.update();
+    let x = app.world().get::<Transform>(entity).unwrap().translation.x;
+    assert!(app.world().get::<TramplerPoseRefused>(entity).is_none());
+    assert!(
+        (position(&app).x - x).abs() < 1e-4,
+        "the body follows its entity again: {} against {x}",
+        position(&app)
+    );
 }
