@@ -348,6 +348,50 @@ fn the_memory_estimate_follows_the_density() {
 
 // ------------------------------------------------------------ bad map input
 
+/// A PNG whose header says `w`×`h` 16-bit grey pixels, with almost no
+/// data: what an image too large to decode looks like to the decoder
+/// before it allocates.
+fn huge_png_header(w: u32, h: u32) -> Vec<u8> {
+    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
+        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let start = out.len();
+        out.extend_from_slice(kind);
+        out.extend_from_slice(data);
+        let crc = crc32(&out[start..]);
+        out.extend_from_slice(&crc.to_be_bytes());
+    }
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut c = !0u32;
+        for &b in bytes {
+            c ^= u32::from(b);
+            for _ in 0..8 {
+                c = if c & 1 == 1 {
+                    0xedb8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
+            }
+        }
+        !c
+    }
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = Vec::new();
+    ihdr.extend_from_slice(&w.to_be_bytes());
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[16, 0, 0, 0, 0]);
+    chunk(&mut out, b"IHDR", &ihdr);
+    // A stored (uncompressed) zlib stream of one zero byte.
+    chunk(
+        &mut out,
+        b"IDAT",
+        &[
+            0x78, 0x01, 0x01, 0x01, 0x00, 0xfe, 0xff, 0x00, 0x00, 0x01, 0x00, 0x01,
+        ],
+    );
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
 #[test]
 fn bad_maps_are_refused_with_the_file_and_key() {
     let dir = std::env::temp_dir().join(format!("trample-maps-{}", std::process::id()));
@@ -356,6 +400,7 @@ fn bad_maps_are_refused_with_the_file_and_key() {
         .save(dir.join("tiny.png"))
         .unwrap();
     std::fs::write(dir.join("text.png"), "not a png").unwrap();
+    std::fs::write(dir.join("huge.png"), huge_png_header(60_000, 60_000)).unwrap();
     let outcome = |maps: &str| {
         let text =
             format!("[field]\npatches = [1, 1]\ncells_per_patch = 8\n[field.maps]\n{maps}\n");
@@ -381,6 +426,10 @@ fn bad_maps_are_refused_with_the_file_and_key() {
         (
             r#"density = "text.png""#,
             "<dir>/scene.toml: field.maps.density = <dir>/text.png: Format error decoding Png: Invalid PNG signature.",
+        ),
+        (
+            r#"height = "huge.png""#,
+            "<dir>/scene.toml: field.maps.height = <dir>/huge.png: 60000x60000 pixels, too large to decode (Memory limit exceeded: the image decoder allows 512 MiB); allowed: a smaller image (a map is sampled once per cell: more pixels than the field has cells add nothing)",
         ),
         (
             r#"density = "sub""#,

@@ -39,6 +39,10 @@ pub enum GridImageError {
     },
 }
 
+/// The image decoder's memory limit, MiB (`image::Limits::default()`'s
+/// `max_alloc`), named in the error for an image too large to decode.
+const DECODER_LIMIT_MIB: u64 = 512;
+
 /// Reads the grey image `path` (relative to `base_dir`, inside it) as a
 /// grid of values in [0, 1] covering a field of `extent` (x, z) metres
 /// centred on the origin: pixel column i, row j sits at
@@ -73,7 +77,14 @@ pub fn load_grid_image(
     let img = image::open(&full)
         .map_err(|e| GridImageError::Unreadable {
             path: shown.clone(),
-            reason: e.to_string(),
+            reason: match (&e, image::image_dimensions(&full)) {
+                (image::ImageError::Limits(_), Ok((w, h))) => format!(
+                    "{w}x{h} pixels, too large to decode ({e}: the image decoder allows \
+                     {DECODER_LIMIT_MIB} MiB); allowed: a smaller image (a map is sampled \
+                     once per cell: more pixels than the field has cells add nothing)"
+                ),
+                _ => e.to_string(),
+            },
         })?
         .into_luma16();
     let (w, h) = img.dimensions();
