@@ -22,7 +22,7 @@ pub struct TrampleCamera;
 /// viewpoint, then `Simulation::step`. Transforms are read through
 /// [`TransformHelper`], so a game that moves its entities in `FixedUpdate`
 /// before [`crate::TrampleSystems::Step`] is seen at once. A transform the
-/// core refuses (not finite: a NaN, a zero scale) leaves the body where it
+/// core refuses (a position or rotation that is not finite) leaves the body where it
 /// was and puts a [`TramplerPoseRefused`] on the entity until a pose is
 /// taken again.
 #[allow(clippy::type_complexity)]

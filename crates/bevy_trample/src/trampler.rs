@@ -86,8 +86,9 @@ pub struct TramplerBody {
 pub struct TramplerError(pub String);
 
 /// On a trampler whose transform the simulation step could not pose its
-/// body with (a position or rotation that is not finite, as a zero or NaN
-/// scale gives): the core's message. The body stays where it was and the
+/// body with (a position or rotation that is not finite): the core's
+/// message. (A zero scale is a changed scale: the body is rebuilt, and a
+/// [`TramplerError`] says why it cannot be.) The body stays where it was and the
 /// game goes on; the component goes once a pose is taken again. Logged
 /// when it appears, not at every step.
 #[derive(Component, Clone, Debug, PartialEq, Eq)]

@@ -39,10 +39,6 @@ pub enum GridImageError {
     },
 }
 
-/// The image decoder's memory limit, MiB (`image::Limits::default()`'s
-/// `max_alloc`), named in the error for an image too large to decode.
-const DECODER_LIMIT_MIB: u64 = 512;
-
 /// Reads the grey image `path` (relative to `base_dir`, inside it) as a
 /// grid of values in [0, 1] covering a field of `extent` (x, z) metres
 /// centred on the origin: pixel column i, row j sits at
@@ -78,10 +74,12 @@ pub fn load_grid_image(
         .map_err(|e| GridImageError::Unreadable {
             path: shown.clone(),
             reason: match (&e, image::image_dimensions(&full)) {
+                // `image::open` decodes under the default limits.
                 (image::ImageError::Limits(_), Ok((w, h))) => format!(
                     "{w}x{h} pixels, too large to decode ({e}: the image decoder allows \
-                     {DECODER_LIMIT_MIB} MiB); allowed: a smaller image (a map is sampled \
-                     once per cell: more pixels than the field has cells add nothing)"
+                     {} MiB); allowed: a smaller image (a map is sampled once per cell: \
+                     more pixels than the field has cells add nothing)",
+                    image::Limits::default().max_alloc.unwrap_or(u64::MAX) >> 20
                 ),
                 _ => e.to_string(),
             },
