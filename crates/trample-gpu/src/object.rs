@@ -330,7 +330,7 @@ impl TableLayout {
             .bodies
             .iter()
             .flat_map(|b| {
-                let animated = b.object.animated.is_some();
+                let animated = b.deforms();
                 b.colliders().map(move |c| (c.tree, animated))
             })
             .unzip();

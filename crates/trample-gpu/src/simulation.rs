@@ -58,7 +58,7 @@ fn collider_keys(sim: &Simulation) -> Vec<ColliderKey> {
     sim.bodies
         .iter()
         .flat_map(|b| {
-            let animated = b.object.animated.is_some();
+            let animated = b.deforms();
             b.colliders().map(move |c| {
                 let t = c.tree;
                 let root = t.nodes.first().filter(|_| !animated).map(|n| {
@@ -453,7 +453,7 @@ impl GpuSimulation {
             .sim
             .bodies
             .iter()
-            .filter(|b| b.object.animated.is_some())
+            .filter(|b| b.deforms())
             .map(|b| GpuObjects::tree_bytes(&b.tree))
             .sum();
         let per_substep = (std::mem::size_of::<GpuStepParams>()
@@ -493,7 +493,7 @@ impl GpuSimulation {
                     if k >= self.objects.len() {
                         break;
                     }
-                    if on && body.object.animated.is_some() && std::ptr::eq(c.tree, &*body.tree) {
+                    if on && body.deforms() && std::ptr::eq(c.tree, &*body.tree) {
                         refitted.push((k, index));
                     }
                     let root = if on {

@@ -214,3 +214,35 @@ fn host_bodies(host: bool) {
     );
     assert!(owners.contains(&1), "the ball's blades are owner 1 now");
 }
+
+/// A host's animated mesh on the GPU path
+/// (`Simulation::set_body_vertices`): a crate whose vertices the host
+/// slides along +x, its pose kept, on both paths; the GPU uploads the
+/// refitted tree every sub-step as it does an animated glTF's, and the two
+/// fields agree.
+#[test]
+fn a_mesh_the_host_deforms_is_followed_on_the_gpu() {
+    let gpu = common::gpu();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut cpu = field();
+    let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
+    let dt = cpu.params.dt_s;
+    let crate_body = BodyBuilder::cuboid("crate", [0.3, 0.25, 0.3])
+        .at([-2.2, 0.3, -1.5])
+        .build()
+        .unwrap();
+    let a = both(&mut cpu, &mut g, |s| s.add_body(crate_body.clone()));
+    let rest = cpu.bodies[0].object.mesh.positions.clone();
+    let mut offset = Vec3::ZERO;
+    for _ in 0..40 {
+        offset += Vec3::X * 1.5 * dt;
+        let vertices: Vec<Vec3> = rest.iter().map(|&p| p + offset).collect();
+        both(&mut cpu, &mut g, |s| s.set_body_vertices(a, &vertices, dt)).unwrap();
+        steps(&gpu, &mut g, &mut cpu, 1, false);
+    }
+    assert!(
+        cpu.blades_away_from_rest() > 100,
+        "the slid mesh must leave a track"
+    );
+    compare(&gpu, &g, &cpu, "slid mesh");
+}

@@ -99,9 +99,10 @@ pub(crate) fn is_still(pose: &Pose) -> bool {
 
 /// Whether `body`'s colliders are keyed ([`RestKey`]) under `params`: with
 /// `reuse_at_rest`, in the track-everywhere mode, and not animated (an
-/// animated body's tree is refitted in place).
+/// animated body's tree is refitted in place, as is one whose vertices the
+/// host sets: [`super::Body::deforms`]).
 pub(crate) fn may_reuse(params: &super::SimParams, body: &super::Body) -> bool {
-    params.reuse_at_rest && params.track_everywhere && body.object.animated.is_none()
+    params.reuse_at_rest && params.track_everywhere && !body.deforms()
 }
 
 /// What a collider kept from its latest sub-steps: while at rest, its

@@ -48,6 +48,15 @@ pub enum BodyError {
         /// More of what is allowed (e.g. `; dt > 0`).
         extra: &'static str,
     },
+    /// Vertices the host gave a body's mesh
+    /// ([`Simulation::set_body_vertices`]) that it cannot take.
+    #[error("{id}: set_body_vertices: {problem}")]
+    Vertices {
+        /// The body.
+        id: BodyId,
+        /// What is wrong and what is allowed.
+        problem: String,
+    },
 }
 
 /// The track owners after the bodies `before` became `after` (ids in

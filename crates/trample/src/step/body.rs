@@ -161,6 +161,15 @@ impl Body {
         self.stepped_to
     }
 
+    /// Whether the body's mesh deforms: a skinned glTF playing an animation,
+    /// or a mesh whose vertices the host has set
+    /// ([`super::Simulation::set_body_vertices`]). Its tree is refitted at
+    /// every sub-step, so nothing keyed by the tree is kept between them.
+    #[must_use]
+    pub fn deforms(&self) -> bool {
+        self.object.animated.is_some() || self.rig.host.is_some()
+    }
+
     /// Whether the body may be stepped less often when far from the camera
     /// ([`crate::step::SimParams::far_every`]): a pass may pose it at any
     /// time since its last turn — on its scene path, or driven by the host

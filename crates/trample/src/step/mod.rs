@@ -9,6 +9,7 @@ mod collide;
 mod contact_hints;
 mod deform;
 pub mod drive;
+mod host_mesh;
 pub mod params;
 pub mod passes;
 pub mod query;

@@ -19,6 +19,7 @@
 
 use super::bodies::BodyError;
 use super::body::{Body, BodyId};
+use super::host_mesh::HostVertices;
 use super::simulation::Simulation;
 use crate::collision::broad_phase::world_obb;
 use crate::obb::refit::{AxisRule, Nesting, RefitMap, RefitScratch};
@@ -70,8 +71,9 @@ pub(crate) struct RigState {
     odometer_t: Option<f32>,
     /// The parts' poses at the latest pose.
     part_poses: Vec<PartPose>,
-    /// An animated body's refit map (tree triangle → mesh vertices).
-    refit_map: Option<RefitMap>,
+    /// An animated body's refit map (tree triangle → mesh vertices); a
+    /// host-animated one's from the host's first vertices.
+    pub(crate) refit_map: Option<RefitMap>,
     /// Scratch memory of the skin and the refit.
     skin_scratch: AnimatedScratch,
     refit_scratch: RefitScratch,
@@ -86,6 +88,9 @@ pub(crate) struct RigState {
     clock_t: Option<f32>,
     /// The nodes' box centres before the latest refit (scratch).
     centres: Vec<Vec3>,
+    /// The host's vertices of the mesh, once it has given some
+    /// ([`Simulation::set_body_vertices`]).
+    pub(crate) host: Option<HostVertices>,
 }
 
 impl RigState {
@@ -134,9 +139,18 @@ pub(crate) fn pose_parts(body: &mut Body, t: f32) {
     }
 }
 
-/// An animated body: its mesh posed at `t` and its tree refitted (once per
-/// distinct `t`). A refit refused (a non-finite posed vertex) leaves the
-/// mesh and tree as they were.
+/// [`skin_and_refit`] at `t` even when the mesh was posed there already (a
+/// body that starts to deform: [`Simulation::set_body_vertices`]).
+pub(crate) fn refit_now(body: &mut Body, t: f32) {
+    body.rig.skinned_t = None;
+    skin_and_refit(body, t);
+    body.world_root = world_obb(&body.tree.nodes[0].obb, &body.pose);
+}
+
+/// An animated body (a glTF skin, or the host's vertices,
+/// [`Simulation::set_body_vertices`]): its mesh posed at `t` and its tree
+/// refitted (once per distinct `t`). A refit refused (a non-finite posed
+/// vertex) leaves the mesh and tree as they were.
 fn skin_and_refit(body: &mut Body, t: f32) {
     let RigState {
         refit_map: Some(map),
@@ -146,22 +160,26 @@ fn skin_and_refit(body: &mut Body, t: f32) {
         skinned_t,
         clock,
         centres,
+        host,
         ..
     } = &mut body.rig
     else {
         return;
     };
-    let Some(animated) = &body.object.animated else {
-        return;
-    };
     if *skinned_t == Some(t) {
         return;
     }
-    let clock = match animated.ground_speed_mps {
-        Some(_) => *clock,
-        None => animated.animation_time(t),
-    };
-    animated.pose_at_clock(clock, skin_scratch, positions);
+    match (&body.object.animated, host) {
+        (Some(animated), _) => {
+            let clock = match animated.ground_speed_mps {
+                Some(_) => *clock,
+                None => animated.animation_time(t),
+            };
+            animated.pose_at_clock(clock, skin_scratch, positions);
+        }
+        (None, Some(host)) => host.at(t, positions),
+        (None, None) => return,
+    }
     centres.clear();
     centres.extend(body.tree.nodes.iter().map(|n| n.obb.center));
     let tree = std::sync::Arc::make_mut(&mut body.tree);

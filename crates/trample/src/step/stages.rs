@@ -109,8 +109,9 @@ pub(crate) fn plan_of_needs(
 /// The sub-steps `body` alone needs over `dt` seconds from `start`
 /// ([`plan_substeps_of`]'s rule, before `max_substeps`): its own mesh's
 /// and each part's travel (and spin) over its thickness, and its
-/// position's travel over `max_travel`; at least 1 (saturates at
-/// `u32::MAX`).
+/// position's travel over `max_travel`; a mesh whose vertices the host
+/// sets ([`Simulation::set_body_vertices`]) also its vertices' farthest
+/// travel over its thickness; at least 1 (saturates at `u32::MAX`).
 pub(crate) fn body_substeps(
     sim: &Simulation,
     body: &super::Body,
@@ -136,6 +137,13 @@ pub(crate) fn body_substeps(
     // The body's own mesh, then each part with its own motion.
     let root = &body.tree.nodes[0].obb;
     let mut needed = need(&body.pose_at(t0), &body.pose_at(t0 + dt), root).max(1);
+    if let Some(host) = &body.rig.host {
+        let travel = host.travel_within(t0, t0 + dt);
+        let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
+        if travel.is_finite() && allowed > 0.0 {
+            needed = needed.max((travel / allowed).ceil() as u32);
+        }
+    }
     if !body.parts.is_empty() {
         let (a, b) = (body.part_poses_at(t0), body.part_poses_at(t0 + dt));
         for ((a, b), part) in a.iter().zip(&b).zip(&body.parts) {
