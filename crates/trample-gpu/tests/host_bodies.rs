@@ -227,12 +227,13 @@ fn a_mesh_the_host_deforms_is_followed_on_the_gpu() {
     let mut cpu = field();
     let mut g = GpuSimulation::new(device, queue, cpu.clone()).expect("GPU simulation");
     let dt = cpu.params.dt_s;
-    let crate_body = BodyBuilder::cuboid("crate", [0.3, 0.25, 0.3])
+    let mesh = trample::object::shapes::cuboid(Vec3::new(0.3, 0.25, 0.3));
+    let crate_body = BodyBuilder::mesh("crate", &mesh)
         .at([-2.2, 0.3, -1.5])
         .build()
         .unwrap();
     let a = both(&mut cpu, &mut g, |s| s.add_body(crate_body.clone()));
-    let rest = cpu.bodies[0].object.mesh.positions.clone();
+    let rest = mesh.positions;
     let mut offset = Vec3::ZERO;
     for _ in 0..40 {
         offset += Vec3::X * 1.5 * dt;

@@ -12,7 +12,7 @@ use glam::{Quat, Vec3};
 use trample::Simulation;
 use trample::builder::{BodyBuilder, SimulationBuilder};
 use trample::field::{FieldParams, LodParams};
-use trample::object::{Anchor, ShapeParams};
+use trample::object::{Anchor, Scale, ShapeParams, TriMesh, shapes};
 use trample::step::{BodyError, BodyId, HostView, SimParams};
 
 /// 8 × 8 m of grass (4 × 4 patches of 20 × 20 cells of 0.1 m), every cell
@@ -37,6 +37,22 @@ fn field() -> Simulation {
 }
 
 const HALF: [f32; 3] = [0.3, 0.25, 0.3];
+
+/// A box as a host's engine often hands one over: three vertices of its
+/// own per triangle (no shared vertex; the body welds them).
+fn unshared_box(half: [f32; 3]) -> TriMesh {
+    let m = shapes::cuboid(Vec3::from(half));
+    let positions = m
+        .indices
+        .iter()
+        .flatten()
+        .map(|&i| m.positions[i as usize])
+        .collect();
+    let indices = (0..m.indices.len() as u32)
+        .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+        .collect();
+    TriMesh { positions, indices }
+}
 /// The box's centre: its bottom 5 cm above the ground, in the grass.
 const START: Vec3 = Vec3::new(-2.2, 0.3, 0.4);
 /// How fast the box goes, m/s.
@@ -56,14 +72,17 @@ fn vertices_slid_fast_are_sub_stepped_as_the_body_moved_fast_is() {
 }
 
 fn slid_against_moved(speed: f32, frames: u32) {
-    let crate_body = BodyBuilder::cuboid("crate", HALF)
+    let mesh = unshared_box(HALF);
+    let crate_body = BodyBuilder::mesh("crate", &mesh)
         .at(START.to_array())
         .build()
         .unwrap();
     let (mut slid, mut moved) = (field(), field());
     let a = slid.add_body(crate_body.clone());
     let b = moved.add_body(crate_body);
-    let rest = slid.bodies[0].object.mesh.positions.clone();
+    // The host's vertices: its own 36, not the body's 8 welded ones.
+    assert_eq!(slid.bodies[0].object.mesh.positions.len(), 8);
+    let rest = mesh.positions;
     let dt = slid.params.dt_s;
     let mut offset = Vec3::ZERO;
     for _ in 0..frames {
@@ -172,13 +191,14 @@ fn a_plate_the_host_lowers_in_place_presses_the_grass() {
     let mut sim = field();
     let half = Vec3::new(0.4, 0.05, 0.4);
     let centre = Vec3::new(0.5, 0.75, 0.5);
+    let plate = shapes::cuboid(half);
     let id = sim.add_body(
-        BodyBuilder::cuboid("plate", half.to_array())
+        BodyBuilder::mesh("plate", &plate)
             .at(centre.to_array())
             .build()
             .unwrap(),
     );
-    let rest = sim.bodies[0].object.mesh.positions.clone();
+    let rest = plate.positions;
     let dt = sim.params.dt_s;
     let frames = 30;
     let drop = 0.55;
@@ -218,16 +238,58 @@ fn a_plate_the_host_lowers_in_place_presses_the_grass() {
     assert_eq!(inside, 0, "blade vertices inside the lowered plate");
 }
 
+/// The vertices of the mesh file a body was made from, set unchanged,
+/// give the body's mesh bit for bit: scaled, rotated and anchored as it
+/// was built, the file's welded and unused vertices mapped away (the
+/// beetle: 4.5 times, turned 30°, its bottom at the origin).
+#[test]
+fn a_files_own_vertices_give_the_bodys_mesh_bit_for_bit() {
+    let meshes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes");
+    let shape = ShapeParams::Mesh {
+        path: "beetle.obj".into(),
+        anchor: Anchor::Bottom,
+    };
+    let car = BodyBuilder::new("car", shape)
+        .scale(Scale::PerAxis([4.5, 4.0, 4.5]))
+        .rotation_deg([0.0, 30.0, 0.0])
+        .at([0.0, 0.0, 0.0])
+        .build_in(0, &meshes)
+        .unwrap();
+    let mut sim = field();
+    let id = sim.add_body(car);
+    let built = sim.bodies[0].object.mesh.positions.clone();
+    let file = trample::object::load_mesh_file(&meshes.join("beetle.obj")).unwrap();
+    eprintln!(
+        "beetle: {} vertices in the file, {} in the body",
+        file.positions.len(),
+        built.len()
+    );
+    let dt = sim.params.dt_s;
+    sim.set_body_vertices(id, &file.positions, dt).unwrap();
+    sim.step(dt).unwrap();
+    let now = &sim.bodies[0].object.mesh.positions;
+    assert_eq!(now.len(), built.len());
+    for (k, (a, b)) in now.iter().zip(&built).enumerate() {
+        assert_eq!(
+            a.to_array().map(f32::to_bits),
+            b.to_array().map(f32::to_bits),
+            "vertex {k}"
+        );
+    }
+}
+
 #[test]
 fn bad_vertices_are_refused_and_leave_the_body_as_it_was() {
     let mut sim = field();
+    let mesh = unshared_box(HALF);
     let id = sim.add_body(
-        BodyBuilder::cuboid("crate", HALF)
+        BodyBuilder::mesh("crate", &mesh)
             .at(START.to_array())
             .build()
             .unwrap(),
     );
-    let rest = sim.bodies[0].object.mesh.positions.clone();
+    let built = sim.bodies[0].object.mesh.positions.clone();
+    let rest = mesh.positions.clone();
     let dt = sim.params.dt_s;
     let expect = |e: BodyError, want: &[&str]| {
         let text = e.to_string();
@@ -260,10 +322,30 @@ fn bad_vertices_are_refused_and_leave_the_body_as_it_was() {
         sim.set_body_vertices(BodyId(7), &rest, dt).unwrap_err(),
         &["body 7", "no such body"],
     );
+    // The body's own (welded) vertex count is not the host's.
+    expect(
+        sim.set_body_vertices(id, &built, dt).unwrap_err(),
+        &["8 positions given", "exactly 36"],
+    );
+    // Finite, but not once scaled as the body is (a body made at scale
+    // 1,000: 600 m across).
+    let big = sim.add_body(
+        BodyBuilder::mesh("big crate", &mesh)
+            .scale(Scale::Uniform(1000.0))
+            .at([0.0, -1000.0, 0.0])
+            .build()
+            .unwrap(),
+    );
+    let far: Vec<Vec3> = rest.iter().map(|p| *p * 1e37).collect();
+    expect(
+        sim.set_body_vertices(big, &far, dt).unwrap_err(),
+        &["body 1", "not finite once scaled"],
+    );
+    sim.remove_body(big).unwrap();
     // Nothing changed: not deforming, the mesh and tree as built.
     assert!(!sim.bodies[0].deforms());
     sim.step(dt).unwrap();
-    assert_eq!(sim.bodies[0].object.mesh.positions, rest);
+    assert_eq!(sim.bodies[0].object.mesh.positions, built);
 
     // A body that plays a glTF animation has its vertices from it.
     let meshes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/meshes");
@@ -273,12 +355,13 @@ fn bad_vertices_are_refused_and_leave_the_body_as_it_was() {
     };
     let walker = BodyBuilder::new("walker", shape)
         .animation("walk", 1.0)
-        .build_in(1, &meshes)
+        .build_in(2, &meshes)
         .expect("scenes/meshes/walker.glb with its walk");
     let w = sim.add_body(walker);
     let n = sim.bodies[1].object.mesh.positions.clone();
+    assert_eq!(sim.bodies[1].id, w);
     expect(
         sim.set_body_vertices(w, &n, dt).unwrap_err(),
-        &["body 1", "glTF animation"],
+        &["body 2", "glTF animation"],
     );
 }

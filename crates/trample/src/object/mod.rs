@@ -45,7 +45,7 @@ pub use mesh::TriMesh;
 pub use motion::{Motion, MotionError};
 pub use object::{
     Anchor, Object, ObjectError, ObjectErrorKind, ObjectParams, OpenInside, Orientation, Scale,
-    ShapeParams, TrackParams,
+    ShapeParams, SourceVertices, TrackParams,
 };
 pub use parts::{Articulation, PartError, PartParams};
 pub use path::{Path, PathError, PathParams};

@@ -14,7 +14,7 @@ use super::parts::{Articulation, PartError, PartParams};
 use super::path::{Path, PathError, PathParams};
 use super::pose::{Pose, rotation_from_euler_deg};
 use super::rig_error::RigError;
-use super::sanitize::{SanitizeReport, sanitize};
+use super::sanitize::{SanitizeReport, sanitize_with_sources};
 use super::shapes::{self, MAX_SPHERE_SUBDIVISIONS};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -289,6 +289,9 @@ pub struct Object {
     /// for a rigid mesh. When set, `mesh` holds the latest posed vertices
     /// once the object is in a simulation (the bind pose before).
     pub animated: Option<Box<AnimatedMesh>>,
+    /// How the vertices of the mesh it was made from map onto `mesh`
+    /// (empty for an animated object).
+    pub sources: SourceVertices,
 }
 
 /// Why an object of a scene was refused: `objects[INDEX] (NAME): ` and what
@@ -369,12 +372,16 @@ impl Object {
             name: params.name.clone(),
             kind,
         };
-        let (mesh, report, animated) = match &params.animation {
+        let (mesh, report, animated, sources) = match &params.animation {
             None => {
-                let (mesh, report) =
-                    baked_mesh(&params.shape, params.scale, params.rotation_deg, base_dir)
-                        .map_err(error)?;
-                (mesh, report, None)
+                let (mesh, report, sources) = baked_mesh_with_sources(
+                    &params.shape,
+                    params.scale,
+                    params.rotation_deg,
+                    base_dir,
+                )
+                .map_err(error)?;
+                (mesh, report, None, sources)
             }
             Some(animation) => {
                 let (animated, mesh, report) = AnimatedMesh::load(
@@ -386,7 +393,12 @@ impl Object {
                     base_dir,
                 )
                 .map_err(error)?;
-                (mesh, report, Some(Box::new(animated)))
+                (
+                    mesh,
+                    report,
+                    Some(Box::new(animated)),
+                    SourceVertices::default(),
+                )
             }
         };
         let parts = Articulation::from_params(&params.parts, base_dir)
@@ -406,6 +418,7 @@ impl Object {
             track: params.track,
             parts,
             animated,
+            sources,
         })
     }
 
@@ -426,6 +439,17 @@ pub(crate) fn baked_mesh(
     rotation_deg: [f32; 3],
     base_dir: &std::path::Path,
 ) -> Result<(TriMesh, SanitizeReport), ObjectErrorKind> {
+    baked_mesh_with_sources(shape, scale, rotation_deg, base_dir).map(|(m, r, _)| (m, r))
+}
+
+/// [`baked_mesh`], and how the source's vertices map onto the baked mesh's
+/// ([`SourceVertices`]).
+pub(crate) fn baked_mesh_with_sources(
+    shape: &ShapeParams,
+    scale: Scale,
+    rotation_deg: [f32; 3],
+    base_dir: &std::path::Path,
+) -> Result<(TriMesh, SanitizeReport, SourceVertices), ObjectErrorKind> {
     let (raw, source) = build_shape(shape, base_dir)?;
     // Before scale and rotation turn an infinite coordinate into NaN.
     if let Some((vertex, p)) = raw
@@ -454,6 +478,7 @@ pub(crate) fn baked_mesh(
         ));
     }
     let rotation = rotation_from_euler_deg(rotation_deg);
+    let count = raw.positions.len();
     let baked = TriMesh {
         positions: raw
             .positions
@@ -462,11 +487,58 @@ pub(crate) fn baked_mesh(
             .collect(),
         indices: raw.indices,
     };
-    let (mut mesh, report) = sanitize(baked, &source).map_err(ObjectErrorKind::Mesh)?;
+    let (mut mesh, report, kept) =
+        sanitize_with_sources(baked, &source).map_err(ObjectErrorKind::Mesh)?;
+    let mut origin = Vec3::ZERO;
     if let ShapeParams::Mesh { anchor, .. } = shape {
+        origin = anchor_origin(&mesh, *anchor);
         apply_anchor(&mut mesh, *anchor);
     }
-    Ok((mesh, report))
+    let sources = SourceVertices {
+        count,
+        kept,
+        scale,
+        rotation,
+        origin,
+    };
+    Ok((mesh, report, sources))
+}
+
+/// How the vertices of the mesh an object was made from (a built-in
+/// shape's, a file's, the host's triangles) map onto its baked mesh
+/// ([`Object::mesh`]): vertex `k` of the baked mesh is source vertex
+/// `kept[k]`, scaled, rotated and moved to the anchor as the object was
+/// (sanitising welds equal positions and drops unused vertices). What
+/// `Simulation::set_body_vertices` takes the host's vertices through.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SourceVertices {
+    /// How many vertices the source mesh has.
+    pub count: usize,
+    /// For each vertex of the baked mesh, its index in the source.
+    pub kept: Vec<u32>,
+    /// The object's scale, per axis.
+    pub scale: Vec3,
+    /// The object's `rotation_deg` as a rotation.
+    pub rotation: glam::Quat,
+    /// Where the anchor put the origin (subtracted), metres.
+    pub origin: Vec3,
+}
+
+impl SourceVertices {
+    /// The baked mesh's vertices from the source's `positions` (exactly
+    /// [`SourceVertices::count`] of them), into `out`: `None` (and `out`
+    /// untouched) for another count.
+    pub fn bake(&self, positions: &[Vec3], out: &mut Vec<Vec3>) -> Option<()> {
+        if positions.len() != self.count {
+            return None;
+        }
+        out.clear();
+        out.extend(self.kept.iter().map(|&i| {
+            let p = positions.get(i as usize).copied().unwrap_or(Vec3::NAN);
+            self.rotation * (p * self.scale) - self.origin
+        }));
+        Some(())
+    }
 }
 
 /// The unscaled mesh of a shape and its name for messages (the file path,

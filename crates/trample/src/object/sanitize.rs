@@ -63,6 +63,20 @@ pub fn triangles_from_indices(indices: &[u32], source: &str) -> Result<Vec<[u32;
 /// the used vertices against [`MAX_SIZE_M`] / [`MIN_SIZE_M`]),
 /// [`MeshError::AllDegenerate`].
 pub fn sanitize(mesh: TriMesh, source: &str) -> Result<(TriMesh, SanitizeReport), MeshError> {
+    sanitize_with_sources(mesh, source).map(|(m, r, _)| (m, r))
+}
+
+/// [`sanitize`], and for each vertex of the result the index of the input
+/// vertex it was taken from (welding keeps the first of equal positions;
+/// unused vertices go): what maps a host's vertices of the input mesh onto
+/// the sanitised one (`Simulation::set_body_vertices`).
+///
+/// # Errors
+/// As [`sanitize`].
+pub fn sanitize_with_sources(
+    mesh: TriMesh,
+    source: &str,
+) -> Result<(TriMesh, SanitizeReport, Vec<u32>), MeshError> {
     let source_name = || source.to_owned();
     if mesh.indices.is_empty() || mesh.positions.is_empty() {
         return Err(MeshError::Empty {
@@ -134,7 +148,8 @@ pub fn sanitize(mesh: TriMesh, source: &str) -> Result<(TriMesh, SanitizeReport)
             source_name: source_name(),
         });
     }
-    Ok((remove_unused_vertices(&mesh.positions, kept), report))
+    let (mesh, sources) = remove_unused_vertices(&mesh.positions, kept);
+    Ok((mesh, report, sources))
 }
 
 /// Diagonal of the bounding box of the vertices used by a triangle, metres.
@@ -171,27 +186,32 @@ fn weld_equal_positions(positions: &[Vec3]) -> Vec<u32> {
 }
 
 /// The mesh made of `triangles` with only the vertices they use, in their
-/// original order.
-fn remove_unused_vertices(positions: &[Vec3], triangles: Vec<[u32; 3]>) -> TriMesh {
+/// original order, and each kept vertex's index in `positions`.
+fn remove_unused_vertices(positions: &[Vec3], triangles: Vec<[u32; 3]>) -> (TriMesh, Vec<u32>) {
     let mut new_index = vec![u32::MAX; positions.len()];
     for &i in triangles.iter().flatten() {
         new_index[i as usize] = 0;
     }
     let mut kept_positions = Vec::new();
+    let mut sources = Vec::new();
     for (i, slot) in new_index.iter_mut().enumerate() {
         if *slot == 0 {
             *slot = kept_positions.len() as u32;
             kept_positions.push(positions[i]);
+            sources.push(i as u32);
         }
     }
     let indices = triangles
         .into_iter()
         .map(|t| t.map(|i| new_index[i as usize]))
         .collect();
-    TriMesh {
-        positions: kept_positions,
-        indices,
-    }
+    (
+        TriMesh {
+            positions: kept_positions,
+            indices,
+        },
+        sources,
+    )
 }
 
 #[cfg(test)]

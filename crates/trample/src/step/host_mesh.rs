@@ -79,12 +79,13 @@ impl HostVertices {
 impl Simulation {
     /// Gives body `id`'s mesh new vertex positions: the host's animated
     /// mesh (a skinned character, a morph, a soft body) with the same
-    /// triangles. `positions` are in the body's local frame, one per vertex
-    /// of the mesh the body holds, in its order
-    /// (`sim.bodies[i].object.mesh.positions`: the mesh it was built from,
-    /// with its `scale` and `rotation_deg` applied — for
-    /// [`crate::builder::BodyBuilder::mesh`] at the default scale and
-    /// rotation, the host's own vertices).
+    /// triangles. `positions` are the vertices of the mesh the body was
+    /// made from, in its order and frame: the host's own triangles for
+    /// [`crate::builder::BodyBuilder::mesh`], a file's or a built-in
+    /// shape's vertices otherwise. The body bakes them as it baked that
+    /// mesh ([`crate::object::SourceVertices`]: the body's `scale` and
+    /// `rotation_deg`, its anchor's shift; vertices that sanitising welded
+    /// or dropped are taken from the first of them or left out).
     ///
     /// Like [`Simulation::move_body`] for the pose: the mesh goes from its
     /// vertices now to `positions` over the next `dt` seconds, each
@@ -104,9 +105,10 @@ impl Simulation {
     ///
     /// # Errors
     /// [`BodyError`] (and nothing changes) for an unknown id, a number of
-    /// positions other than the mesh's vertex count, a NaN or infinite
-    /// coordinate (named by its index), `dt` not finite and > 0, or a body
-    /// that plays a glTF animation (its vertices are the animation's).
+    /// positions other than the source mesh's vertex count, a NaN or
+    /// infinite coordinate, given or once scaled (named by its index), `dt`
+    /// not finite and > 0, or a body that plays a glTF animation (its
+    /// vertices are the animation's).
     pub fn set_body_vertices(
         &mut self,
         id: BodyId,
@@ -124,10 +126,11 @@ impl Simulation {
                     .into(),
             ));
         }
-        let count = body.object.mesh.positions.len();
+        let count = body.object.sources.count;
         if positions.len() != count {
             return Err(problem(format!(
-                "{} positions given; allowed: exactly {count}, one per vertex of the body's mesh",
+                "{} positions given; allowed: exactly {count}, one per vertex of the mesh the body \
+                 was made from",
                 positions.len()
             )));
         }
@@ -138,6 +141,14 @@ impl Simulation {
         }
         if !(dt.is_finite() && dt > 0.0) {
             return Err(problem(format!("dt = {dt}; allowed: finite and > 0")));
+        }
+        let mut baked = Vec::with_capacity(body.object.mesh.positions.len());
+        body.object.sources.bake(positions, &mut baked);
+        if let Some((k, p)) = baked.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+            return Err(problem(format!(
+                "vertex {k} = {p} is not finite once scaled and rotated as the body is; \
+                 allowed: positions within range"
+            )));
         }
         let rig = &mut body.rig;
         let first = rig.refit_map.is_none();
@@ -151,8 +162,7 @@ impl Simulation {
         }
         let host = rig.host.get_or_insert_with(HostVertices::default);
         host.from.clone_from(&body.object.mesh.positions);
-        host.to.clear();
-        host.to.extend_from_slice(positions);
+        host.to = baked;
         host.t0 = t;
         host.t1 = t + dt;
         host.farthest = host
