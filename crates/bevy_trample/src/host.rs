@@ -68,6 +68,25 @@ pub fn teleport_body(
         .map_err(|e| e.to_string())
 }
 
+/// Gives body `id`'s mesh the vertices `positions` (the body's frame, one
+/// per vertex of the mesh it was made from, in its order) over the next
+/// step of `dt` seconds: a skinned mesh as its joints pose it. The body's
+/// tree is refitted at every sub-step.
+///
+/// # Errors
+/// The core's message (and the body keeps its shape) for an unknown id, a
+/// wrong count, a value that is not finite or `dt ≤ 0`.
+pub fn set_body_vertices(
+    sim: &mut Simulation,
+    id: BodyId,
+    positions: &[Vec3],
+    dt: f32,
+) -> Result<(), String> {
+    let core: Vec<glam::Vec3> = positions.iter().map(|&p| core_vec3(p)).collect();
+    sim.set_body_vertices(id, &core, dt)
+        .map_err(|e| e.to_string())
+}
+
 /// Hands the host's camera to `sim` for the level of detail and culling:
 /// the eye at `eye` (metres) and the world → clip matrix `view_proj` with
 /// clip z in [0, 1]. Returns `false` (and the scene's camera stays in

@@ -7,6 +7,7 @@
 //! - [`step`]: the fixed-timestep step and [`TrampleCamera`].
 //! - [`host`]: the one place the plugin calls the core's host API.
 //! - [`mesh`]: Bevy meshes as the core's triangle meshes.
+//! - [`skin`]: skinned meshes posed on the CPU for the collision.
 //! - [`diagnostics`]: per-stage timings as Bevy diagnostics.
 //! - `render` (feature `render`): drawing with Bevy's renderer.
 
@@ -17,12 +18,13 @@ pub mod host;
 pub mod mesh;
 #[cfg(feature = "render")]
 pub mod render;
+pub mod skin;
 pub mod step;
 pub mod trampler;
 
 pub use error::TrampleError;
 pub use field::TrampleField;
-pub use step::TrampleCamera;
+pub use step::{TrampleCamera, TramplerSkinRefused};
 pub use trampler::{Trampler, TramplerBody, TramplerError, TramplerPoseRefused, TramplerShape};
 
 use bevy::prelude::*;

@@ -165,7 +165,12 @@ pub fn sync_bodies(
             field.tramplers -= 1;
         }
         if let Ok(mut e) = commands.get_entity(entity) {
-            e.try_remove::<(TramplerBody, TramplerError, TramplerPoseRefused)>();
+            e.try_remove::<(
+                TramplerBody,
+                TramplerError,
+                TramplerPoseRefused,
+                crate::step::TramplerSkinRefused,
+            )>();
         }
     }
 

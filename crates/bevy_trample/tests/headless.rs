@@ -312,3 +312,80 @@ fn a_transform_that_cannot_pose_the_body_leaves_it_where_it_was() {
         position(&app)
     );
 }
+
+/// A skinned trampler (a `SkinnedMesh` with one joint): the joint moves
+/// across the field while the trampler's own entity stays where it was
+/// spawned, as a character's root may while its skeleton walks. The grass
+/// is trampled where the skin puts the mesh — along the joint's path — not
+/// at the entity's place alone.
+#[test]
+fn a_skinned_mesh_tramples_where_its_joints_put_it() {
+    use bevy::mesh::VertexAttributeValues;
+    use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
+    let mut app = app();
+    app.init_asset::<SkinnedMeshInverseBindposes>();
+    // The mesh around its joint's bind place (the origin), all on joint 0.
+    let mut mesh = Sphere::new(RADIUS).mesh().ico(3).expect("icosphere");
+    let n = mesh.count_vertices();
+    mesh.insert_attribute(
+        Mesh::ATTRIBUTE_JOINT_INDEX,
+        VertexAttributeValues::Uint16x4(vec![[0, 0, 0, 0]; n]),
+    );
+    mesh.insert_attribute(
+        Mesh::ATTRIBUTE_JOINT_WEIGHT,
+        vec![[1.0f32, 0.0, 0.0, 0.0]; n],
+    );
+    let world = app.world_mut();
+    let mesh = world.resource_mut::<Assets<Mesh>>().add(mesh);
+    let bindposes = world
+        .resource_mut::<Assets<SkinnedMeshInverseBindposes>>()
+        .add(SkinnedMeshInverseBindposes::from(vec![Mat4::IDENTITY]));
+    // The joint moves along +x (the `Mover` system); the trampler stays.
+    let joint = world
+        .spawn((Transform::from_xyz(START_X, CENTRE_Y, 0.0), Mover))
+        .id();
+    let entity = world
+        .spawn((
+            Mesh3d(mesh),
+            SkinnedMesh {
+                inverse_bindposes: bindposes,
+                joints: vec![joint],
+            },
+            Transform::from_xyz(START_X, CENTRE_Y, 0.0),
+            Trampler::default(),
+        ))
+        .id();
+    let frames = ((END_X - START_X) / SPEED / DT as f32).ceil() as usize + 10;
+    for _ in 0..frames {
+        app.update();
+    }
+    assert!(
+        app.world()
+            .get::<bevy_trample::TramplerSkinRefused>(entity)
+            .is_none(),
+        "{:?}",
+        app.world().get::<bevy_trample::TramplerSkinRefused>(entity)
+    );
+    let body = app.world().get::<TramplerBody>(entity).expect("a body");
+    let field = app.world().resource::<TrampleField>();
+    let b = field.sim.body(body.id).expect("in the simulation");
+    assert!(
+        (b.pose.position.x - START_X).abs() < 1e-4,
+        "the body stays with its entity: {}",
+        b.pose.position
+    );
+    let bl = &field.sim.field.blades;
+    let (mut on_path, mut bent) = (0, 0);
+    for k in 0..bl.count {
+        let root = bl.rest_vertex(k, 0);
+        if root.z.abs() < 0.1 && root.x > START_X + 0.5 && root.x < END_X - 0.5 {
+            on_path += 1;
+            bent += usize::from(lowering(field, k) > 0.05);
+        }
+    }
+    assert!(on_path > 100, "{on_path} blades on the path");
+    assert!(
+        bent * 10 >= on_path * 9,
+        "{bent} of {on_path} blades on the joint's path bent by more than 5 cm"
+    );
+}
