@@ -3,7 +3,10 @@
 //! is pressed it drives a slow curve on its own), a camera following it,
 //! Bevy's lighting: a directional light with shadows, ambient light, fog.
 //! The car is `scenes/meshes/beetle.obj`; its `Trampler` collides the same
-//! mesh it is drawn with.
+//! mesh it is drawn with. Ahead of it a walker (a skinned mesh: a torso
+//! and two legs, three joints) strides through the grass: its legs swing,
+//! Bevy's skinning draws them, and its `Trampler` collides the mesh as the
+//! skin poses it (`bevy_trample::skin`).
 //!
 //! ```sh
 //! cargo run --release -p bevy_trample --example meadow
@@ -15,7 +18,8 @@ use anyhow::{Context, Result, bail};
 use bevy::asset::RenderAssetUsages;
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::light::CascadeShadowConfigBuilder;
-use bevy::mesh::{Indices, PrimitiveTopology};
+use bevy::mesh::skinning::{SkinnedMesh, SkinnedMeshInverseBindposes};
+use bevy::mesh::{Indices, PrimitiveTopology, VertexAttributeValues};
 use bevy::pbr::DistanceFog;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
@@ -118,7 +122,7 @@ fn main() -> Result<()> {
     .insert_resource(CarMesh(Some(car)))
     .insert_resource(args.clone())
     .add_systems(Startup, setup)
-    .add_systems(FixedUpdate, drive.before(TrampleSystems::Step))
+    .add_systems(FixedUpdate, (drive, walk).before(TrampleSystems::Step))
     .add_systems(PostUpdate, follow.before(TransformSystems::Propagate))
     .add_systems(Last, frames);
     if args.frames.is_some() {
@@ -177,15 +181,191 @@ struct Car {
     manual: bool,
 }
 
+/// The walker: hip height, the legs' half spacing and half width, the
+/// torso's half size (m), walking speed (m/s) and the legs' swing (rad).
+const HIP_Y: f32 = 0.9;
+const LEG_X: f32 = 0.13;
+const LEG_HALF: f32 = 0.07;
+const TORSO_HALF: Vec3 = Vec3::new(0.24, 0.28, 0.13);
+const WALK_SPEED: f32 = 1.4;
+const SWING: f32 = 0.45;
+
+/// The walker's stride and its legs' joints.
+#[derive(Component)]
+struct Walker {
+    /// Distance walked, m (the legs' phase).
+    walked: f32,
+    legs: [Entity; 2],
+}
+
+/// A box from `lo` to `hi` on joint `joint`: 24 vertices (4 a face, flat
+/// normals) appended to the lists.
+fn skinned_box(
+    lo: Vec3,
+    hi: Vec3,
+    joint: u16,
+    (positions, normals, joints, indices): &mut (
+        Vec<[f32; 3]>,
+        Vec<[f32; 3]>,
+        Vec<[u16; 4]>,
+        Vec<u32>,
+    ),
+) {
+    let c = |x: bool, y: bool, z: bool| {
+        Vec3::new(
+            if x { hi.x } else { lo.x },
+            if y { hi.y } else { lo.y },
+            if z { hi.z } else { lo.z },
+        )
+    };
+    // Each face: its normal and its corners counter-clockwise seen from outside.
+    let faces = [
+        (
+            Vec3::X,
+            [
+                c(true, false, false),
+                c(true, true, false),
+                c(true, true, true),
+                c(true, false, true),
+            ],
+        ),
+        (
+            Vec3::NEG_X,
+            [
+                c(false, false, true),
+                c(false, true, true),
+                c(false, true, false),
+                c(false, false, false),
+            ],
+        ),
+        (
+            Vec3::Y,
+            [
+                c(false, true, false),
+                c(false, true, true),
+                c(true, true, true),
+                c(true, true, false),
+            ],
+        ),
+        (
+            Vec3::NEG_Y,
+            [
+                c(false, false, true),
+                c(false, false, false),
+                c(true, false, false),
+                c(true, false, true),
+            ],
+        ),
+        (
+            Vec3::Z,
+            [
+                c(true, false, true),
+                c(true, true, true),
+                c(false, true, true),
+                c(false, false, true),
+            ],
+        ),
+        (
+            Vec3::NEG_Z,
+            [
+                c(false, false, false),
+                c(false, true, false),
+                c(true, true, false),
+                c(true, false, false),
+            ],
+        ),
+    ];
+    for (n, corners) in faces {
+        let first = positions.len() as u32;
+        positions.extend(corners.map(|p| p.to_array()));
+        normals.extend([n.to_array(); 4]);
+        joints.extend([[joint, 0, 0, 0]; 4]);
+        indices.extend([first, first + 1, first + 2, first, first + 2, first + 3]);
+    }
+}
+
+/// The walker's mesh in its bind pose (feet on y = 0, facing +z): the torso
+/// on joint 0 (the walker itself), the legs on joints 1 and 2 (its hips).
+fn walker_mesh() -> Mesh {
+    let mut lists = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let torso = Vec3::new(0.0, HIP_Y + TORSO_HALF.y, 0.0);
+    skinned_box(torso - TORSO_HALF, torso + TORSO_HALF, 0, &mut lists);
+    for (joint, x) in [(1, -LEG_X), (2, LEG_X)] {
+        let half = Vec3::new(LEG_HALF, 0.0, LEG_HALF);
+        skinned_box(
+            Vec3::new(x, 0.0, 0.0) - half,
+            Vec3::new(x, HIP_Y, 0.0) + half,
+            joint,
+            &mut lists,
+        );
+    }
+    let (positions, normals, joints, indices) = lists;
+    let n = positions.len();
+    Mesh::new(
+        PrimitiveTopology::TriangleList,
+        RenderAssetUsages::MAIN_WORLD | RenderAssetUsages::RENDER_WORLD,
+    )
+    .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+    .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, normals)
+    .with_inserted_attribute(
+        Mesh::ATTRIBUTE_JOINT_INDEX,
+        VertexAttributeValues::Uint16x4(joints),
+    )
+    .with_inserted_attribute(
+        Mesh::ATTRIBUTE_JOINT_WEIGHT,
+        vec![[1.0f32, 0.0, 0.0, 0.0]; n],
+    )
+    .with_inserted_indices(Indices::U32(indices))
+}
+
 fn setup(
     mut commands: Commands,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
+    mut bindposes: ResMut<Assets<SkinnedMeshInverseBindposes>>,
     mut car_mesh: ResMut<CarMesh>,
 ) {
     let Some(mesh) = car_mesh.0.take() else {
         return;
     };
+    // The walker, 5 m ahead of the car and 2.5 m to its right, going the
+    // car's way: the car passes it after a few seconds.
+    let heading = 0.6;
+    let (forward, right) = (
+        Vec3::new(f32::sin(heading), 0.0, f32::cos(heading)),
+        Vec3::new(-f32::cos(heading), 0.0, f32::sin(heading)),
+    );
+    let at = Vec3::new(-12.0, 0.0, -6.0) + forward * 5.0 + right * 2.5;
+    let walker = commands
+        .spawn((
+            Mesh3d(meshes.add(walker_mesh())),
+            MeshMaterial3d(materials.add(StandardMaterial {
+                base_color: Color::srgb(0.95, 0.6, 0.08),
+                perceptual_roughness: 0.6,
+                ..default()
+            })),
+            Transform::from_translation(at).with_rotation(Quat::from_rotation_y(heading)),
+            Trampler::default(),
+        ))
+        .id();
+    let legs = [-LEG_X, LEG_X].map(|x| {
+        commands
+            .spawn((Transform::from_xyz(x, HIP_Y, 0.0), ChildOf(walker)))
+            .id()
+    });
+    // Inverse bind poses: the walker's origin, then each hip.
+    let inverse_bindposes = bindposes.add(SkinnedMeshInverseBindposes::from(vec![
+        Mat4::IDENTITY,
+        Mat4::from_translation(Vec3::new(LEG_X, -HIP_Y, 0.0)),
+        Mat4::from_translation(Vec3::new(-LEG_X, -HIP_Y, 0.0)),
+    ]));
+    commands.entity(walker).insert((
+        SkinnedMesh {
+            inverse_bindposes,
+            joints: vec![walker, legs[0], legs[1]],
+        },
+        Walker { walked: 0.0, legs },
+    ));
     commands.spawn((
         Car {
             speed: 5.0,
@@ -279,6 +459,33 @@ fn drive(
         // 51.2 m field: keep 3 m from its edges.
         t.translation = next.clamp(Vec3::new(-22.6, 0.0, -22.6), Vec3::new(22.6, 0.0, 22.6));
         t.rotation = Quat::from_rotation_y(car.heading);
+    }
+}
+
+/// The walker strides on at `WALK_SPEED` (turning back before the field's
+/// edge), its legs swinging about its hips, one forward as the other goes
+/// back: a step every `2 · HIP_Y · sin(SWING)` metres or so.
+fn walk(
+    time: Res<Time>,
+    mut walkers: Query<(&mut Walker, &mut Transform)>,
+    mut hips: Query<&mut Transform, Without<Walker>>,
+) {
+    let dt = time.delta_secs();
+    for (mut w, mut t) in &mut walkers {
+        let forward = t.rotation * Vec3::Z;
+        if (t.translation + forward * 3.0).abs().max_element() > 22.6 {
+            t.rotate_y(std::f32::consts::PI);
+        }
+        let forward = t.rotation * Vec3::Z;
+        t.translation += forward * WALK_SPEED * dt;
+        w.walked += WALK_SPEED * dt;
+        let stride = 4.0 * HIP_Y * SWING.sin();
+        let phase = std::f32::consts::TAU * w.walked / stride;
+        for (leg, sign) in w.legs.iter().zip([1.0, -1.0]) {
+            if let Ok(mut hip) = hips.get_mut(*leg) {
+                hip.rotation = Quat::from_rotation_x(sign * SWING * phase.sin());
+            }
+        }
     }
 }
 
