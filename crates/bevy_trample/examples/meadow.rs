@@ -198,19 +198,18 @@ struct Walker {
     legs: [Entity; 2],
 }
 
+/// A skinned mesh's vertex and index lists, as they are filled.
+#[derive(Default)]
+struct Lists {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    joints: Vec<[u16; 4]>,
+    indices: Vec<u32>,
+}
+
 /// A box from `lo` to `hi` on joint `joint`: 24 vertices (4 a face, flat
-/// normals) appended to the lists.
-fn skinned_box(
-    lo: Vec3,
-    hi: Vec3,
-    joint: u16,
-    (positions, normals, joints, indices): &mut (
-        Vec<[f32; 3]>,
-        Vec<[f32; 3]>,
-        Vec<[u16; 4]>,
-        Vec<u32>,
-    ),
-) {
+/// normals) appended to `lists`.
+fn skinned_box(lo: Vec3, hi: Vec3, joint: u16, lists: &mut Lists) {
     let c = |x: bool, y: bool, z: bool| {
         Vec3::new(
             if x { hi.x } else { lo.x },
@@ -276,18 +275,20 @@ fn skinned_box(
         ),
     ];
     for (n, corners) in faces {
-        let first = positions.len() as u32;
-        positions.extend(corners.map(|p| p.to_array()));
-        normals.extend([n.to_array(); 4]);
-        joints.extend([[joint, 0, 0, 0]; 4]);
-        indices.extend([first, first + 1, first + 2, first, first + 2, first + 3]);
+        let first = lists.positions.len() as u32;
+        lists.positions.extend(corners.map(|p| p.to_array()));
+        lists.normals.extend([n.to_array(); 4]);
+        lists.joints.extend([[joint, 0, 0, 0]; 4]);
+        lists
+            .indices
+            .extend([first, first + 1, first + 2, first, first + 2, first + 3]);
     }
 }
 
 /// The walker's mesh in its bind pose (feet on y = 0, facing +z): the torso
 /// on joint 0 (the walker itself), the legs on joints 1 and 2 (its hips).
 fn walker_mesh() -> Mesh {
-    let mut lists = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut lists = Lists::default();
     let torso = Vec3::new(0.0, HIP_Y + TORSO_HALF.y, 0.0);
     skinned_box(torso - TORSO_HALF, torso + TORSO_HALF, 0, &mut lists);
     for (joint, x) in [(1, -LEG_X), (2, LEG_X)] {
@@ -299,7 +300,12 @@ fn walker_mesh() -> Mesh {
             &mut lists,
         );
     }
-    let (positions, normals, joints, indices) = lists;
+    let Lists {
+        positions,
+        normals,
+        joints,
+        indices,
+    } = lists;
     let n = positions.len();
     Mesh::new(
         PrimitiveTopology::TriangleList,
