@@ -160,10 +160,19 @@ impl Simulation {
             })?;
             rig.refit_map = Some(map);
         }
+        // A body that sat out steps (far from the camera, waiting for its
+        // turn: `sim.far_every`) goes from the shape its last turn left it
+        // in, through the frames it sat out, as `move_body` joins its
+        // moves (`step/drive.rs`): its turn sweeps the way the mesh went.
+        let t0 = if body.stepped_to < self.time {
+            body.stepped_to as f32
+        } else {
+            t
+        };
         let host = rig.host.get_or_insert_with(HostVertices::default);
         host.from.clone_from(&body.object.mesh.positions);
         host.to = baked;
-        host.t0 = t;
+        host.t0 = t0;
         host.t1 = t + dt;
         host.farthest = host
             .from

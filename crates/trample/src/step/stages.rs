@@ -111,7 +111,8 @@ pub(crate) fn plan_of_needs(
 /// and each part's travel (and spin) over its thickness, and its
 /// position's travel over `max_travel`; a mesh whose vertices the host
 /// sets ([`Simulation::set_body_vertices`]) also its vertices' farthest
-/// travel over its thickness; at least 1 (saturates at `u32::MAX`).
+/// travel, over its thickness and over `max_travel`; at least 1 (saturates
+/// at `u32::MAX`).
 pub(crate) fn body_substeps(
     sim: &Simulation,
     body: &super::Body,
@@ -141,7 +142,9 @@ pub(crate) fn body_substeps(
         let travel = host.travel_within(t0, t0 + dt);
         let allowed = (2.0 * root.half.min_element()).max(sim.field.layout.cell_size);
         if travel.is_finite() && allowed > 0.0 {
-            needed = needed.max((travel / allowed).ceil() as u32);
+            let by_mesh =
+                ((travel / allowed).ceil() as u32).max((travel / max_travel).ceil() as u32);
+            needed = needed.max(by_mesh);
         }
     }
     if !body.parts.is_empty() {
