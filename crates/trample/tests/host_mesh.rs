@@ -18,6 +18,11 @@ use trample::step::{BodyError, BodyId, HostView, SimParams};
 /// 8 × 8 m of grass (4 × 4 patches of 20 × 20 cells of 0.1 m), every cell
 /// geometric, seen by a host camera from above; the paper's lasting track.
 fn field() -> Simulation {
+    field_with(SimParams::default(), Vec3::new(0.0, 12.0, 0.1))
+}
+
+/// The same grass under `sim`, seen from `eye`.
+fn field_with(sim: SimParams, eye: Vec3) -> Simulation {
     SimulationBuilder::new()
         .field(FieldParams {
             patches: [4, 4],
@@ -28,10 +33,8 @@ fn field() -> Simulation {
             geometry_m: 1000.0,
             billboard_m: 2000.0,
         })
-        .sim(SimParams::default())
-        .host_view(
-            HostView::look_at(Vec3::new(0.0, 12.0, 0.1), Vec3::ZERO, 1.0, 1.0, 0.1, 100.0).unwrap(),
-        )
+        .sim(sim)
+        .host_view(HostView::look_at(eye, Vec3::ZERO, 1.0, 1.0, 0.1, 500.0).unwrap())
         .build()
         .unwrap()
 }
@@ -82,34 +85,12 @@ fn vertices_slid_far_away_join_the_frames_a_far_body_sits_out() {
 
 /// [`field`] seen from 85 m away, its bodies stepped one frame in four.
 fn far_field() -> Simulation {
-    SimulationBuilder::new()
-        .field(FieldParams {
-            patches: [4, 4],
-            cells_per_patch: 20,
-            ..FieldParams::default()
-        })
-        .lod(LodParams {
-            geometry_m: 1000.0,
-            billboard_m: 2000.0,
-        })
-        .sim(SimParams {
-            far_every: 4,
-            far_beyond_m: 20.0,
-            ..SimParams::default()
-        })
-        .host_view(
-            HostView::look_at(
-                Vec3::new(60.0, 10.0, 60.0),
-                Vec3::ZERO,
-                1.0,
-                1.0,
-                0.1,
-                500.0,
-            )
-            .unwrap(),
-        )
-        .build()
-        .unwrap()
+    let sim = SimParams {
+        far_every: 4,
+        far_beyond_m: 20.0,
+        ..SimParams::default()
+    };
+    field_with(sim, Vec3::new(60.0, 10.0, 60.0))
 }
 
 fn slid_against_moved(speed: f32, frames: u32) {
