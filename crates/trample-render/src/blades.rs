@@ -6,7 +6,7 @@
 
 use crate::globals::shader_module;
 use trample::Simulation;
-use trample::field::Lod;
+use trample::field::{Lod, drawn_blade_cells};
 
 /// One drawn blade. Layout-compatible with `vec2<u32>` of `instances` in blades.wgsl.
 #[repr(C)]
@@ -224,28 +224,26 @@ impl BladePass {
         let layout = &sim.field.layout;
         let per_cell = layout.blades_per_cell as usize;
         let cells = &sim.field.cells;
-        // The near blend band: Billboard-LOD cells this near (squared).
-        let (eye, reach) = (sim.eye(), sim.lod.geometry_m + band.max(0.0));
-        let in_band = |c: usize| band > 0.0 && cells.base[c].distance_squared(eye) < reach * reach;
+        // The Geometry-LOD cells and the near blend band's Billboard-LOD
+        // cells (the core's list, which bevy_trample draws too).
         self.list.clear();
-        for (p, patch) in layout.patch_list.iter().enumerate() {
-            if !sim.visible.get(p).copied().unwrap_or(true) {
-                continue;
-            }
-            let first = patch.first_cell as usize;
-            for c in first..first + layout.cells_in_patch() {
-                let level = cells.lod[c];
-                if level != Lod::Geometry && !(level == Lod::Billboard && in_band(c)) {
-                    continue;
-                }
-                for b in c * per_cell..(c + 1) * per_cell {
-                    // Blades a grass map left out (zero height) draw nothing.
-                    if blades.seg_len[b] > 0.0 {
-                        self.list.push(BladeInstance {
-                            blade: b as u32,
-                            debug_rgba: debug(b, level),
-                        });
-                    }
+        for c in drawn_blade_cells(
+            layout,
+            &cells.lod,
+            &cells.base,
+            &sim.visible,
+            sim.eye(),
+            sim.lod.geometry_m,
+            band,
+        ) {
+            let level = cells.lod[c];
+            for b in c * per_cell..(c + 1) * per_cell {
+                // Blades a grass map left out (zero height) draw nothing.
+                if blades.seg_len[b] > 0.0 {
+                    self.list.push(BladeInstance {
+                        blade: b as u32,
+                        debug_rgba: debug(b, level),
+                    });
                 }
             }
         }

@@ -33,30 +33,14 @@ struct VertexOut {
 fn drawn_vertex(k: u32, l: u32, root: vec3<f32>, tip: vec3<f32>) -> vec3<f32> {
     return blade_wind_vertex(root, pos[k * chunk.y + l].xyz, k, globals.params.y, tip);
 }
-// Render density beyond the simulation's (issue 15 item 2): each simulated
-// blade is drawn `copies` times (globals.gusts.z, ≥ 1; instance ii is copy
-// ii % copies of listed blade ii / copies). Copy 0 is the simulated blade;
-// copy j > 0 is its bent shape (so it follows the deformation: a track, the
-// wind) moved by a fixed random offset within the blade spacing
-// (globals.sky_zenith.w, m), with its own facing, height and tint. Copies
-// thin out with the root's distance d from the eye: copy j is drawn to
-// reach_j = near_m · (1 − (j − 1) / copies), near_m = min(globals.gusts.w,
-// NEAR_OF_GEOMETRY · geometry_m), and shrinks to its root over the last
-// fifth of that, so nothing pops: the drawn density is back to the
-// simulated one well before cells change level (the copies would vanish
-// with their blades there).
+// Render density beyond the simulation's (issue 15 item 2; the copies are
+// trample::blade_shape's `copy_*`, shared with bevy_trample): each
+// simulated blade is drawn `copies` times (globals.gusts.z, ≥ 1; instance
+// ii is copy ii % copies of listed blade ii / copies), scattered within
+// the blade spacing (globals.sky_zenith.w, m), reaching
+// copy_reach_m(globals.gusts.w, geometry_m).
 fn drawn_copies() -> u32 {
     return max(u32(globals.gusts.z), 1u);
-}
-
-// How much of copy `copy` (≥ 1) of `copies` shows at distance `d` (m):
-// 1 near, 0 past its reach, linear between.
-const NEAR_OF_GEOMETRY: f32 = 0.6;
-
-fn copy_scale(copy: u32, copies: u32, d: f32) -> f32 {
-    let near = min(globals.gusts.w, NEAR_OF_GEOMETRY * globals.fog.z);
-    let reach = near * (1.0 - f32(copy - 1u) / f32(copies));
-    return clamp((reach - d) / max(0.2 * reach, 1e-3), 0.0, 1.0);
 }
 
 // How upright blade b stands as stored (without the drawn wind): the sine
@@ -83,7 +67,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     // Tangent of the bent shape at vertex k (central difference).
     let dir = normalize(drawn_vertex(min(k + 1u, n), l, root, tip) - drawn_vertex(max(k, 1u) - 1u, l, root, tip));
     // A copy's own seed: its facing, offset, height and tint.
-    let seed = select(b, b * 7919u + copy * 104729u, copy != 0u);
+    let seed = copy_seed(b, copy);
     // The blade's flat side faces a fixed random direction, kept perpendicular to the tangent.
     let across = blade_across(seed, dir);
     let t = f32(k) / f32(n);
@@ -94,12 +78,9 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let fade = blade_fade(hash01(seed ^ 0x2c1b3c6du), distance(root, globals.eye.xyz));
     world = root + (world - root) * fade;
     if (copy != 0u) {
-        let offset = vec3<f32>(hash01(seed ^ 0x68e31da4u) - 0.5, 0.0, hash01(seed ^ 0xb5297a4du) - 0.5)
-            * globals.sky_zenith.w;
-        let d = distance(root.xz + offset.xz, globals.eye.xz);
-        let height = 0.8 + 0.35 * hash01(seed ^ 0x1b56c4e9u);
-        world = root + offset + (world - root) * (height * copy_scale(copy, copies, d));
-        tint = fract(tint + 0.618034 * hash01(seed));
+        let near = copy_reach_m(globals.gusts.w, globals.fog.z);
+        world = copy_vertex(root, world, seed, copy, copies, globals.sky_zenith.w, near, globals.eye.xyz);
+        tint = copy_tint(tint, seed);
     }
 
     var out: VertexOut;

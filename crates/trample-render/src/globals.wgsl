@@ -85,41 +85,19 @@ fn grass_ao(along: f32, upright: f32) -> f32 {
     return 1.0 - globals.shadow.y * occlusion;
 }
 
-// Blend bands between levels of detail (issue 15 item 1). How far the
-// billboards have faded in at distance `d` (m) from the eye: 0 up to
-// geometry_m, 1 past the near band (globals.blend.x; 1 everywhere without
-// one). The blades of billboard cells in the near band are drawn too, a
-// share 1 - billboard_fade_in(d) of them (blades.wgsl): the drawn density
-// is kept across the change of level.
+// Blend bands between levels of detail (issue 15 item 1): the shared
+// functions of trample::blade_shape with this frame's distances and bands
+// (globals.fog.zw, globals.blend.xy).
 fn billboard_fade_in(d: f32) -> f32 {
-    if (globals.blend.x <= 0.0) {
-        return 1.0;
-    }
-    return clamp((d - globals.fog.z) / globals.blend.x, 0.0, 1.0);
+    return billboard_fade_in_at(d, globals.fog.z, globals.blend.x);
 }
 
-// How much of the billboards is left at distance `d` (m): 1 up to the far
-// band (globals.blend.y), 0 at billboard_m, where the ground shows alone.
 fn billboard_fade_out(d: f32) -> f32 {
-    if (globals.blend.y <= 0.0) {
-        return 1.0;
-    }
-    return clamp((globals.fog.w - d) / globals.blend.y, 0.0, 1.0);
+    return billboard_fade_out_at(d, globals.fog.w, globals.blend.y);
 }
-
-// Height scale of a blade (or drawn copy) whose own random value is `h` in
-// [0, 1), rooted `d` m from the eye: 1 nearer than geometry_m; in the near
-// band the blades with the lowest `h` shrink to their root first, so that
-// about 1 - billboard_fade_in(d) of them stand, each shrinking over a
-// short range (no blade pops).
-const BLEND_SOFTNESS: f32 = 0.3;
 
 fn blade_fade(h: f32, d: f32) -> f32 {
-    if (globals.blend.x <= 0.0) {
-        return 1.0;
-    }
-    let f = billboard_fade_in(d);
-    return clamp((h + BLEND_SOFTNESS - (1.0 + BLEND_SOFTNESS) * f) / BLEND_SOFTNESS, 0.0, 1.0);
+    return blade_fade_at(h, d, globals.fog.z, globals.blend.x);
 }
 
 // Distance fog towards the horizon colour.

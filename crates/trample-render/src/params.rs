@@ -208,21 +208,11 @@ impl RenderParams {
     /// The blend bands in use for `lod`'s distances, metres: `[near, far]`
     /// ([`RenderParams::lod_blend_m`], [`RenderParams::texture_blend_m`]),
     /// each at most half the billboard band, 0 for a non-finite or
-    /// negative setting.
+    /// negative setting (the core's
+    /// [`trample::field::lod::LodParams::blend_bands`], which bevy_trample
+    /// draws with too).
     #[must_use]
     pub fn blend_bands(&self, lod: &trample::field::lod::LodParams) -> [f32; 2] {
-        let room = if lod.billboard_m.is_finite() {
-            0.5 * (lod.billboard_m - lod.geometry_m).max(0.0)
-        } else {
-            f32::INFINITY
-        };
-        let clean = |m: f32| {
-            if m.is_finite() && m > 0.0 {
-                m.min(room)
-            } else {
-                0.0
-            }
-        };
-        [clean(self.lod_blend_m), clean(self.texture_blend_m)]
+        lod.blend_bands(self.lod_blend_m, self.texture_blend_m)
     }
 }

@@ -93,3 +93,91 @@ fn billboard_top_in_wind(top: vec3<f32>, tip: vec3<f32>) -> vec3<f32> {
     }
     return top;
 }
+
+// Blend bands between levels of detail (ours, DESIGN §8: no ring round the
+// camera). `near_band` and `far_band` (m) are the widths
+// `LodParams::blend_bands` gives; 0 is the paper's hard switch.
+//
+// How far the billboards have faded in at distance `d` (m) from the eye:
+// 0 up to `geometry_m`, 1 past the near band (1 everywhere without one).
+// The blades of Billboard-LOD cells in the near band are drawn too, a
+// share 1 - billboard_fade_in_at of them (`blade_fade_at`): the drawn
+// density is kept across the change of level.
+fn billboard_fade_in_at(d: f32, geometry_m: f32, near_band: f32) -> f32 {
+    if (near_band <= 0.0) {
+        return 1.0;
+    }
+    return clamp((d - geometry_m) / near_band, 0.0, 1.0);
+}
+
+// How much of the billboards is left at distance `d` (m): 1 up to the far
+// band, 0 at `billboard_m`, where the ground shows alone.
+fn billboard_fade_out_at(d: f32, billboard_m: f32, far_band: f32) -> f32 {
+    if (far_band <= 0.0) {
+        return 1.0;
+    }
+    return clamp((billboard_m - d) / far_band, 0.0, 1.0);
+}
+
+// Height scale of a blade (or drawn copy) whose own random value is `h` in
+// [0, 1), rooted `d` m from the eye: 1 nearer than `geometry_m`; in the
+// near band the blades with the lowest `h` shrink to their root first, so
+// that about 1 - billboard_fade_in_at(d) of them stand, each shrinking
+// over a short range (no blade pops).
+const BLEND_SOFTNESS: f32 = 0.3;
+
+fn blade_fade_at(h: f32, d: f32, geometry_m: f32, near_band: f32) -> f32 {
+    if (near_band <= 0.0) {
+        return 1.0;
+    }
+    let f = billboard_fade_in_at(d, geometry_m, near_band);
+    return clamp((h + BLEND_SOFTNESS - (1.0 + BLEND_SOFTNESS) * f) / BLEND_SOFTNESS, 0.0, 1.0);
+}
+
+// Render density beyond the simulation's (ours, DESIGN §8: near the camera
+// more blades are drawn than simulated). Each simulated blade is drawn
+// `copies` times; copy 0 is the simulated blade, copy j > 0 its bent shape
+// (so it follows the deformation: a track, the wind) moved by a fixed
+// random offset within the blade spacing, with its own facing, height and
+// tint. Copies thin out with the root's distance d from the eye: copy j is
+// drawn to reach_j = near · (1 − (j − 1) / copies) and shrinks to its root
+// over the last fifth of that, so nothing pops; `near` =
+// `copy_reach_m(...)` keeps the drawn density back to the simulated one
+// well before cells change level (the copies would vanish with their
+// blades there).
+const NEAR_OF_GEOMETRY: f32 = 0.6;
+
+// How far from the eye the copies reach (m), for an asked reach
+// `near_density_m` and the level-of-detail distance `geometry_m`.
+fn copy_reach_m(near_density_m: f32, geometry_m: f32) -> f32 {
+    return min(near_density_m, NEAR_OF_GEOMETRY * geometry_m);
+}
+
+// Copy `copy`'s own seed of blade `b` (its facing, offset, height, tint);
+// copy 0, the simulated blade, keeps the blade's.
+fn copy_seed(b: u32, copy: u32) -> u32 {
+    return select(b, b * 7919u + copy * 104729u, copy != 0u);
+}
+
+// How much of copy `copy` (≥ 1) of `copies` shows at distance `d` (m):
+// 1 near, 0 past its reach, linear between.
+fn copy_scale_at(copy: u32, copies: u32, d: f32, near: f32) -> f32 {
+    let reach = near * (1.0 - f32(copy - 1u) / f32(copies));
+    return clamp((reach - d) / max(0.2 * reach, 1e-3), 0.0, 1.0);
+}
+
+// Where copy `copy` (≥ 1, seed `seed`) draws the vertex `world` of the
+// blade rooted at `root`: moved by the copy's offset within `spacing` (m,
+// the blade spacing), scaled by its height and `copy_scale_at` (`near`,
+// m: `copy_reach_m`) about its root, `eye` the viewpoint.
+fn copy_vertex(root: vec3<f32>, world: vec3<f32>, seed: u32, copy: u32, copies: u32, spacing: f32, near: f32, eye: vec3<f32>) -> vec3<f32> {
+    let offset = vec3<f32>(hash01(seed ^ 0x68e31da4u) - 0.5, 0.0, hash01(seed ^ 0xb5297a4du) - 0.5) * spacing;
+    let d = distance(root.xz + offset.xz, eye.xz);
+    let height = 0.8 + 0.35 * hash01(seed ^ 0x1b56c4e9u);
+    return root + offset + (world - root) * (height * copy_scale_at(copy, copies, d, near));
+}
+
+// A copy's tint, from its blade's `tint` and its own seed.
+fn copy_tint(tint: f32, seed: u32) -> f32 {
+    return fract(tint + 0.618034 * hash01(seed));
+}

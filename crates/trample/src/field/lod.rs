@@ -75,6 +75,32 @@ impl LodParams {
         }
         Ok(())
     }
+
+    /// The blend bands a renderer draws between these levels of detail
+    /// (ours, DESIGN §8 "blend in a band"), metres: `[near, far]` for the
+    /// asked widths `near_m` (past `geometry_m`: the blades of
+    /// Billboard-LOD cells thin out as the billboards fade in) and `far_m`
+    /// (before `billboard_m`: the billboards thin out over the ground).
+    /// Each is at most half the billboard band (`billboard_m −
+    /// geometry_m`), so the two never overlap; a non-finite or negative
+    /// width gives 0 (no band: the paper's hard switch). trample-render
+    /// and bevy_trample both draw with these.
+    #[must_use]
+    pub fn blend_bands(&self, near_m: f32, far_m: f32) -> [f32; 2] {
+        let room = if self.billboard_m.is_finite() {
+            0.5 * (self.billboard_m - self.geometry_m).max(0.0)
+        } else {
+            f32::INFINITY
+        };
+        let clean = |m: f32| {
+            if m.is_finite() && m > 0.0 {
+                m.min(room)
+            } else {
+                0.0
+            }
+        };
+        [clean(near_m), clean(far_m)]
+    }
 }
 
 /// Representation of a cell.
@@ -357,6 +383,32 @@ fn add(c: &mut LodCounts, l: Lod, k: u32) {
 mod tests {
     use super::*;
     use crate::field::{Field, FieldParams, Terrain};
+
+    #[test]
+    fn blend_bands_fit_in_half_the_billboard_band_and_bad_widths_give_none() {
+        let lod = LodParams {
+            geometry_m: 12.0,
+            billboard_m: 30.0,
+        };
+        assert_eq!(lod.blend_bands(4.0, 6.0), [4.0, 6.0]);
+        // Half the billboard band (9 m) at most: the two never overlap.
+        assert_eq!(lod.blend_bands(20.0, 12.0), [9.0, 9.0]);
+        for bad in [0.0, -1.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            assert_eq!(lod.blend_bands(bad, bad), [0.0, 0.0], "{bad}");
+        }
+        // Billboards to the horizon: any finite width.
+        let far = LodParams {
+            geometry_m: 12.0,
+            billboard_m: f32::INFINITY,
+        };
+        assert_eq!(far.blend_bands(40.0, 7.0), [40.0, 7.0]);
+        // No billboard band: no blend band.
+        let none = LodParams {
+            geometry_m: 12.0,
+            billboard_m: 12.0,
+        };
+        assert_eq!(none.blend_bands(4.0, 6.0), [0.0, 0.0]);
+    }
 
     #[test]
     fn levels_follow_distance_and_changes_are_reported() {

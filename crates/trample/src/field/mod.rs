@@ -22,7 +22,7 @@ pub mod terrain;
 pub use blades::{BladeVertex, Blades, MAX_SEGMENTS};
 pub use cells::Cells;
 pub use changes::ChangeSet;
-pub use drawn::drawn_cells;
+pub use drawn::{drawn_blade_cells, drawn_cells};
 pub use field::Field;
 pub use frustum::{Frustum, cull_patches, cull_patches_each};
 pub use layout::{FieldLayout, NO_NEIGHBOUR, Patch};
