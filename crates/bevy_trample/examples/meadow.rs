@@ -12,6 +12,9 @@
 //! cargo run --release -p bevy_trample --example meadow
 //! # N frames of 1/60 s each, the last one saved, then exit (tests, CI):
 //! cargo run --release -p bevy_trample --example meadow -- --frames 45 --screenshot meadow.png
+//! # The paper's look, for comparison: a hard switch between levels of
+//! # detail, one drawn blade per simulated blade.
+//! cargo run --release -p bevy_trample --example meadow -- --hard-switch
 //! ```
 
 use anyhow::{Context, Result, bail};
@@ -26,7 +29,9 @@ use bevy::render::RenderPlugin;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 use bevy::time::TimeUpdateStrategy;
 use bevy::window::{PresentMode, WindowResolution};
-use bevy_trample::{TrampleCamera, TrampleField, TramplePlugin, TrampleSystems, Trampler};
+use bevy_trample::{
+    GrassLook, TrampleCamera, TrampleField, TramplePlugin, TrampleSystems, Trampler,
+};
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -42,6 +47,9 @@ struct Args {
     frames: Option<u32>,
     /// Where the last frame goes (`--screenshot FILE`, PNG).
     screenshot: Option<PathBuf>,
+    /// The paper's look (`--hard-switch`): levels of detail switched at a
+    /// distance with no blend band, one blade drawn per simulated blade.
+    hard_switch: bool,
 }
 
 fn parse_args() -> Result<Args> {
@@ -63,13 +71,18 @@ fn parse_args() -> Result<Args> {
                 let v = it.next().context("--screenshot needs a file name (PNG)")?;
                 args.screenshot = Some(PathBuf::from(v));
             }
+            "--hard-switch" => args.hard_switch = true,
             "-h" | "--help" => {
                 println!(
-                    "meadow [--frames N] [--screenshot FILE.png]\n  arrow keys: drive the car"
+                    "meadow [--frames N] [--screenshot FILE.png] [--hard-switch]\n  \
+                     arrow keys: drive the car\n  \
+                     --hard-switch: the paper's look (no blend bands, no extra blades near the camera)"
                 );
                 std::process::exit(0);
             }
-            other => bail!("unknown argument {other:?} (allowed: --frames N, --screenshot FILE)"),
+            other => bail!(
+                "unknown argument {other:?} (allowed: --frames N, --screenshot FILE, --hard-switch)"
+            ),
         }
     }
     if args.screenshot.is_some() && args.frames.is_none() {
@@ -120,6 +133,14 @@ fn main() -> Result<()> {
         ..default()
     })
     .insert_resource(CarMesh(Some(car)))
+    .insert_resource(if args.hard_switch {
+        GrassLook {
+            near_density: 1,
+            ..GrassLook::without_blend_bands()
+        }
+    } else {
+        GrassLook::default()
+    })
     .insert_resource(args.clone())
     .add_systems(Startup, setup)
     .add_systems(FixedUpdate, (drive, walk).before(TrampleSystems::Step))

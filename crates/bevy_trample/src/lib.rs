@@ -24,6 +24,8 @@ pub mod trampler;
 
 pub use error::TrampleError;
 pub use field::TrampleField;
+#[cfg(feature = "render")]
+pub use render::look::GrassLook;
 pub use step::{TrampleCamera, TramplerSkinRefused};
 pub use trampler::{Trampler, TramplerBody, TramplerError, TramplerPoseRefused, TramplerShape};
 

@@ -3,23 +3,30 @@
 // pos[k * blades + b]) and crossed billboards for Billboard-LOD cells (Eq. 8's
 // top edge), both lit by Bevy's PBR lighting (its lights and their shadows,
 // ambient light, fog, tonemapping) in Bevy's opaque pass. The blade's shape,
-// wind and colour are trample::blade_shape, the WGSL trample-render uses too.
+// wind and colour, the blend bands between levels of detail and the drawn
+// copies near the camera are trample::blade_shape, the WGSL trample-render
+// uses too.
 
 #import bevy_pbr::mesh_view_bindings::view
 #import bevy_pbr::pbr_types
 #import bevy_pbr::pbr_functions
 #import bevy_pbr::mesh_types::MESH_FLAGS_SHADOW_RECEIVER_BIT
-#import trample::blade_shape::{hash01, wind_tip_offset_at, billboard_axis, billboard_top_in_wind, blade_wind_vertex, blade_across, blade_width, blade_normal, blade_albedo}
+#import trample::blade_shape::{hash01, wind_tip_offset_at, billboard_axis, billboard_top_in_wind, blade_wind_vertex, blade_across, blade_width, blade_normal, blade_albedo, billboard_fade_in_at, billboard_fade_out_at, blade_fade_at, copy_reach_m, copy_seed, copy_vertex, copy_tint}
 
 struct Params {
     // xz: wind direction (unit), y: steady tip displacement (m), w: gust (m).
     wind: vec4<f32>,
     // x: gust period (s), y: gust wavelength (m).
     gusts: vec4<f32>,
-    // x: blades, y: segments per blade, z: blades per cell.
+    // x: blades, y: segments per blade, z: blades per cell, w: drawn
+    // copies per simulated blade (render density, >= 1).
     counts: vec4<u32>,
-    // x: simulated time (s).
+    // x: simulated time (s), y: blade spacing (m), z: the copies' reach (m).
     time: vec4<f32>,
+    // xyz: the eye that decides the levels of detail.
+    eye: vec4<f32>,
+    // x: geometry_m, y: billboard_m, z: near blend band, w: far blend band (m).
+    lod: vec4<f32>,
 }
 
 struct Billboard {
@@ -47,6 +54,8 @@ struct VertexOut {
     // Billboards: across the quad (0..1) and up it (0 base, 1 top).
     @location(3) uv: vec2<f32>,
     @location(4) @interpolate(flat) seed: u32,
+    // Billboards: the share of their strands drawn (blend bands).
+    @location(5) @interpolate(flat) presence: f32,
 }
 
 fn wind_tip(root: vec3<f32>) -> vec3<f32> {
@@ -65,28 +74,47 @@ fn corner_of(vi: u32) -> vec2<u32> {
     return vec2<u32>(c & 1u, c >> 1u);
 }
 
+// Instance ii is copy ii % copies of listed blade ii / copies (the cells'
+// blades in order); copy 0 is the simulated blade.
 @vertex
 fn blade_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
     let per_cell = params.counts.z;
-    let b = cells[ii / per_cell] * per_cell + ii % per_cell;
+    let copies = max(params.counts.w, 1u);
+    let listed = ii / copies;
+    let copy = ii % copies;
+    let b = cells[listed / per_cell] * per_cell + listed % per_cell;
     let n = params.counts.y;
     let c = corner_of(vi);
     let k = vi / 6u + c.y;
     let side = f32(c.x) - 0.5;
+    let root = pos[b].xyz;
     let p = vertex_of(k, b);
     // Tangent of the bent shape at vertex k (central difference).
     let dir = normalize(vertex_of(min(k + 1u, n), b) - vertex_of(max(k, 1u) - 1u, b));
-    let across = blade_across(b, dir);
+    let seed = copy_seed(b, copy);
+    let across = blade_across(seed, dir);
     let t = f32(k) / f32(n);
-    let world = p + across * side * blade_width(shape[b].x, t);
+    var world = p + across * side * blade_width(shape[b].x, t);
+    var tint = shape[b].y;
+    // The near blend band (Billboard-LOD cells' blades): a growing share
+    // shrinks to the root with distance as the billboards fade in.
+    let eye = params.eye.xyz;
+    let fade = blade_fade_at(hash01(seed ^ 0x2c1b3c6du), distance(root, eye), params.lod.x, params.lod.z);
+    world = root + (world - root) * fade;
+    if (copy != 0u) {
+        let near = copy_reach_m(params.time.z, params.lod.x);
+        world = copy_vertex(root, world, seed, copy, copies, params.time.y, near, eye);
+        tint = copy_tint(tint, seed);
+    }
 
     var out: VertexOut;
     out.clip = view.clip_from_world * vec4<f32>(world, 1.0);
     out.world = world;
     out.normal = blade_normal(across, dir, side);
-    out.albedo = blade_albedo(shape[b].y, t);
+    out.albedo = blade_albedo(tint, t);
     out.uv = vec2<f32>(f32(c.x), t);
-    out.seed = b;
+    out.seed = seed;
+    out.presence = 1.0;
     return out;
 }
 
@@ -106,11 +134,22 @@ fn billboard_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii:
     var out: VertexOut;
     out.clip = view.clip_from_world * vec4<f32>(world, 1.0);
     out.world = world;
-    // Lit like a blade seen side-on: the quad's normal bent up.
-    out.normal = normalize(cross(axis, top)) + vec3<f32>(0.0, 1.2, 0.0);
-    out.albedo = blade_albedo(0.5 + 0.5 * hash01(seed ^ 0x51u), y);
+    // Lit as the blades look from afar, so that the levels meet without a
+    // step in brightness (check_meadow's ring step, measured on lavapipe:
+    // 15 as drawn here; 35 with the normal bent up by 1.2, tints in the
+    // upper half and the base as dark as a blade's root, a yellow-green
+    // wash past the blades): the quad's normal bent up a little (0 left
+    // the billboards half as bright as the blades, 0.5 a tenth brighter),
+    // the blades' whole range of tints, and the base lighter than a
+    // blade's root (the nearest billboards' bases show in the blend band).
+    out.normal = normalize(cross(axis, top)) + vec3<f32>(0.0, 0.3, 0.0);
+    out.albedo = blade_albedo(hash01(seed ^ 0x51u), 0.3 + 0.7 * y);
     out.uv = vec2<f32>(x, y);
     out.seed = seed ^ (quad * 0x9e37u);
+    // Blend bands: faded in past geometry_m, out towards billboard_m.
+    let d = distance(bb.base.xyz, params.eye.xyz);
+    out.presence = billboard_fade_in_at(d, params.lod.x, params.lod.z)
+        * billboard_fade_out_at(d, params.lod.y, params.lod.w);
     return out;
 }
 
@@ -154,6 +193,12 @@ fn billboard_fragment(v: VertexOut) -> @location(0) vec4<f32> {
     let across = abs(fract(s) - 0.5) * 2.0;
     // Each strand tapers to a point at its height.
     if (v.uv.y > h * (1.0 - across * across) || across > 0.8) {
+        discard;
+    }
+    // Blend bands: a share `presence` of the strands shows (a dithered
+    // fade that keeps the drawn density as the blades thin out or the
+    // ground takes over).
+    if (hash01(strand * 0x9e3779b9u ^ v.seed * 0x85ebca6bu) >= v.presence) {
         discard;
     }
     return lit(v);

@@ -3,6 +3,7 @@
 //! those are uploaded), the cells drawn as blades, the billboards, and the
 //! draw parameters (counts, wind, time).
 
+use super::look::GrassLook;
 use crate::field::TrampleField;
 use bevy::prelude::*;
 use bevy::render::MainWorld;
@@ -10,7 +11,7 @@ use bytemuck::{Pod, Zeroable};
 use std::ops::Range;
 use trample::deform::billboard::billboard_top;
 use trample::field::generate::GROUND_CLEARANCE_M;
-use trample::field::{BladeVertex, Lod, drawn_cells};
+use trample::field::{BladeVertex, Lod, drawn_blade_cells, drawn_cells};
 
 /// Billboard width / cell side, as trample-render draws them: "a bit longer
 /// than the cell" (DESIGN §8), so neighbouring billboards overlap.
@@ -24,13 +25,21 @@ pub struct GrassParams {
     pub wind: [f32; 4],
     /// Gusts: x period (s), y wavelength (m).
     pub gusts: [f32; 4],
-    /// x blades, y segments per blade, z blades per cell, w unused.
+    /// x blades, y segments per blade, z blades per cell, w drawn copies
+    /// per simulated blade ([`GrassLook::copies`]).
     pub counts: [u32; 4],
-    /// x simulated time (s, the wind's clock).
+    /// x simulated time (s, the wind's clock), y the blade spacing (m, over
+    /// which the copies scatter), z how far the copies reach (m).
     pub time: [f32; 4],
+    /// xyz the eye that decides the levels of detail (the simulation's:
+    /// the [`crate::TrampleCamera`]'s), w unused.
+    pub eye: [f32; 4],
+    /// x `lod.geometry_m`, y `lod.billboard_m`, z the near blend band, w
+    /// the far one (m, [`trample::field::lod::LodParams::blend_bands`]).
+    pub lod: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<GrassParams>() == 64);
+const _: () = assert!(std::mem::size_of::<GrassParams>() == 96);
 
 /// One billboard. Layout-compatible with `Billboard` in blades.wgsl (and
 /// with trample-render's `BillboardInstance`).
@@ -62,7 +71,8 @@ pub struct GrassFrame {
     pub runs: Vec<(u32, u32)>,
     /// Vertex data of `runs` (the core's layout, `[x, y, z, 0]`).
     pub staging: Vec<BladeVertex>,
-    /// Cells drawn as blades.
+    /// Cells drawn as blades: the Geometry-LOD cells and the near blend
+    /// band's Billboard-LOD cells ([`drawn_blade_cells`]).
     pub cells: Vec<u32>,
     /// Billboards drawn.
     pub billboards: Vec<BillboardInstance>,
@@ -83,6 +93,10 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
     frame.cells.clear();
     frame.billboards.clear();
     frame.full = None;
+    let look = main
+        .get_resource::<GrassLook>()
+        .copied()
+        .unwrap_or_default();
     let Some(mut field) = main.get_resource_mut::<TrampleField>() else {
         frame.layout = None;
         return;
@@ -122,11 +136,21 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
     } else {
         &[]
     };
-    let lods = &sim.field.cells.lod;
-    frame
-        .cells
-        .extend(drawn_cells(layout, lods, visible, Lod::Geometry).map(|c| c as u32));
     let cells = &sim.field.cells;
+    let lods = &cells.lod;
+    let [near_band, _] = sim.lod.blend_bands(look.lod_blend_m, look.texture_blend_m);
+    frame.cells.extend(
+        drawn_blade_cells(
+            layout,
+            lods,
+            &cells.base,
+            visible,
+            sim.eye(),
+            sim.lod.geometry_m,
+            near_band,
+        )
+        .map(|c| c as u32),
+    );
     let half = 0.5 * WIDTH_OVER_CELL * layout.cell_size;
     frame
         .billboards
@@ -145,12 +169,70 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
                 extra: [0, c as u32, 0, 0],
             }
         }));
+    frame.params = grass_params(sim, &look);
+}
+
+/// This frame's draw parameters for `sim` drawn with `look`: the wind and
+/// its clock, the counts (drawn copies at least 1), the blade spacing and
+/// the copies' reach, the eye that decides the levels of detail (the
+/// simulation's), the level-of-detail distances and the blend bands in use
+/// ([`trample::field::lod::LodParams::blend_bands`]).
+#[must_use]
+pub fn grass_params(sim: &trample::Simulation, look: &GrassLook) -> GrassParams {
+    let bl = &sim.field.blades;
+    let layout = &sim.field.layout;
     let wind = &sim.wind;
     let d = wind.direction();
-    frame.params = GrassParams {
+    let [near_band, far_band] = sim.lod.blend_bands(look.lod_blend_m, look.texture_blend_m);
+    let spacing = layout.cell_size / (layout.blades_per_cell.max(1) as f32).sqrt();
+    GrassParams {
         wind: [d.x, wind.strength_m, d.z, wind.gust_m],
         gusts: [wind.gust_period_s, wind.gust_wavelength_m, 0.0, 0.0],
-        counts: [shape[0], shape[1], shape[2], 0],
-        time: [sim.time as f32, 0.0, 0.0, 0.0],
-    };
+        counts: [
+            bl.count as u32,
+            bl.segments as u32,
+            layout.blades_per_cell,
+            look.copies(),
+        ],
+        time: [sim.time as f32, spacing, look.near_density_m, 0.0],
+        eye: sim.eye().extend(0.0).to_array(),
+        lod: [sim.lod.geometry_m, sim.lod.billboard_m, near_band, far_band],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trample::scene::Scene;
+
+    #[test]
+    fn the_params_carry_the_look_the_bands_in_use_and_the_eye() {
+        let sim = Scene::default_scene().unwrap().build().unwrap();
+        let p = grass_params(&sim, &GrassLook::default());
+        assert_eq!(p.counts[3], 6);
+        assert_eq!(p.eye, sim.eye().extend(0.0).to_array());
+        assert_eq!(p.lod[..2], [sim.lod.geometry_m, sim.lod.billboard_m]);
+        assert_eq!(p.lod[2..], sim.lod.blend_bands(4.0, 6.0));
+        assert!(p.lod[2] > 0.0 && p.lod[3] > 0.0);
+        // One blade a cell of 0.1 m in the default scene: 0.1 m apart.
+        let layout = &sim.field.layout;
+        let spacing = layout.cell_size / (layout.blades_per_cell as f32).sqrt();
+        assert_eq!(p.time[1], spacing);
+        assert_eq!(p.time[2], 8.0);
+        // The paper's hard switch, and no density asked: one drawn blade.
+        let hard = GrassLook {
+            near_density: 0,
+            ..GrassLook::without_blend_bands()
+        };
+        let p = grass_params(&sim, &hard);
+        assert_eq!(p.counts[3], 1);
+        assert_eq!(p.lod[2..], [0.0, 0.0]);
+        // A band wider than the room between the levels is cut to half of it.
+        let wide = GrassLook {
+            lod_blend_m: 1e6,
+            ..GrassLook::default()
+        };
+        let p = grass_params(&sim, &wide);
+        assert_eq!(p.lod[2], 0.5 * (sim.lod.billboard_m - sim.lod.geometry_m));
+    }
 }

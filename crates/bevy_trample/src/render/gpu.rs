@@ -30,7 +30,8 @@ pub struct GrassGpu {
     pub params: Buffer,
     /// Bind group over all of them (made in `PrepareBindGroups`).
     pub bind_group: Option<BindGroup>,
-    /// Blades drawn this frame (cells × blades per cell).
+    /// Blade instances drawn this frame: cells × blades per cell × drawn
+    /// copies per blade ([`super::look::GrassLook::copies`]).
     pub blades: u32,
     /// Billboards drawn this frame.
     pub billboard_count: u32,
@@ -141,7 +142,9 @@ pub fn prepare_grass_buffers(
     }
     queue.write_buffer(&gpu.billboards, 0, bytemuck::cast_slice(&frame.billboards));
     queue.write_buffer(&gpu.params, 0, bytemuck::bytes_of(&frame.params));
-    gpu.blades = frame.cells.len() as u32 * per_cell;
+    gpu.blades = (frame.cells.len() as u32)
+        .saturating_mul(per_cell)
+        .saturating_mul(frame.params.counts[3].max(1));
     gpu.billboard_count = frame.billboards.len() as u32;
     if let Some(gpu) = made {
         commands.insert_resource(gpu);

@@ -6,7 +6,8 @@
 //!
 //! The data flow is Bevy's: the main world simulates; [`extract`] copies
 //! what changed (the blades the last steps moved, this frame's drawn cells
-//! and billboards) into the render world; [`gpu`] uploads only that;
+//! and billboards, the [`look::GrassLook`]: blend bands and render
+//! density) into the render world; [`gpu`] uploads only that;
 //! [`queue`] puts the two draws into each camera's opaque phase;
 //! [`pipeline`] specialises Bevy's mesh pipeline (its view bindings and
 //! shader defs) for `blades.wgsl`, whose blade shape, wind and colour are
@@ -19,6 +20,7 @@
 pub mod extract;
 pub mod gpu;
 pub mod ground;
+pub mod look;
 pub mod pipeline;
 pub mod queue;
 
@@ -66,7 +68,8 @@ impl Plugin for TrampleRenderPlugin {
             &BLADE_SHAPE_SHADER,
             Shader::from_wgsl(shape, "trample/blade_shape.wgsl"),
         );
-        app.add_plugins(ExtractComponentPlugin::<GrassDraw>::default())
+        app.init_resource::<look::GrassLook>()
+            .add_plugins(ExtractComponentPlugin::<GrassDraw>::default())
             .add_systems(
                 PostUpdate,
                 (spawn_draws, ground::spawn_ground).run_if(resource_exists::<TrampleField>),

@@ -36,9 +36,9 @@ pub type DrawGrass = (
     DrawGrassInstances,
 );
 
-/// Binds group 2 and draws: every drawn blade as an instance of
-/// `6 · segments` vertices (two triangles a segment), or every billboard
-/// as an instance of 12 (two crossed quads).
+/// Binds group 2 and draws: every drawn blade (each of its drawn copies)
+/// as an instance of `6 · segments` vertices (two triangles a segment), or
+/// every billboard as an instance of 12 (two crossed quads).
 pub struct DrawGrassInstances;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {

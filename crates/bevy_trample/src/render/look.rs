@@ -1,0 +1,79 @@
+//! How the meadow is drawn between and within its levels of detail:
+//! blend bands (no ring round the camera where blades give way to
+//! billboards and billboards to the ground) and render density (more
+//! blades drawn near the camera than simulated). The same settings, with
+//! the same defaults, as trample-render's `RenderParams`; the shader
+//! functions are the core's (`trample::blade_shape`), so both renderers
+//! draw the bands and copies alike.
+
+use bevy::prelude::*;
+
+/// The meadow's look (a resource; the plugin inserts the default when the
+/// app has none). Change it at any time: the next frame draws with it.
+///
+/// ```no_run
+/// # use bevy::prelude::*;
+/// # use bevy_trample::GrassLook;
+/// # let mut app = App::new();
+/// // The paper's hard switch between levels, one drawn blade a simulated one.
+/// app.insert_resource(GrassLook { near_density: 1, ..GrassLook::without_blend_bands() });
+/// ```
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct GrassLook {
+    /// Width of the blend band past `lod.geometry_m`, metres (default 4):
+    /// there the blades of Billboard-LOD cells are drawn too, a growing
+    /// share of them shrinking away with distance, while the billboards
+    /// fade in (a dithered share of their strands), so the grass changes
+    /// level without a ring round the camera. 0 turns the band off (the
+    /// paper's hard switch). At most half the billboard band
+    /// ([`trample::field::lod::LodParams::blend_bands`]).
+    pub lod_blend_m: f32,
+    /// Width of the blend band before `lod.billboard_m`, metres (default
+    /// 6): the billboards thin out over the ground, which shows alone past
+    /// `lod.billboard_m`. 0 turns it off. At most half the billboard band.
+    pub texture_blend_m: f32,
+    /// Near the camera each simulated blade is drawn this many times
+    /// (default 6; 1 draws the simulated blades alone, 0 counts as 1): the
+    /// copies are scattered within the blade spacing, follow their
+    /// blade's bent shape (the track, the wind), each with its own facing,
+    /// height and tint. The simulation and its cost are unchanged; drawing
+    /// costs up to this many times the near blades' vertices. The paper's
+    /// one blade per 10 cm cell reads as bare ground from a few metres.
+    pub near_density: u32,
+    /// How far from the camera the copies reach, metres (default 8; at
+    /// most 0.6 · `lod.geometry_m`, so the grass is back to the simulated
+    /// density well before cells change level): copy j of `near_density`
+    /// is drawn to `reach · (1 − (j − 1) / near_density)` and shrinks to
+    /// its root over the last fifth of that.
+    pub near_density_m: f32,
+}
+
+impl Default for GrassLook {
+    fn default() -> Self {
+        Self {
+            lod_blend_m: 4.0,
+            texture_blend_m: 6.0,
+            near_density: 6,
+            near_density_m: 8.0,
+        }
+    }
+}
+
+impl GrassLook {
+    /// The default look with both blend bands off: the paper's hard
+    /// switch between levels of detail.
+    #[must_use]
+    pub fn without_blend_bands() -> Self {
+        Self {
+            lod_blend_m: 0.0,
+            texture_blend_m: 0.0,
+            ..Self::default()
+        }
+    }
+
+    /// Drawn copies per simulated blade (at least 1).
+    #[must_use]
+    pub fn copies(&self) -> u32 {
+        self.near_density.max(1)
+    }
+}
