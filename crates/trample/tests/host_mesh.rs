@@ -116,12 +116,26 @@ fn slid_against_moved_in(speed: f32, frames: u32, field: fn() -> Simulation) {
         offset += Vec3::X * speed * dt;
         let vertices: Vec<Vec3> = rest.iter().map(|&p| p + offset).collect();
         slid.set_body_vertices(a, &vertices, dt).unwrap();
-        let timings = slid.step(dt).unwrap();
-        let substeps = timings.substeps;
-        far_turns += timings.far_bodies;
         moved
             .move_body(b, START + offset, Quat::IDENTITY, dt)
             .unwrap();
+        if slid.params.far_every > 1 {
+            // A far turn's cost is estimated by the mesh's speed (its
+            // farthest vertex's), as by a moved body's: how the turns are
+            // balanced (`trample::step::passes::far_work`).
+            let work = |sim: &Simulation| trample::step::passes::far_work(sim, &sim.bodies[0]);
+            let p = &slid.params;
+            let want = f64::from(speed * dt * p.far_every as f32 / p.far_travel_m);
+            let (ws, wm) = (work(&slid).travel, work(&moved).travel);
+            eprintln!("far turn travel: slid {ws}, moved {wm}, want {want}");
+            assert!(
+                (ws - want).abs() <= 1e-3 * want,
+                "a far turn's travel: slid mesh {ws}, {want} at its speed"
+            );
+        }
+        let timings = slid.step(dt).unwrap();
+        let substeps = timings.substeps;
+        far_turns += timings.far_bodies;
         let want = moved.step(dt).unwrap().substeps;
         assert_eq!(
             substeps, want,

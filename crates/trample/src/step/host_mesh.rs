@@ -60,6 +60,19 @@ impl HostVertices {
         }
     }
 
+    /// How fast its farthest vertex goes at time `t`, m/s: the span's
+    /// [`HostVertices::farthest`] over its length while it lasts, 0 after
+    /// it (the mesh stays where the host put it). What a far turn's cost is
+    /// estimated by, as a body's speed is (`step/passes.rs`, `far_work`).
+    pub(crate) fn speed_at(&self, t: f32) -> f32 {
+        let span = self.t1 - self.t0;
+        if span > 0.0 && t < self.t1 {
+            self.farthest / span
+        } else {
+            0.0
+        }
+    }
+
     /// The farthest any vertex goes between times `a` and `b` (≥ a): the
     /// share of the span they cover times [`HostVertices::farthest`]. What
     /// the sub-steps are planned by, as a body's travel is

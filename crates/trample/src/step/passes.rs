@@ -401,7 +401,9 @@ pub struct FarWork {
     pub area: f64,
     /// The travel of a turn at its speed now — `far_every` steps of the
     /// scene's `dt_s` — in `far_travel_m`: finite, ≥ 0
-    /// ([`FarWork::substeps`]).
+    /// ([`FarWork::substeps`]). The speed is the pose's, or that of the
+    /// farthest vertex of a mesh the host animates
+    /// ([`Simulation::set_body_vertices`]) when that is faster.
     pub travel: f64,
     /// Whether it stands still now, so that its narrow phase and contact
     /// response take their answers from the sub-step before
@@ -478,7 +480,14 @@ pub fn far_work(sim: &Simulation, body: &Body) -> FarWork {
         area += f64::from(2.0 * (x + reach)) * f64::from(2.0 * (z + reach));
     }
     area /= FAR_HEADINGS.len() as f64;
-    let travel = f64::from(body.pose.velocity.length())
+    // The pose's speed, or the host's mesh's (its farthest vertex), as
+    // the sub-steps count the faster of the two (`stages.rs`).
+    let mesh_speed = body
+        .rig
+        .host
+        .as_ref()
+        .map_or(0.0, |h| h.speed_at(sim.time as f32));
+    let travel = f64::from(body.pose.velocity.length().max(mesh_speed))
         * f64::from(sim.params.dt_s)
         * f64::from(sim.params.far_every);
     let travel = travel / f64::from(sim.params.far_travel_m);
