@@ -74,15 +74,10 @@ fn sun_visibility(world: vec3<f32>) -> f32 {
     return 1.0 - globals.shadow.x * (1.0 - lit);
 }
 
-// Ambient occlusion of grass: 1 at the tip of a standing blade, darker
-// towards the root (`along`: 0 at the root, 1 at the tip: the neighbours
-// hide the sky and the sun there) and for a flattened blade (`upright`:
-// the sine of its root-to-tip elevation, 1 standing, 0 lying: laid blades
-// shade each other). Scaled by the ambient-occlusion strength (0 = none).
+// Ambient occlusion of grass: the shared `grass_ao_at` (trample::blade_shape)
+// at this frame's strength (globals.shadow.y).
 fn grass_ao(along: f32, upright: f32) -> f32 {
-    let low = 1.0 - clamp(along, 0.0, 1.0);
-    let occlusion = 0.55 * low * low + 0.3 * (1.0 - clamp(upright, 0.0, 1.0));
-    return 1.0 - globals.shadow.y * occlusion;
+    return grass_ao_at(along, upright, globals.shadow.y);
 }
 
 // Blend bands between levels of detail (issue 15 item 1): the shared

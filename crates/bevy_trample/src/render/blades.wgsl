@@ -11,7 +11,7 @@
 #import bevy_pbr::pbr_types
 #import bevy_pbr::pbr_functions
 #import bevy_pbr::mesh_types::MESH_FLAGS_SHADOW_RECEIVER_BIT
-#import trample::blade_shape::{hash01, wind_tip_offset_at, billboard_axis, billboard_top_in_wind, blade_wind_vertex, blade_across, blade_width, blade_normal, blade_albedo, billboard_fade_in_at, billboard_fade_out_at, blade_fade_at, copy_reach_m, copy_seed, copy_vertex, copy_tint}
+#import trample::blade_shape::{hash01, wind_tip_offset_at, billboard_axis, billboard_top_in_wind, blade_wind_vertex, blade_across, blade_width, blade_normal, blade_albedo, billboard_fade_in_at, billboard_fade_out_at, blade_fade_at, copy_reach_m, copy_seed, copy_vertex, copy_tint, grass_ao_at}
 
 struct Params {
     // xz: wind direction (unit), y: steady tip displacement (m), w: gust (m).
@@ -21,7 +21,8 @@ struct Params {
     // x: blades, y: segments per blade, z: blades per cell, w: drawn
     // copies per simulated blade (render density, >= 1).
     counts: vec4<u32>,
-    // x: simulated time (s), y: blade spacing (m), z: the copies' reach (m).
+    // x: simulated time (s), y: blade spacing (m), z: the copies' reach (m),
+    // w: ambient-occlusion strength.
     time: vec4<f32>,
     // xyz: the eye that decides the levels of detail.
     eye: vec4<f32>,
@@ -111,7 +112,11 @@ fn blade_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32
     out.clip = view.clip_from_world * vec4<f32>(world, 1.0);
     out.world = world;
     out.normal = blade_normal(across, dir, side);
-    out.albedo = blade_albedo(tint, t);
+    // Ambient occlusion: darker to the root and when laid flat (the
+    // stored blade's root-to-tip elevation, without the drawn wind).
+    let chord = pos[n * params.counts.x + b].xyz - root;
+    let upright = chord.y / max(length(chord), 1e-6);
+    out.albedo = blade_albedo(tint, t) * grass_ao_at(t, upright, params.time.w);
     out.uv = vec2<f32>(f32(c.x), t);
     out.seed = seed;
     out.presence = 1.0;
@@ -143,7 +148,10 @@ fn billboard_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii:
     // the blades' whole range of tints, and the base lighter than a
     // blade's root (the nearest billboards' bases show in the blend band).
     out.normal = normalize(cross(axis, top)) + vec3<f32>(0.0, 0.3, 0.0);
-    out.albedo = blade_albedo(hash01(seed ^ 0x51u), 0.3 + 0.7 * y);
+    // Ambient occlusion along the height and as the cell lies flatter.
+    let upright = bb.top.y / max(length(bb.top.xyz), 1e-6);
+    let ao = grass_ao_at(y, 1.0, params.time.w) * grass_ao_at(1.0, upright, params.time.w);
+    out.albedo = blade_albedo(hash01(seed ^ 0x51u), 0.3 + 0.7 * y) * ao;
     out.uv = vec2<f32>(x, y);
     out.seed = seed ^ (quad * 0x9e37u);
     // Blend bands: faded in past geometry_m, out towards billboard_m.

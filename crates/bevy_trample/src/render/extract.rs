@@ -29,7 +29,8 @@ pub struct GrassParams {
     /// per simulated blade ([`GrassLook::copies`]).
     pub counts: [u32; 4],
     /// x simulated time (s, the wind's clock), y the blade spacing (m, over
-    /// which the copies scatter), z how far the copies reach (m).
+    /// which the copies scatter), z how far the copies reach (m), w the
+    /// strength of the grass's ambient occlusion (≥ 0).
     pub time: [f32; 4],
     /// xyz the eye that decides the levels of detail (the simulation's:
     /// the [`crate::TrampleCamera`]'s), w unused.
@@ -194,7 +195,16 @@ pub fn grass_params(sim: &trample::Simulation, look: &GrassLook) -> GrassParams 
             layout.blades_per_cell,
             look.copies(),
         ],
-        time: [sim.time as f32, spacing, look.near_density_m, 0.0],
+        time: [
+            sim.time as f32,
+            spacing,
+            look.near_density_m,
+            if look.ambient_occlusion.is_finite() {
+                look.ambient_occlusion.max(0.0)
+            } else {
+                0.0
+            },
+        ],
         eye: sim.eye().extend(0.0).to_array(),
         lod: [sim.lod.geometry_m, sim.lod.billboard_m, near_band, far_band],
     }
@@ -219,6 +229,14 @@ mod tests {
         let spacing = layout.cell_size / (layout.blades_per_cell as f32).sqrt();
         assert_eq!(p.time[1], spacing);
         assert_eq!(p.time[2], 8.0);
+        assert_eq!(p.time[3], 1.0);
+        for (ao, want) in [(f32::NAN, 0.0), (-1.0, 0.0), (0.5, 0.5)] {
+            let look = GrassLook {
+                ambient_occlusion: ao,
+                ..GrassLook::default()
+            };
+            assert_eq!(grass_params(&sim, &look).time[3], want, "{ao}");
+        }
         // The paper's hard switch, and no density asked: one drawn blade.
         let hard = GrassLook {
             near_density: 0,

@@ -2,7 +2,8 @@
 //! blend bands (no ring round the camera where blades give way to
 //! billboards and billboards to the ground) and render density (more
 //! blades drawn near the camera than simulated). The same settings, with
-//! the same defaults, as trample-render's `RenderParams`; the shader
+//! the same defaults, as trample-render's `RenderParams` (and its ambient
+//! occlusion of grass, which makes a track read); the shader
 //! functions are the core's (`trample::blade_shape`), so both renderers
 //! draw the bands and copies alike.
 
@@ -46,6 +47,14 @@ pub struct GrassLook {
     /// is drawn to `reach · (1 − (j − 1) / near_density)` and shrinks to
     /// its root over the last fifth of that.
     pub near_density_m: f32,
+    /// Strength of the grass's ambient occlusion (default 1; 0 turns it
+    /// off): blades darken towards their roots and flattened blades as a
+    /// whole (to 70 % of the light when lying), so a track reads even in
+    /// the shade; billboards along their height and as their cell lies
+    /// flatter. Shared with trample-render (`grass_ao_at` of
+    /// `trample::blade_shape`); Bevy's own SSAO, if the app turns it on,
+    /// darkens on top of it.
+    pub ambient_occlusion: f32,
 }
 
 impl Default for GrassLook {
@@ -55,6 +64,7 @@ impl Default for GrassLook {
             texture_blend_m: 6.0,
             near_density: 6,
             near_density_m: 8.0,
+            ambient_occlusion: 1.0,
         }
     }
 }
