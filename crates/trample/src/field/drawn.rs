@@ -17,6 +17,15 @@ pub fn drawn_cells<'a>(
     visible: &'a [bool],
     lod: Lod,
 ) -> impl Iterator<Item = usize> + 'a {
+    visible_cells(layout, visible).filter(move |&c| lods.get(c) == Some(&lod))
+}
+
+/// Every cell of the patches marked visible (`visible[p]`; a patch past
+/// the end counts as visible), ascending.
+fn visible_cells<'a>(
+    layout: &'a FieldLayout,
+    visible: &'a [bool],
+) -> impl Iterator<Item = usize> + 'a {
     let per_patch = layout.cells_in_patch();
     layout
         .patch_list
@@ -27,7 +36,6 @@ pub fn drawn_cells<'a>(
             let first = patch.first_cell as usize;
             first..first + per_patch
         })
-        .filter(move |&c| lods.get(c) == Some(&lod))
 }
 
 /// Indices of the cells a renderer draws as blades (DESIGN §8): the
@@ -46,7 +54,6 @@ pub fn drawn_blade_cells<'a>(
     geometry_m: f32,
     band_m: f32,
 ) -> impl Iterator<Item = usize> + 'a {
-    let per_patch = layout.cells_in_patch();
     let reach = geometry_m + band_m.max(0.0);
     let in_band = move |c: usize| {
         band_m > 0.0
@@ -54,20 +61,11 @@ pub fn drawn_blade_cells<'a>(
                 .get(c)
                 .is_some_and(|b| b.distance_squared(eye) < reach * reach)
     };
-    layout
-        .patch_list
-        .iter()
-        .enumerate()
-        .filter(move |(p, _)| visible.get(*p).copied().unwrap_or(true))
-        .flat_map(move |(_, patch)| {
-            let first = patch.first_cell as usize;
-            first..first + per_patch
-        })
-        .filter(move |&c| match lods.get(c) {
-            Some(Lod::Geometry) => true,
-            Some(Lod::Billboard) => in_band(c),
-            _ => false,
-        })
+    visible_cells(layout, visible).filter(move |&c| match lods.get(c) {
+        Some(Lod::Geometry) => true,
+        Some(Lod::Billboard) => in_band(c),
+        _ => false,
+    })
 }
 
 #[cfg(test)]
@@ -100,6 +98,7 @@ mod tests {
             0
         );
     }
+
     #[test]
     fn blade_cells_are_the_geometry_cells_and_the_billboard_cells_in_the_near_band() {
         let sim = Scene::default_scene().unwrap().build().unwrap();
@@ -109,29 +108,22 @@ mod tests {
         let geometry_m = sim.lod.geometry_m;
         let geometry: Vec<usize> =
             drawn_cells(layout, &cells.lod, &visible, Lod::Geometry).collect();
+        let blade_cells = |band: f32| -> Vec<usize> {
+            drawn_blade_cells(
+                layout,
+                &cells.lod,
+                &cells.base,
+                &visible,
+                eye,
+                geometry_m,
+                band,
+            )
+            .collect()
+        };
         // No band: the Geometry-LOD cells alone.
-        let no_band: Vec<usize> = drawn_blade_cells(
-            layout,
-            &cells.lod,
-            &cells.base,
-            &visible,
-            eye,
-            geometry_m,
-            0.0,
-        )
-        .collect();
-        assert_eq!(no_band, geometry);
+        assert_eq!(blade_cells(0.0), geometry);
         let band = 4.0;
-        let with_band: Vec<usize> = drawn_blade_cells(
-            layout,
-            &cells.lod,
-            &cells.base,
-            &visible,
-            eye,
-            geometry_m,
-            band,
-        )
-        .collect();
+        let with_band = blade_cells(band);
         let reach = geometry_m + band;
         let expected: Vec<usize> = (0..layout.cell_count())
             .filter(|&c| {
