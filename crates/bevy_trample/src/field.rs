@@ -2,7 +2,7 @@
 //! same parameters as a scene file ([`SceneFile`]) or from a scene file.
 
 use crate::TrampleError;
-use crate::host::BladeChanges;
+use crate::host::{BladeChanges, CellChanges};
 use bevy::prelude::*;
 use std::path::Path;
 use trample::Simulation;
@@ -26,6 +26,8 @@ pub struct TrampleField {
     pub sim: Simulation,
     /// Blades the steps changed since the renderer last took them.
     pub(crate) changes: BladeChanges,
+    /// Cells the steps changed since the ground last took them.
+    pub(crate) cell_changes: CellChanges,
     /// Bodies the plugin put in the simulation for [`crate::Trampler`]s.
     pub(crate) tramplers: usize,
 }
@@ -82,6 +84,7 @@ impl TrampleField {
         Self {
             sim,
             changes: BladeChanges::default(),
+            cell_changes: CellChanges::default(),
             tramplers: 0,
         }
     }

@@ -228,3 +228,48 @@ impl BladeChanges {
         false
     }
 }
+
+/// The cells the simulation's steps changed since the ground last took
+/// them (their level, billboard slope and flatness: `Cells::flatness`, the
+/// track the ground shows), gathered step by step as [`BladeChanges`]
+/// gathers blades: several fixed steps may run between two frames.
+#[derive(Debug)]
+pub struct CellChanges {
+    /// Cells written by the steps since the last [`CellChanges::take`].
+    changed: ChangeSet,
+    /// Set until the first take: the ground has none of the cells yet.
+    stale: bool,
+}
+
+impl Default for CellChanges {
+    fn default() -> Self {
+        Self {
+            changed: ChangeSet::default(),
+            stale: true,
+        }
+    }
+}
+
+impl CellChanges {
+    /// Adds what the step just taken changed. Call after every step.
+    pub fn after_step(&mut self, sim: &Simulation) {
+        for c in sim.changed_cells() {
+            self.changed.mark(c as usize);
+        }
+    }
+
+    /// Appends to `cells` the cells changed since the last call, ascending,
+    /// each once, and returns true when that is every cell (the first
+    /// call: then `cells` is left as it was).
+    pub fn take(&mut self, cells: &mut Vec<u32>) -> bool {
+        if self.stale {
+            self.stale = false;
+            self.changed.clear();
+            return true;
+        }
+        self.changed.sort();
+        cells.extend(self.changed.iter());
+        self.changed.clear();
+        false
+    }
+}

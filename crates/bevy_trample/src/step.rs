@@ -94,6 +94,7 @@ pub fn step_field(
         Err(e) => warn!("bevy_trample: step refused: {e}"),
     }
     field.changes.after_step(&field.sim);
+    field.cell_changes.after_step(&field.sim);
 }
 
 /// On a skinned trampler whose skin could not be posed on the CPU (a mesh

@@ -55,6 +55,11 @@ pub struct GrassLook {
     /// `trample::blade_shape`); Bevy's own SSAO, if the app turns it on,
     /// darkens on top of it.
     pub ambient_occlusion: f32,
+    /// How much a flattened cell darkens and browns the ground under it,
+    /// in [0, 1] (default 0.8, trample-render's `track_darkening`; 0
+    /// turns it off): the track shows on the ground at every level of
+    /// detail, past the billboards too.
+    pub track_darkening: f32,
 }
 
 impl Default for GrassLook {
@@ -65,6 +70,7 @@ impl Default for GrassLook {
             near_density: 6,
             near_density_m: 8.0,
             ambient_occlusion: 1.0,
+            track_darkening: 0.8,
         }
     }
 }

@@ -72,7 +72,12 @@ impl Plugin for TrampleRenderPlugin {
             .add_plugins(ExtractComponentPlugin::<GrassDraw>::default())
             .add_systems(
                 PostUpdate,
-                (spawn_draws, ground::spawn_ground).run_if(resource_exists::<TrampleField>),
+                (
+                    spawn_draws,
+                    ground::spawn_ground,
+                    ground::update_ground_track.after(ground::spawn_ground),
+                )
+                    .run_if(resource_exists::<TrampleField>),
             );
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else {
             return;
