@@ -198,7 +198,7 @@ pub fn grass_params(sim: &trample::Simulation, look: &GrassLook) -> GrassParams 
         time: [
             sim.time as f32,
             spacing,
-            look.near_density_m,
+            look.copies_reach_m(),
             if look.ambient_occlusion.is_finite() {
                 look.ambient_occlusion.max(0.0)
             } else {
@@ -230,6 +230,14 @@ mod tests {
         assert_eq!(p.time[1], spacing);
         assert_eq!(p.time[2], 8.0);
         assert_eq!(p.time[3], 1.0);
+        // Bad settings: clamped, never NaN in the shader.
+        let bad = GrassLook {
+            near_density: u32::MAX,
+            near_density_m: f32::NAN,
+            ..GrassLook::default()
+        };
+        let p = grass_params(&sim, &bad);
+        assert_eq!((p.counts[3], p.time[2]), (64, 0.0));
         for (ao, want) in [(f32::NAN, 0.0), (-1.0, 0.0), (0.5, 0.5)] {
             let look = GrassLook {
                 ambient_occlusion: ao,

@@ -9,6 +9,9 @@
 
 use bevy::prelude::*;
 
+/// Most drawn copies per simulated blade ([`GrassLook::near_density`]).
+pub const MAX_NEAR_DENSITY: u32 = 64;
+
 /// The meadow's look (a resource; the plugin inserts the default when the
 /// app has none). Change it at any time: the next frame draws with it.
 ///
@@ -34,7 +37,8 @@ pub struct GrassLook {
     /// `lod.billboard_m`. 0 turns it off. At most half the billboard band.
     pub texture_blend_m: f32,
     /// Near the camera each simulated blade is drawn this many times
-    /// (default 6; 1 draws the simulated blades alone, 0 counts as 1): the
+    /// (default 6; 1 draws the simulated blades alone, 0 counts as 1, at
+    /// most [`MAX_NEAR_DENSITY`], as `trample run --near-density`): the
     /// copies are scattered within the blade spacing, follow their
     /// blade's bent shape (the track, the wind), each with its own facing,
     /// height and tint. The simulation and its cost are unchanged; drawing
@@ -87,9 +91,21 @@ impl GrassLook {
         }
     }
 
-    /// Drawn copies per simulated blade (at least 1).
+    /// Drawn copies per simulated blade: `near_density` within
+    /// 1..=[`MAX_NEAR_DENSITY`].
     #[must_use]
     pub fn copies(&self) -> u32 {
-        self.near_density.max(1)
+        self.near_density.clamp(1, MAX_NEAR_DENSITY)
+    }
+
+    /// How far the copies reach, metres: `near_density_m`, 0 for a
+    /// negative or non-finite value (no copies).
+    #[must_use]
+    pub fn copies_reach_m(&self) -> f32 {
+        if self.near_density_m.is_finite() {
+            self.near_density_m.max(0.0)
+        } else {
+            0.0
+        }
     }
 }
