@@ -46,8 +46,21 @@ pub struct GroundTrack {
     pub texels: [u32; 2],
     /// The darkening it was last drawn with ([`GrassLook::track_darkening`]).
     pub darkening: f32,
+    /// The field it was made for ([`ground_key`]).
+    pub key: GroundKey,
     /// Changed cells (scratch).
     changed: Vec<u32>,
+}
+
+/// What a ground is made for: the field's origin and cell size (m) and its
+/// cells along x and z. A field with another key gets a new ground.
+pub type GroundKey = ([f32; 2], f32, [u32; 2]);
+
+/// The [`GroundKey`] of `field`.
+#[must_use]
+pub fn ground_key(field: &TrampleField) -> GroundKey {
+    let layout = &field.sim.field.layout;
+    (layout.origin, layout.cell_size, layout.grid_size())
 }
 
 /// The ground's colour factor for a mean flatness `flat` in [0, 1]: white
@@ -75,10 +88,7 @@ pub fn track_texel(flat: f32, darkening: f32) -> [u8; 4] {
 /// (`MAX_TRACK_TEXELS` at most along each), and the texels along x and z.
 #[must_use]
 pub fn track_grid(layout: &FieldLayout) -> ([u32; 2], u32, [u32; 2]) {
-    let cells = [
-        layout.patches[0] * layout.cells_per_patch,
-        layout.patches[1] * layout.cells_per_patch,
-    ];
+    let cells = layout.grid_size();
     let k = cells[0].max(cells[1]).div_ceil(MAX_TRACK_TEXELS).max(1);
     (cells, k, [cells[0].div_ceil(k), cells[1].div_ceil(k)])
 }
@@ -119,14 +129,9 @@ pub fn track_texels(field: &TrampleField, darkening: f32) -> Vec<u8> {
 pub fn redraw_texels(field: &TrampleField, changed: &[u32], darkening: f32, data: &mut [u8]) {
     let layout = &field.sim.field.layout;
     let (cells, k, [w, _]) = track_grid(layout);
-    let cpp = layout.cells_per_patch;
-    let per_patch = layout.cells_in_patch() as u32;
     let mut last = None;
     for &c in changed {
-        // The cell's grid coordinates from its storage index.
-        let (patch, within) = (c / per_patch, c % per_patch);
-        let gx = (patch % layout.patches[0]) * cpp + within % cpp;
-        let gz = (patch / layout.patches[0]) * cpp + within / cpp;
+        let [gx, gz] = layout.cell_coord(c as usize);
         let (tx, tz) = (gx / k, gz / k);
         if last == Some((tx, tz)) {
             continue;
@@ -139,14 +144,32 @@ pub fn redraw_texels(field: &TrampleField, changed: &[u32], darkening: f32, data
     }
 }
 
+/// The track texture of `field` (linear RGBA8, [`track_texels`]).
+fn track_image(field: &TrampleField, darkening: f32) -> Image {
+    let (_, _, [width, height]) = track_grid(&field.sim.field.layout);
+    Image::new(
+        Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        TextureDimension::D2,
+        track_texels(field, darkening),
+        TextureFormat::Rgba8Unorm,
+        RenderAssetUsages::default(),
+    )
+}
+
 /// Spawns the ground once a field exists (and there is a `Mesh` and
 /// `StandardMaterial` asset store, i.e. the app renders), textured with the
-/// field's track ([`GroundTrack`]).
+/// field's track ([`GroundTrack`]); anew for another field.
+#[allow(clippy::too_many_arguments)]
 pub fn spawn_ground(
     mut commands: Commands,
     field: Res<TrampleField>,
     look: Option<Res<GrassLook>>,
-    ground: Query<(), With<TrampleGround>>,
+    track: Option<Res<GroundTrack>>,
+    ground: Query<Entity, With<TrampleGround>>,
     meshes: Option<ResMut<Assets<Mesh>>>,
     materials: Option<ResMut<Assets<StandardMaterial>>>,
     images: Option<ResMut<Assets<Image>>>,
@@ -155,27 +178,24 @@ pub fn spawn_ground(
     else {
         return;
     };
+    let key = ground_key(&field);
     if !ground.is_empty() {
-        return;
+        if track.is_some_and(|t| t.key == key) {
+            return;
+        }
+        for e in &ground {
+            commands.entity(e).despawn();
+        }
     }
     let darkening = look.map_or(GrassLook::default().track_darkening, |l| l.track_darkening);
     let (_, cells_per_texel, texels) = track_grid(&field.sim.field.layout);
-    let image = images.add(Image::new(
-        Extent3d {
-            width: texels[0],
-            height: texels[1],
-            depth_or_array_layers: 1,
-        },
-        TextureDimension::D2,
-        track_texels(&field, darkening),
-        TextureFormat::Rgba8Unorm,
-        RenderAssetUsages::default(),
-    ));
+    let image = images.add(track_image(&field, darkening));
     commands.insert_resource(GroundTrack {
         image: image.clone(),
         cells_per_texel,
         texels,
         darkening,
+        key,
         changed: Vec::new(),
     });
     let mesh = meshes.add(ground_mesh(&field));
@@ -221,6 +241,11 @@ pub fn update_ground_track(
         return;
     };
     let field = &*field;
+    if track.key != ground_key(field) {
+        // Another field: its ground is made anew (`spawn_ground`).
+        track.changed = changed;
+        return;
+    }
     if all || image.data.is_none() {
         image.data = Some(track_texels(field, darkening));
         track.darkening = darkening;
