@@ -3,7 +3,9 @@
 //! system across the field bends the blades on its path and not elsewhere;
 //! removing the component removes the body; a changed mesh asset rebuilds
 //! its tree. And a transform the core cannot pose a body with leaves the
-//! body where it was, says so on the entity, and the game goes on.
+//! body where it was, says so on the entity, and the game goes on. The
+//! ground shows the track (its texture redrawn from the cells the steps
+//! changed), and another field gets a ground of its own.
 
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
@@ -387,5 +389,84 @@ fn a_skinned_mesh_tramples_where_its_joints_put_it() {
     assert!(
         bent * 10 >= on_path * 9,
         "{bent} of {on_path} blades on the joint's path bent by more than 5 cm"
+    );
+}
+
+/// The ground's track texture (`render::ground`): after the sphere crossed
+/// the field, the texels on its path are darker and those far from it
+/// white, and the texture redrawn cell by cell as the steps went equals
+/// one drawn from the cells at the end; another field gets a ground (and
+/// a texture) of its own size.
+#[cfg(feature = "render")]
+#[test]
+fn the_ground_shows_the_track_where_the_sphere_went_and_a_new_field_gets_a_new_ground() {
+    use bevy_trample::render::ground::{
+        GroundTrack, TrampleGround, spawn_ground, track_texels, update_ground_track,
+    };
+    let mut app = app();
+    app.init_asset::<Image>()
+        .init_asset::<StandardMaterial>()
+        .add_systems(
+            PostUpdate,
+            (spawn_ground, update_ground_track.after(spawn_ground)),
+        );
+    spawn_sphere(&mut app, RADIUS);
+    let frames = ((END_X - START_X) / SPEED / DT as f32).ceil() as usize + 10;
+    for _ in 0..frames {
+        app.update();
+    }
+    let world = app.world();
+    let track = world.resource::<GroundTrack>();
+    assert_eq!(track.texels, [128, 128]);
+    let data = world
+        .resource::<Assets<Image>>()
+        .get(&track.image)
+        .and_then(|i| i.data.clone())
+        .expect("the track's texels");
+    let field = world.resource::<TrampleField>();
+    assert_eq!(data, track_texels(field, track.darkening));
+    // Texel (tx, tz) is the cell at x = -6.4 + 0.1 (tx + 0.5), likewise z.
+    let texel = |x: f32, z: f32| {
+        let (tx, tz) = (((x + 6.4) / 0.1) as usize, ((z + 6.4) / 0.1) as usize);
+        data[(tz * 128 + tx) * 4]
+    };
+    let on_path: Vec<u8> = (-30..=30).map(|i| texel(i as f32 * 0.1, 0.0)).collect();
+    let dark = on_path.iter().filter(|&&r| r < 230).count();
+    assert!(
+        dark * 10 >= on_path.len() * 9,
+        "texels on the path: {on_path:?}"
+    );
+    assert_eq!(texel(0.0, 3.0), 255, "far from the path");
+    assert_eq!(texel(-5.5, -5.5), 255, "far from the path");
+
+    // Another field, a quarter the cells: a new ground, a new texture.
+    let small = TrampleField::from_builder(&SimulationBuilder::new().field(FieldParams {
+        patches: [4, 4],
+        cells_per_patch: 16,
+        ..FieldParams::default()
+    }))
+    .expect("small field");
+    app.insert_resource(small);
+    app.update();
+    app.update();
+    let world = app.world_mut();
+    let grounds = world
+        .query_filtered::<Entity, With<TrampleGround>>()
+        .iter(world)
+        .count();
+    assert_eq!(grounds, 1, "one ground");
+    let track = world.resource::<GroundTrack>();
+    assert_eq!(track.texels, [64, 64]);
+    let image = world
+        .resource::<Assets<Image>>()
+        .get(&track.image)
+        .expect("the new texture");
+    assert_eq!(image.width(), 64);
+    assert!(
+        image
+            .data
+            .as_ref()
+            .is_some_and(|d| d.iter().all(|&v| v == 255)),
+        "nothing trampled on the new field"
     );
 }
