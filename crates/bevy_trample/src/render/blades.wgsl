@@ -141,7 +141,8 @@ fn billboard_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii:
     out.world = world;
     // Lit as the blades look from afar, so that the levels meet without a
     // step in brightness (check_meadow's ring step, measured on lavapipe:
-    // 15 as drawn here; 35 with the normal bent up by 1.2, tints in the
+    // 17 as drawn here, 15 without the ambient occlusion; 35 with the
+    // normal bent up by 1.2, tints in the
     // upper half and the base as dark as a blade's root, a yellow-green
     // wash past the blades): the quad's normal bent up a little (0 left
     // the billboards half as bright as the blades, 0.5 a tenth brighter),

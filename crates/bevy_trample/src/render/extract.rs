@@ -199,11 +199,7 @@ pub fn grass_params(sim: &trample::Simulation, look: &GrassLook) -> GrassParams 
             sim.time as f32,
             spacing,
             look.copies_reach_m(),
-            if look.ambient_occlusion.is_finite() {
-                look.ambient_occlusion.max(0.0)
-            } else {
-                0.0
-            },
+            look.ambient_occlusion_in_use(),
         ],
         eye: sim.eye().extend(0.0).to_array(),
         lod: [sim.lod.geometry_m, sim.lod.billboard_m, near_band, far_band],

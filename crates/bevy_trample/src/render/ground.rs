@@ -44,7 +44,8 @@ pub struct GroundTrack {
     pub cells_per_texel: u32,
     /// Texels along x and z.
     pub texels: [u32; 2],
-    /// The darkening it was last drawn with ([`GrassLook::track_darkening`]).
+    /// The darkening it was last drawn with
+    /// ([`GrassLook::track_darkening_in_use`]).
     pub darkening: f32,
     /// The field it was made for ([`ground_key`]).
     pub key: GroundKey,
@@ -187,7 +188,10 @@ pub fn spawn_ground(
             commands.entity(e).despawn();
         }
     }
-    let darkening = look.map_or(GrassLook::default().track_darkening, |l| l.track_darkening);
+    let darkening = look.map_or_else(
+        || GrassLook::default().track_darkening_in_use(),
+        |l| l.track_darkening_in_use(),
+    );
     let (_, cells_per_texel, texels) = track_grid(&field.sim.field.layout);
     let image = images.add(track_image(&field, darkening));
     commands.insert_resource(GroundTrack {
@@ -226,7 +230,10 @@ pub fn update_ground_track(
         return;
     };
     let track = &mut *track;
-    let darkening = look.map_or(GrassLook::default().track_darkening, |l| l.track_darkening);
+    let darkening = look.map_or_else(
+        || GrassLook::default().track_darkening_in_use(),
+        |l| l.track_darkening_in_use(),
+    );
     let mut changed = std::mem::take(&mut track.changed);
     changed.clear();
     // The first take is every cell: the texture was made from them all.

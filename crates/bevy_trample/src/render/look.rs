@@ -98,6 +98,29 @@ impl GrassLook {
         self.near_density.clamp(1, MAX_NEAR_DENSITY)
     }
 
+    /// The ambient occlusion drawn: `ambient_occlusion`, 0 for a negative
+    /// or non-finite value (none).
+    #[must_use]
+    pub fn ambient_occlusion_in_use(&self) -> f32 {
+        if self.ambient_occlusion.is_finite() {
+            self.ambient_occlusion.max(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// The track's darkening drawn: `track_darkening` within [0, 1], 0 for
+    /// a non-finite value (so that a NaN setting compares equal to itself
+    /// and the ground is not redrawn every frame).
+    #[must_use]
+    pub fn track_darkening_in_use(&self) -> f32 {
+        if self.track_darkening.is_finite() {
+            self.track_darkening.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
     /// How far the copies reach, metres: `near_density_m`, 0 for a
     /// negative or non-finite value (no copies).
     #[must_use]
@@ -107,5 +130,35 @@ impl GrassLook {
         } else {
             0.0
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_settings_are_drawn_as_none_and_compare_equal_to_themselves() {
+        let bad = GrassLook {
+            ambient_occlusion: f32::NAN,
+            track_darkening: f32::NAN,
+            near_density_m: f32::INFINITY,
+            ..GrassLook::default()
+        };
+        assert_eq!(bad.ambient_occlusion_in_use(), 0.0);
+        assert_eq!(bad.track_darkening_in_use(), 0.0);
+        assert_eq!(bad.copies_reach_m(), 0.0);
+        let big = GrassLook {
+            track_darkening: 3.0,
+            ambient_occlusion: -1.0,
+            ..GrassLook::default()
+        };
+        assert_eq!(big.track_darkening_in_use(), 1.0);
+        assert_eq!(big.ambient_occlusion_in_use(), 0.0);
+        let d = GrassLook::default();
+        assert_eq!(
+            (d.track_darkening_in_use(), d.ambient_occlusion_in_use()),
+            (0.8, 1.0)
+        );
     }
 }
