@@ -238,44 +238,44 @@ impl GpuSimulation {
         sim: Simulation,
         max_chunk_bytes: Option<u64>,
     ) -> Result<Self, GpuError> {
-        let object_layout = TableLayout::of_simulation(&sim);
-        Self::supports_with(device, &sim, &object_layout)?;
-        let colliders: usize = sim.bodies.iter().map(trample::Body::collider_count).sum();
-        // The step uniform's ground height (the shaders read the terrain table).
-        let ground = match sim.field.terrain {
-            Terrain::Flat(h) => h,
-            _ => 0.0,
+        Self::try_new_chunked(device, queue, sim, max_chunk_bytes).map_err(|(e, _)| e)
+    }
+
+    /// As [`GpuSimulation::new`], but a simulation the GPU path cannot take
+    /// comes back with the error, unharmed, to go on on the CPU path (a
+    /// host that falls back loses no work).
+    ///
+    /// # Errors
+    /// As [`GpuSimulation::new`], with `sim`.
+    pub fn try_new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: Simulation,
+    ) -> Result<Self, (GpuError, Box<Simulation>)> {
+        Self::try_new_chunked(device, queue, sim, None)
+    }
+
+    /// [`GpuSimulation::new_chunked`], giving `sim` back with an error.
+    fn try_new_chunked(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: Simulation,
+        max_chunk_bytes: Option<u64>,
+    ) -> Result<Self, (GpuError, Box<Simulation>)> {
+        let up = match Uploaded::new(device, queue, &sim, max_chunk_bytes) {
+            Ok(up) => up,
+            Err(e) => return Err((e, Box::new(sim))),
         };
-        let field = GpuField::from_field_chunked(device, queue, &sim.field, max_chunk_bytes)?;
-        // The blades' classes and track owners so far, the cells' flatness
-        // (a simulation handed over mid-run).
-        let class: Vec<u32> = sim
-            .class
-            .iter()
-            .zip(&sim.track_owner)
-            .map(|(&c, &o)| u32::from(c) | u32::from(o) << 8)
-            .collect();
-        queue.write_buffer(&field.class, 0, bytemuck::cast_slice(&class));
-        queue.write_buffer(
-            &field.flatness,
-            0,
-            bytemuck::cast_slice(&sim.field.cells.flatness),
-        );
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("trample-gpu step params"),
-            size: std::mem::size_of::<GpuStepParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let state = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("trample-gpu counters"),
-            contents: bytemuck::bytes_of(&GpuCounters::default()),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        });
-        let world_roots = world_roots_buffer(device, colliders);
-        let broad = BroadPhase::new(device, &field, &sim.field.layout, colliders as u32)?;
-        // One object per collider (a body's own mesh, then its parts).
-        let objects = GpuObjects::from_layout(device, object_layout, broad.mask_layout())?;
+        let Uploaded {
+            field,
+            ground,
+            colliders,
+            world_roots,
+            broad,
+            objects,
+            params,
+            state,
+        } = up;
         Ok(Self {
             colliders: collider_keys(&sim),
             body_ids: sim.bodies.iter().map(|b| b.id).collect(),
@@ -898,6 +898,79 @@ impl GpuSimulation {
         queue: &wgpu::Queue,
     ) -> Result<GpuCounters, GpuError> {
         Ok(read_buffer::<GpuCounters>(device, queue, &self.state, "counters")?[0])
+    }
+}
+
+/// What [`GpuSimulation`] uploads of a simulation before it takes it:
+/// everything that can fail, so that a simulation refused is given back.
+struct Uploaded {
+    field: GpuField,
+    ground: f32,
+    colliders: usize,
+    world_roots: wgpu::Buffer,
+    broad: BroadPhase,
+    objects: GpuObjects,
+    params: wgpu::Buffer,
+    state: wgpu::Buffer,
+}
+
+impl Uploaded {
+    /// Checks that the GPU path can run `sim` ([`GpuSimulation::supports`])
+    /// and uploads its field and objects.
+    fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        sim: &Simulation,
+        max_chunk_bytes: Option<u64>,
+    ) -> Result<Self, GpuError> {
+        let object_layout = TableLayout::of_simulation(sim);
+        GpuSimulation::supports_with(device, sim, &object_layout)?;
+        let colliders: usize = sim.bodies.iter().map(trample::Body::collider_count).sum();
+        // The step uniform's ground height (the shaders read the terrain table).
+        let ground = match sim.field.terrain {
+            Terrain::Flat(h) => h,
+            _ => 0.0,
+        };
+        let field = GpuField::from_field_chunked(device, queue, &sim.field, max_chunk_bytes)?;
+        // The blades' classes and track owners so far, the cells' flatness
+        // (a simulation handed over mid-run).
+        let class: Vec<u32> = sim
+            .class
+            .iter()
+            .zip(&sim.track_owner)
+            .map(|(&c, &o)| u32::from(c) | u32::from(o) << 8)
+            .collect();
+        queue.write_buffer(&field.class, 0, bytemuck::cast_slice(&class));
+        queue.write_buffer(
+            &field.flatness,
+            0,
+            bytemuck::cast_slice(&sim.field.cells.flatness),
+        );
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("trample-gpu step params"),
+            size: std::mem::size_of::<GpuStepParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let state = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("trample-gpu counters"),
+            contents: bytemuck::bytes_of(&GpuCounters::default()),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        });
+        let world_roots = world_roots_buffer(device, colliders);
+        let broad = BroadPhase::new(device, &field, &sim.field.layout, colliders as u32)?;
+        // One object per collider (a body's own mesh, then its parts).
+        let objects = GpuObjects::from_layout(device, object_layout, broad.mask_layout())?;
+        Ok(Self {
+            field,
+            ground,
+            colliders,
+            world_roots,
+            broad,
+            objects,
+            params,
+            state,
+        })
     }
 }
 
