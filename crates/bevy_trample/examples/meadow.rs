@@ -15,6 +15,9 @@
 //! # The paper's look, for comparison: a hard switch between levels of
 //! # detail, one drawn blade per simulated blade.
 //! cargo run --release -p bevy_trample --example meadow -- --hard-switch
+//! # The field stepped on trample's GPU path with Bevy's device, the draws
+//! # reading its buffers (the CPU path steps it until the device exists).
+//! cargo run --release -p bevy_trample --example meadow -- --gpu
 //! ```
 
 use anyhow::{Context, Result, bail};
@@ -50,6 +53,8 @@ struct Args {
     /// The paper's look (`--hard-switch`): levels of detail switched at a
     /// distance with no blend band, one blade drawn per simulated blade.
     hard_switch: bool,
+    /// The GPU path (`--gpu`): `TrampleField::on_gpu`.
+    gpu: bool,
 }
 
 fn parse_args() -> Result<Args> {
@@ -72,16 +77,18 @@ fn parse_args() -> Result<Args> {
                 args.screenshot = Some(PathBuf::from(v));
             }
             "--hard-switch" => args.hard_switch = true,
+            "--gpu" => args.gpu = true,
             "-h" | "--help" => {
                 println!(
-                    "meadow [--frames N] [--screenshot FILE.png] [--hard-switch]\n  \
+                    "meadow [--frames N] [--screenshot FILE.png] [--hard-switch] [--gpu]\n  \
                      arrow keys: drive the car\n  \
-                     --hard-switch: the paper's look (no blend bands, no extra blades near the camera)"
+                     --hard-switch: the paper's look (no blend bands, no extra blades near the camera)\n  \
+                     --gpu: step the field on trample's GPU path with Bevy's device"
                 );
                 std::process::exit(0);
             }
             other => bail!(
-                "unknown argument {other:?} (allowed: --frames N, --screenshot FILE, --hard-switch)"
+                "unknown argument {other:?} (allowed: --frames N, --screenshot FILE, --hard-switch, --gpu)"
             ),
         }
     }
@@ -100,7 +107,10 @@ fn main() -> Result<()> {
     file.lod.billboard_m = 40.0;
     file.wind.strength_m = 0.02;
     file.wind.gust_m = 0.05;
-    let field = TrampleField::from_scene_file(&file)?;
+    let mut field = TrampleField::from_scene_file(&file)?;
+    if args.gpu {
+        field = field.on_gpu();
+    }
     let car = car_mesh()?;
 
     let mut app = App::new();

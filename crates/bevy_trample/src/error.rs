@@ -10,4 +10,7 @@ pub enum TrampleError {
     /// A trampler's shape or mesh the core refused: the entity, then why.
     #[error("{0}: {1}")]
     Object(String, String),
+    /// The GPU path could not read its state back (a lost device).
+    #[error("the GPU path: {0}")]
+    Gpu(String),
 }

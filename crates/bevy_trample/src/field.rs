@@ -30,6 +30,26 @@ pub struct TrampleField {
     pub(crate) cell_changes: CellChanges,
     /// Bodies the plugin put in the simulation for [`crate::Trampler`]s.
     pub(crate) tramplers: usize,
+    /// The path asked for ([`TrampleField::on_gpu`]).
+    pub(crate) backend: TrampleBackend,
+    /// The field on the GPU path, once handed over.
+    #[cfg(feature = "gpu")]
+    pub(crate) gpu: Option<crate::gpu_path::GpuPath>,
+    /// Why the GPU path was refused, when it was.
+    pub(crate) gpu_refused: Option<String>,
+}
+
+/// Which of trample's two paths steps the field: the CPU path (the
+/// specification, the default) or the GPU path (feature `gpu`, Bevy's own
+/// device; see [`TrampleField::on_gpu`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TrampleBackend {
+    /// The CPU path (`Simulation::step`, on all cores).
+    #[default]
+    Cpu,
+    /// The GPU path (trample-gpu on Bevy's render device), the draws
+    /// reading its buffers.
+    Gpu,
 }
 
 impl TrampleField {
@@ -86,7 +106,57 @@ impl TrampleField {
             changes: BladeChanges::default(),
             cell_changes: CellChanges::default(),
             tramplers: 0,
+            backend: TrampleBackend::Cpu,
+            #[cfg(feature = "gpu")]
+            gpu: None,
+            gpu_refused: None,
         }
+    }
+
+    /// The field asks to be stepped on the GPU path (feature `gpu`): the
+    /// first step once Bevy's render device exists hands the simulation
+    /// to trample's GPU path on that device, and the draws read its
+    /// buffers (nothing goes back to the CPU). Steps before that, and every
+    /// step in an app without a renderer, run on the CPU path. A field the
+    /// GPU path cannot take stays on the CPU path, and
+    /// [`TrampleField::gpu_refused`] says why.
+    ///
+    /// On the GPU path `sim` holds the bodies, poses, time and timings
+    /// (`total_ms` is the time to record the step), but its blades and
+    /// cells keep the state they were handed over in:
+    /// [`TrampleField::read_back_gpu`] copies the GPU's back. The ground's
+    /// track (`render::ground`) is the CPU path's only.
+    #[must_use]
+    pub fn on_gpu(mut self) -> Self {
+        self.backend = TrampleBackend::Gpu;
+        #[cfg(not(feature = "gpu"))]
+        {
+            self.gpu_refused = Some("bevy_trample was built without its `gpu` feature".to_string());
+        }
+        self
+    }
+
+    /// The path that stepped the field last (the GPU path only once the
+    /// simulation was handed over).
+    #[must_use]
+    pub fn backend(&self) -> TrampleBackend {
+        #[cfg(feature = "gpu")]
+        if self.gpu.is_some() {
+            return TrampleBackend::Gpu;
+        }
+        TrampleBackend::Cpu
+    }
+
+    /// Why the GPU path asked for was refused (the device's limits, a field
+    /// too large, a plugin built without the `gpu` feature), when it was.
+    #[must_use]
+    pub fn gpu_refused(&self) -> Option<&str> {
+        self.gpu_refused.as_deref()
+    }
+
+    /// Whether the next step is to try the GPU path.
+    pub(crate) fn wants_gpu(&self) -> bool {
+        self.backend == TrampleBackend::Gpu && self.gpu_refused.is_none()
     }
 
     /// The paper's field (16 × 16 patches of 32 × 32 cells, 262,144 blades,

@@ -8,12 +8,16 @@
 //! - [`host`]: the one place the plugin calls the core's host API.
 //! - [`mesh`]: Bevy meshes as the core's triangle meshes.
 //! - [`skin`]: skinned meshes posed on the CPU for the collision.
+//! - `gpu_path` (feature `gpu`): the field stepped on trample's GPU path
+//!   with Bevy's device.
 //! - [`diagnostics`]: per-stage timings as Bevy diagnostics.
 //! - `render` (feature `render`): drawing with Bevy's renderer.
 
 pub mod diagnostics;
 pub mod error;
 pub mod field;
+#[cfg(feature = "gpu")]
+pub mod gpu_path;
 pub mod host;
 pub mod mesh;
 #[cfg(feature = "render")]
@@ -23,7 +27,7 @@ pub mod step;
 pub mod trampler;
 
 pub use error::TrampleError;
-pub use field::TrampleField;
+pub use field::{TrampleBackend, TrampleField};
 #[cfg(feature = "render")]
 pub use render::look::GrassLook;
 pub use step::{TrampleCamera, TramplerSkinRefused};
@@ -65,6 +69,11 @@ impl Plugin for TramplePlugin {
             trampler::sync_bodies.in_set(TrampleSystems::SyncBodies),
         )
         .add_systems(FixedUpdate, step::step_field.in_set(TrampleSystems::Step));
+        #[cfg(feature = "gpu")]
+        app.add_systems(
+            PostUpdate,
+            step::refresh_gpu_lists.after(TrampleSystems::SyncBodies),
+        );
         diagnostics::register(app);
         #[cfg(feature = "render")]
         if app.get_sub_app(bevy::render::RenderApp).is_some() {

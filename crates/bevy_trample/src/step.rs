@@ -47,6 +47,7 @@ pub fn step_field(
     bindposes: Option<Res<Assets<SkinnedMeshInverseBindposes>>>,
     mut diagnostics: Diagnostics,
     mut commands: Commands,
+    #[cfg(feature = "gpu")] gpu: crate::gpu_path::GpuContext,
 ) {
     let Some(mut field) = field else { return };
     let field = &mut *field;
@@ -89,12 +90,29 @@ pub fn step_field(
         Some((eye, m)) if host::set_view(&mut field.sim, eye, m) => {}
         _ => host::clear_view(&mut field.sim),
     }
+    #[cfg(feature = "gpu")]
+    if let Some(stepped) = crate::gpu_path::step(field, &gpu, dt) {
+        match stepped {
+            Ok(t) => diagnostics::record(&mut diagnostics, &t),
+            Err(e) => warn!("bevy_trample: GPU step refused: {e}"),
+        }
+        return;
+    }
     match field.sim.step(dt) {
         Ok(t) => diagnostics::record(&mut diagnostics, t),
         Err(e) => warn!("bevy_trample: step refused: {e}"),
     }
     field.changes.after_step(&field.sim);
     field.cell_changes.after_step(&field.sim);
+}
+
+/// On the GPU path, the draw lists again when the [`crate::GrassLook`]
+/// changed since the last step (a paused game whose look is changed).
+#[cfg(feature = "gpu")]
+pub fn refresh_gpu_lists(field: Option<ResMut<TrampleField>>, gpu: crate::gpu_path::GpuContext) {
+    if let Some(mut field) = field {
+        crate::gpu_path::refresh_lists(&mut field, &gpu);
+    }
 }
 
 /// On a skinned trampler whose skin could not be posed on the CPU (a mesh

@@ -24,7 +24,8 @@ struct Params {
     // x: simulated time (s), y: blade spacing (m), z: the copies' reach (m),
     // w: ambient-occlusion strength.
     time: vec4<f32>,
-    // xyz: the eye that decides the levels of detail.
+    // xyz: the eye that decides the levels of detail; w: 1 when `cells`
+    // holds the GPU path's blade list of (blade, colour) pairs.
     eye: vec4<f32>,
     // x: geometry_m, y: billboard_m, z: near blend band, w: far blend band (m).
     lod: vec4<f32>,
@@ -42,7 +43,8 @@ struct Billboard {
 @group(2) @binding(0) var<storage, read> pos: array<vec4<f32>>;
 // x: width (m), y: tint in [0, 1).
 @group(2) @binding(1) var<storage, read> shape: array<vec2<f32>>;
-// Cells drawn as blades (their blades are the instances).
+// Cells drawn as blades (their blades are the instances); on the GPU path
+// the blades listed, (blade, colour) pairs.
 @group(2) @binding(2) var<storage, read> cells: array<u32>;
 @group(2) @binding(3) var<uniform> params: Params;
 @group(2) @binding(4) var<storage, read> billboards: array<Billboard>;
@@ -83,7 +85,12 @@ fn blade_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32
     let copies = max(params.counts.w, 1u);
     let listed = ii / copies;
     let copy = ii % copies;
-    let b = cells[listed / per_cell] * per_cell + listed % per_cell;
+    // The CPU path lists cells; the GPU path (eye.w = 1) lists blades as
+    // (blade, colour) pairs.
+    var b = cells[listed / per_cell] * per_cell + listed % per_cell;
+    if (params.eye.w == 1.0) {
+        b = cells[2u * listed];
+    }
     let n = params.counts.y;
     let c = corner_of(vi);
     let k = vi / 6u + c.y;

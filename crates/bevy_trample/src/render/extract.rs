@@ -33,7 +33,9 @@ pub struct GrassParams {
     /// strength of the grass's ambient occlusion (≥ 0).
     pub time: [f32; 4],
     /// xyz the eye that decides the levels of detail (the simulation's:
-    /// the [`crate::TrampleCamera`]'s), w unused.
+    /// the [`crate::TrampleCamera`]'s), w 1 when the blade instances are
+    /// the GPU path's list of `(blade, colour)` pairs instead of cells
+    /// ([`GrassFrame::gpu`]), else 0.
     pub eye: [f32; 4],
     /// x `lod.geometry_m`, y `lod.billboard_m`, z the near blend band, w
     /// the far one (m, [`trample::field::lod::LodParams::blend_bands`]).
@@ -79,6 +81,10 @@ pub struct GrassFrame {
     pub billboards: Vec<BillboardInstance>,
     /// Draw parameters.
     pub params: GrassParams,
+    /// On the GPU path: the buffers the draws read in place of `runs`,
+    /// `cells` and `billboards` (which then stay empty).
+    #[cfg(feature = "gpu")]
+    pub gpu: Option<crate::gpu_path::GpuDrawBuffers>,
     /// Blade runs taken this frame (scratch).
     blade_runs: Vec<Range<u32>>,
 }
@@ -100,6 +106,10 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
         .unwrap_or_default();
     let Some(mut field) = main.get_resource_mut::<TrampleField>() else {
         frame.layout = None;
+        #[cfg(feature = "gpu")]
+        {
+            frame.gpu = None;
+        }
         return;
     };
     let field = &mut *field;
@@ -112,6 +122,16 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
         frame.layout = Some(shape);
     }
     frame.blade_runs.clear();
+    #[cfg(feature = "gpu")]
+    {
+        let gpu = field.gpu_draw_buffers();
+        if frame.gpu.is_some() && gpu.is_none() {
+            // Back on the CPU path (another field): every blade again.
+            field.changes.reset();
+        }
+        frame.gpu = gpu;
+    }
+    let on_gpu = on_gpu(frame);
     if field.changes.take(sim, &mut frame.blade_runs) {
         frame.full = Some(
             bl.width
@@ -120,6 +140,12 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
                 .map(|(&w, &t)| [w, t])
                 .collect(),
         );
+    }
+    if on_gpu {
+        // The GPU path's buffers hold the vertices and the lists.
+        frame.params = grass_params(sim, &look);
+        frame.params.eye[3] = 1.0;
+        return;
     }
     let count = bl.count;
     for k in 0..=bl.segments {
@@ -171,6 +197,19 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
             }
         }));
     frame.params = grass_params(sim, &look);
+}
+
+/// Whether the draws read the GPU path's buffers this frame.
+fn on_gpu(frame: &GrassFrame) -> bool {
+    #[cfg(feature = "gpu")]
+    {
+        frame.gpu.is_some()
+    }
+    #[cfg(not(feature = "gpu"))]
+    {
+        let _ = frame;
+        false
+    }
 }
 
 /// This frame's draw parameters for `sim` drawn with `look`: the wind and

@@ -39,6 +39,20 @@ pub struct GrassGpu {
     pub segments: u32,
     /// Bytes of vertex data uploaded this frame (for measurements).
     pub uploaded_bytes: u64,
+    /// On the GPU path: its indirect draws (blades at 0, billboards at
+    /// `billboard_args`), and which GPU field `pos`, `cells` and
+    /// `billboards` are the buffers of.
+    pub indirect: Option<Indirect>,
+}
+
+/// The GPU path's indirect draws.
+pub struct Indirect {
+    /// `DrawIndirectArgs`, the blades' first.
+    pub args: Buffer,
+    /// Byte offset of the billboards' draw.
+    pub billboard_args: u64,
+    /// The GPU field they belong to.
+    pub made: u64,
 }
 
 fn buffer(device: &RenderDevice, label: &'static str, size: u64, usage: BufferUsages) -> Buffer {
@@ -112,6 +126,7 @@ pub fn prepare_grass_buffers(
                 billboard_count: 0,
                 segments,
                 uploaded_bytes: 0,
+                indirect: None,
             });
             made.as_mut().unwrap_or_else(|| unreachable!())
         }
@@ -128,6 +143,26 @@ pub fn prepare_grass_buffers(
             bytemuck::cast_slice(data),
         );
         gpu.uploaded_bytes += u64::from(len) * VERTEX_BYTES;
+    }
+    #[cfg(feature = "gpu")]
+    if let Some(g) = &frame.gpu {
+        // The GPU path's own buffers, bound in place of the uploads.
+        if gpu.indirect.as_ref().map(|i| i.made) != Some(g.made) {
+            gpu.pos = Buffer::from(g.pos.clone());
+            gpu.cells = Buffer::from(g.instances.clone());
+            gpu.billboards = Buffer::from(g.billboards.clone());
+            gpu.indirect = Some(Indirect {
+                args: Buffer::from(g.args.clone()),
+                billboard_args: g.billboard_args,
+                made: g.made,
+            });
+            gpu.bind_group = None;
+        }
+        queue.write_buffer(&gpu.params, 0, bytemuck::bytes_of(&frame.params));
+        if let Some(gpu) = made {
+            commands.insert_resource(gpu);
+        }
+        return;
     }
     let cell_bytes = (frame.cells.len() * 4) as u64;
     if let Some(b) = grown(&device, &gpu.cells, "trample drawn cells", cell_bytes) {

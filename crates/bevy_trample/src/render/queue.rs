@@ -38,7 +38,8 @@ pub type DrawGrass = (
 
 /// Binds group 2 and draws: every drawn blade (each of its drawn copies)
 /// as an instance of `6 · segments` vertices (two triangles a segment), or
-/// every billboard as an instance of 12 (two crossed quads).
+/// every billboard as an instance of 12 (two crossed quads); on the GPU
+/// path the same draws, indirect (the GPU listed them).
 pub struct DrawGrassInstances;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
@@ -57,6 +58,16 @@ impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
         let (Some(draw), Some(group)) = (draw, gpu.bind_group.as_ref()) else {
             return RenderCommandResult::Skip;
         };
+        if let Some(indirect) = &gpu.indirect {
+            // The GPU path's lists: the counts are on the GPU.
+            let offset = match draw {
+                GrassDraw::Blades => 0,
+                GrassDraw::Billboards => indirect.billboard_args,
+            };
+            pass.set_bind_group(2, group, &[]);
+            pass.draw_indirect(&indirect.args, offset);
+            return RenderCommandResult::Success;
+        }
         let (vertices, instances) = match draw {
             GrassDraw::Blades => (6 * gpu.segments, gpu.blades),
             GrassDraw::Billboards => (12, gpu.billboard_count),
