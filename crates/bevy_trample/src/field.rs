@@ -122,10 +122,11 @@ impl TrampleField {
     /// [`TrampleField::gpu_refused`] says why.
     ///
     /// On the GPU path `sim` holds the bodies, poses, time and timings
-    /// (`total_ms` is the time to record the step), but its blades and
-    /// cells keep the state they were handed over in:
-    /// [`TrampleField::read_back_gpu`] copies the GPU's back. The ground's
-    /// track (`render::ground`) is the CPU path's only.
+    /// (`total_ms` is the time to record the step), and the cells'
+    /// flatness (copied back a frame or two late, for the track on the
+    /// ground), but its blades and the rest of its cells keep the state
+    /// they were handed over in: [`TrampleField::read_back_gpu`] copies the
+    /// GPU's back.
     #[must_use]
     pub fn on_gpu(mut self) -> Self {
         self.backend = TrampleBackend::Gpu;

@@ -258,6 +258,11 @@ impl CellChanges {
         }
     }
 
+    /// Marks cell `c` changed (the GPU path's flatness read back).
+    pub fn mark(&mut self, c: usize) {
+        self.changed.mark(c);
+    }
+
     /// Appends to `cells` the cells changed since the last call, ascending,
     /// each once, and returns true when that is every cell (the first
     /// call: then `cells` is left as it was).

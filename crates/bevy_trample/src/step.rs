@@ -106,8 +106,10 @@ pub fn step_field(
     field.cell_changes.after_step(&field.sim);
 }
 
-/// On the GPU path, the draw lists again when the [`crate::GrassLook`]
-/// changed since the last step (a paused game whose look is changed).
+/// The GPU path (a field that asks for it, [`TrampleField::on_gpu`]):
+/// hands the field over once Bevy's device is in the main world, and makes
+/// the draw lists again when the [`crate::GrassLook`] changed since the
+/// last step (a paused game whose look is changed).
 #[cfg(feature = "gpu")]
 pub fn refresh_gpu_lists(field: Option<ResMut<TrampleField>>, gpu: crate::gpu_path::GpuContext) {
     if let Some(mut field) = field {

@@ -1,20 +1,27 @@
 //! The field on trample's GPU path with Bevy's own render device
 //! (`TrampleField::on_gpu`, feature `gpu`): a sphere moved by a system
 //! leaves the same track as on the CPU path (DESIGN §7's parity, 1e-3 m),
-//! the draws get the GPU's buffers, and a field the device cannot take
-//! stays on the CPU path and says why.
+//! in one chunk of blade vertices or in several; the frame drawn from the
+//! GPU's buffers (one indirect draw a chunk) is the CPU path's frame; and
+//! a field the device cannot take stays on the CPU path and says why.
 //!
 //! These tests need a Vulkan adapter (Bevy 0.19's wgpu is built without
 //! GL here): lavapipe on CI (`.ci/run` installs it), a GPU elsewhere. No
 //! adapter fails them; they never skip.
 
+use bevy::camera::RenderTarget;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
+use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::renderer::{RenderAdapterInfo, RenderDevice, RenderQueue};
 use bevy::render::settings::{Backends, RenderCreation, WgpuLimits, WgpuSettings};
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::time::TimeUpdateStrategy;
 use bevy::winit::WinitPlugin;
-use bevy_trample::{TrampleBackend, TrampleField, TramplePlugin, TrampleSystems, Trampler};
+use bevy_trample::{
+    TrampleBackend, TrampleCamera, TrampleField, TramplePlugin, TrampleSystems, Trampler,
+};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use trample::builder::SimulationBuilder;
 use trample::field::{FieldParams, LodParams};
@@ -31,6 +38,24 @@ const START_X: f32 = -4.0;
 const FRAMES: usize = 60;
 /// DESIGN §7: the GPU path within 1e-3 m of the CPU path.
 const PARITY_M: f32 = 1e-3;
+/// The frames compared: pixels.
+const FRAME: [u32; 2] = [320, 180];
+
+/// A storage binding of `kib` KiB (and enough storage buffers a stage).
+fn binding_of(kib: u64) -> WgpuLimits {
+    WgpuLimits {
+        max_storage_buffers_per_shader_stage: 16,
+        max_storage_buffer_binding_size: kib << 10,
+        ..WgpuLimits::default()
+    }
+}
+
+/// A storage binding of 768 KiB: the field's largest whole-field array
+/// (its billboard list, 48 bytes a cell) just fits, and its 16,384 blades
+/// × 5 vertices × 16 bytes (1.25 MiB) go in two chunks of patches.
+fn small_binding() -> WgpuLimits {
+    binding_of(768)
+}
 
 /// 12.8 × 12.8 m of grass (16,384 blades), the paper's lasting track.
 fn field() -> TrampleField {
@@ -149,20 +174,27 @@ fn pressed(field: &TrampleField) -> usize {
     (0..bl.count).filter(|&b| bl.tip_lowering(b) > 0.05).count()
 }
 
-#[test]
-fn a_sphere_on_the_gpu_path_leaves_the_cpu_paths_track() {
-    let mut gpu = app(field().on_gpu(), Some(None));
-    wait_for_device(&mut gpu);
-    let mut cpu = app(field(), None);
-    // As many simulated steps on each: time, not updates, decides.
+/// Runs `gpu` (on the GPU path) and `cpu` (on the CPU path) to the same
+/// simulated time, at least `FRAMES` steps; returns the steps.
+fn run_both(gpu: &mut App, cpu: &mut App) -> usize {
     let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
-    while steps(&gpu) < FRAMES {
+    while steps(gpu) < FRAMES {
         gpu.update();
     }
-    while steps(&cpu) < steps(&gpu) {
+    while steps(cpu) < steps(gpu) {
         cpu.update();
     }
-    assert_eq!(steps(&cpu), steps(&gpu));
+    assert_eq!(steps(cpu), steps(gpu));
+    steps(cpu)
+}
+
+/// The GPU path against the CPU path on a device with `limits` (None:
+/// the adapter's), `chunks` chunks of blade vertices expected.
+fn parity(limits: Option<WgpuLimits>, chunks: usize) {
+    let mut gpu = app(field().on_gpu(), Some(limits));
+    wait_for_device(&mut gpu);
+    let mut cpu = app(field(), None);
+    let steps = run_both(&mut gpu, &mut cpu);
     let world = gpu.world_mut();
     let (device, queue) = (
         world.resource::<RenderDevice>().clone(),
@@ -175,10 +207,10 @@ fn a_sphere_on_the_gpu_path_leaves_the_cpu_paths_track() {
         "{:?}",
         on_gpu.gpu_refused()
     );
-    assert!(
-        on_gpu.gpu_draw_buffers().is_some(),
-        "the draws get the GPU's buffers"
-    );
+    let buffers = on_gpu
+        .gpu_draw_buffers()
+        .expect("the draws get the GPU's buffers");
+    assert_eq!(buffers.chunks.len(), chunks);
     // Until read back, the CPU side keeps the blades as handed over.
     let before = pressed(&on_gpu);
     on_gpu.read_back_gpu(&device, &queue).expect("read back");
@@ -186,8 +218,7 @@ fn a_sphere_on_the_gpu_path_leaves_the_cpu_paths_track() {
     let (track_gpu, track_cpu) = (pressed(&on_gpu), pressed(on_cpu));
     let worst = largest_difference(&on_gpu, on_cpu);
     eprintln!(
-        "{} steps: pressed blades GPU {track_gpu} (before the read-back {before}), CPU {track_cpu}; largest difference {worst:.2e} m",
-        steps(&cpu)
+        "{steps} steps, {chunks} chunk(s): pressed blades GPU {track_gpu} (before the read-back {before}), CPU {track_cpu}; largest difference {worst:.2e} m"
     );
     assert!(track_cpu > 100, "the sphere pressed {track_cpu} blades");
     assert!(before < track_gpu, "the read-back brought the GPU's track");
@@ -198,20 +229,31 @@ fn a_sphere_on_the_gpu_path_leaves_the_cpu_paths_track() {
 }
 
 #[test]
+fn a_sphere_on_the_gpu_path_leaves_the_cpu_paths_track() {
+    parity(None, 1);
+}
+
+#[test]
+fn a_field_in_chunks_on_the_gpu_path_leaves_the_cpu_paths_track() {
+    parity(Some(small_binding()), 2);
+}
+
+#[test]
 fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
     // A device with WebGPU's default limits (8 storage buffers a shader
-    // stage): the step's stages bind more. Then one with enough of them but
-    // a storage binding of 256 KiB: the field's 16,384 blades × 5 vertices
-    // × 16 bytes (1.3 MiB) would need chunks, and the draws bind one.
-    let few_buffers = WgpuLimits::default();
-    let small_binding = WgpuLimits {
-        max_storage_buffers_per_shader_stage: 16,
-        max_storage_buffer_binding_size: 256 << 10,
-        ..WgpuLimits::default()
-    };
+    // stage): the step's stages bind more. A storage binding of 512 KiB
+    // less 4 bytes: the cells' rest boxes (32 bytes a cell, 512 KiB) are
+    // one array of the step. 767 KiB: the step's arrays fit, the draw
+    // lists' billboards (48 bytes a cell, 768 KiB) do not.
+    let mut rest_boxes = binding_of(512);
+    rest_boxes.max_storage_buffer_binding_size -= 4;
     for (limits, words) in [
-        (few_buffers, ["storage buffers", "required_limits"]),
-        (small_binding, ["16384 blades", "chunks"]),
+        (
+            WgpuLimits::default(),
+            ["storage buffers", "required_limits"],
+        ),
+        (rest_boxes, ["rest boxes", "524288 bytes"]),
+        (binding_of(767), ["billboard instances", "786432 bytes"]),
     ] {
         let mut app = app(field().on_gpu(), Some(Some(limits)));
         wait_for_device(&mut app);
@@ -220,10 +262,140 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
         }
         let field = app.world().resource::<TrampleField>();
         let why = field.gpu_refused().expect("refused");
+        eprintln!("refused: {why}");
         assert!(words.iter().all(|w| why.contains(w)), "{why}");
         assert_eq!(field.backend(), TrampleBackend::Cpu);
         assert!(field.gpu_draw_buffers().is_none());
         // The CPU path went on with the same simulation: the sphere's track.
         assert!(pressed(field) > 100, "{} blades pressed", pressed(field));
+    }
+}
+
+/// Adds a camera (the trample camera) drawing into an image of `FRAME`
+/// pixels, looking at the sphere's track, and a sun; returns the image.
+fn add_camera(app: &mut App) -> Handle<Image> {
+    let mut image =
+        Image::new_target_texture(FRAME[0], FRAME[1], TextureFormat::Rgba8UnormSrgb, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let handle = app.world_mut().resource_mut::<Assets<Image>>().add(image);
+    app.world_mut().spawn((
+        Camera3d::default(),
+        // Without Bevy's `tonemapping_luts` feature (the default tone
+        // mapping's table) the frame would be magenta.
+        bevy::core_pipeline::tonemapping::Tonemapping::Reinhard,
+        RenderTarget::from(handle.clone()),
+        Transform::from_xyz(-1.0, 3.0, 5.0).looking_at(Vec3::new(-1.0, 0.0, 0.0), Vec3::Y),
+        TrampleCamera,
+    ));
+    app.world_mut().spawn((
+        DirectionalLight::default(),
+        Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    handle
+}
+
+/// The image `app`'s camera draws now (RGBA8).
+fn capture(app: &mut App, image: &Handle<Image>) -> Vec<u8> {
+    let got: Arc<Mutex<Option<Vec<u8>>>> = Arc::default();
+    let slot = got.clone();
+    app.world_mut()
+        .spawn(Screenshot::image(image.clone()))
+        .observe(move |shot: On<ScreenshotCaptured>| {
+            *slot.lock().expect("slot") = shot.image.data.clone();
+        });
+    for _ in 0..100 {
+        app.update();
+        if let Some(pixels) = got.lock().expect("slot").take() {
+            return pixels;
+        }
+    }
+    panic!("no screenshot after 100 frames");
+}
+
+/// Pixels whose colour differs by more than 8 (of 255) in some channel,
+/// and the mean difference over all channels.
+fn compare(a: &[u8], b: &[u8]) -> (usize, f64) {
+    assert_eq!(a.len(), b.len());
+    let differing = a
+        .chunks(4)
+        .zip(b.chunks(4))
+        .filter(|(p, q)| p.iter().zip(*q).any(|(x, y)| x.abs_diff(*y) > 8))
+        .count();
+    let sum: u64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| u64::from(x.abs_diff(*y)))
+        .sum();
+    (differing, sum as f64 / a.len() as f64)
+}
+
+#[test]
+fn the_frame_drawn_from_the_gpus_buffers_is_the_cpu_paths_frame() {
+    // Three apps on the renderer: the CPU path, the GPU path in one chunk,
+    // the GPU path in two (one indirect draw a chunk).
+    let mut cpu = app(field(), Some(None));
+    let mut gpu = app(field().on_gpu(), Some(None));
+    let mut chunked = app(field().on_gpu(), Some(Some(small_binding())));
+    let mut frames = Vec::new();
+    let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
+    for app in [&mut cpu, &mut gpu, &mut chunked] {
+        wait_for_device(app);
+        // The camera for the last few steps only: drawing every frame on a
+        // software rasteriser is most of the time.
+        while steps(app) < FRAMES - 5 {
+            app.update();
+        }
+        let image = add_camera(app);
+        while steps(app) < FRAMES {
+            app.update();
+        }
+        // Paused: the GPU path's ground track, copied back a frame or two
+        // behind the grass, catches up; then the frame.
+        app.world_mut().resource_mut::<Time<Virtual>>().pause();
+        for _ in 0..4 {
+            app.update();
+        }
+        assert_eq!(steps(app), FRAMES);
+        frames.push(capture(app, &image));
+    }
+    let on = |app: &App| app.world().resource::<TrampleField>().backend();
+    assert_eq!(
+        [on(&cpu), on(&gpu), on(&chunked)],
+        [
+            TrampleBackend::Cpu,
+            TrampleBackend::Gpu,
+            TrampleBackend::Gpu
+        ]
+    );
+    let pixels = (FRAME[0] * FRAME[1]) as usize;
+    // The three frames, to look at.
+    let dir = std::env::temp_dir();
+    for (name, frame) in ["cpu", "gpu", "gpu_chunks"].iter().zip(&frames) {
+        let path = dir.join(format!("bevy_trample_gpu_path_{name}.png"));
+        image::save_buffer(
+            &path,
+            frame,
+            FRAME[0],
+            FRAME[1],
+            image::ExtendedColorType::Rgba8,
+        )
+        .expect("frame written");
+        eprintln!("{}", path.display());
+    }
+    // Grass fills the lower part of the frame: the frames are not empty.
+    let green = frames[0]
+        .chunks(4)
+        .filter(|p| p[1] > p[0] && p[1] > p[2])
+        .count();
+    assert!(green > pixels / 3, "{green} of {pixels} pixels green");
+    for (name, frame) in [("one chunk", &frames[1]), ("two chunks", &frames[2])] {
+        let (differing, mean) = compare(&frames[0], frame);
+        eprintln!(
+            "GPU path ({name}) against the CPU path: {differing} of {pixels} pixels differ, mean difference {mean:.3}"
+        );
+        assert!(
+            differing * 1000 <= pixels && mean < 0.25,
+            "GPU path ({name}): {differing} of {pixels} pixels differ (mean {mean:.3})"
+        );
     }
 }

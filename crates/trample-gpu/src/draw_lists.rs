@@ -53,6 +53,24 @@ pub struct GpuDrawParams {
 /// `wgpu::util::DrawIndirectArgs`' size: one per chunk, then the billboards'.
 pub const DRAW_ARGS_BYTES: u64 = 16;
 
+/// The largest binding the draw lists of a field of `blades` blades in
+/// `cells` cells make, bytes, and what it is: the billboard instances (48
+/// bytes a cell) or the blade instances (8 bytes a blade).
+#[must_use]
+pub fn largest_binding(blades: u64, cells: u64) -> (u64, &'static str) {
+    if cells * 48 >= blades * 8 {
+        (
+            cells * 48,
+            "the draw lists' billboard instances (48 bytes a cell)",
+        )
+    } else {
+        (
+            blades * 8,
+            "the draw lists' blade instances (8 bytes a blade)",
+        )
+    }
+}
+
 /// The compiled kernels and the lists they fill, for one field.
 pub struct DrawLists {
     kernel: Kernel,

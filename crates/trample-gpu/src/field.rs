@@ -202,6 +202,33 @@ impl GpuField {
         )
     }
 
+    /// The largest of the step's arrays over the whole field (not chunked)
+    /// for `blades` blades in `cells` cells, bytes, and what it is: the
+    /// per-blade forces, contacts and propagation's next generation (16
+    /// bytes a blade), the propagation's candidates (12 bytes a blade and
+    /// 16), the cells' rest boxes (32 bytes a cell, the largest with one
+    /// blade a cell).
+    #[must_use]
+    pub fn whole_field_binding(blades: u64, cells: u64) -> (u64, &'static str) {
+        [
+            (
+                blades * 16,
+                "the per-blade forces, contacts and next generation (16 bytes a blade, not chunked)",
+            ),
+            (
+                12 * blades + 16,
+                "the propagation's candidates (12 bytes a blade, not chunked)",
+            ),
+            (
+                cells * 32,
+                "the cells' rest boxes (32 bytes a cell, not chunked)",
+            ),
+        ]
+        .into_iter()
+        .max_by_key(|&(bytes, _)| bytes)
+        .unwrap_or((0, ""))
+    }
+
     /// The largest chunk of positions `device` can bind, bytes.
     #[must_use]
     pub fn binding_limit(device: &wgpu::Device) -> u64 {
@@ -242,13 +269,9 @@ impl GpuField {
             )));
         }
         let limit = Self::binding_limit(device);
-        let whole_field = blades.count as u64 * 16;
-        if whole_field > limit {
-            return Err(GpuError::TooLarge {
-                what: "the per-blade forces and neighbour table (16 bytes a blade, not chunked)",
-                bytes: whole_field,
-                limit,
-            });
+        let (bytes, what) = Self::whole_field_binding(blades.count as u64, lod.len() as u64);
+        if bytes > limit {
+            return Err(GpuError::TooLarge { what, bytes, limit });
         }
         let verts = blades.segments as u32 + 1;
         let plan = plan_chunks(

@@ -30,11 +30,20 @@ pub fn storage_buffers_per_stage(with_draw_lists: bool) -> u32 {
 }
 
 /// The largest single storage binding `sim` needs on the GPU path, bytes:
-/// the whole-field per-blade arrays (16 bytes a blade), the object table
-/// ([`crate::object::TableLayout`]: every collider, parts included) and the broad phase's lists and masks.
+/// the whole-field arrays ([`crate::GpuField::whole_field_binding`]: 16
+/// bytes a blade, 32 a cell), the draw lists'
+/// ([`crate::draw_lists::largest_binding`]: 48 bytes a cell), the object
+/// table ([`crate::object::TableLayout`]: every collider, parts included)
+/// and the broad phase's lists and masks.
 #[must_use]
 pub fn largest_binding(sim: &Simulation) -> u64 {
-    let field = sim.field.blades.count as u64 * 16;
+    let (blades, cells) = (
+        sim.field.blades.count as u64,
+        sim.field.cells.lod.len() as u64,
+    );
+    let field = crate::GpuField::whole_field_binding(blades, cells)
+        .0
+        .max(crate::draw_lists::largest_binding(blades, cells).0);
     let objects = crate::object::TableLayout::of_simulation(sim).bytes();
     let patches = sim.field.layout.patch_list.len() as u32;
     // At most one chunk a patch.

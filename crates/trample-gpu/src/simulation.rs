@@ -175,6 +175,26 @@ impl GpuSimulation {
         Self::supports_with(device, sim, &TableLayout::of_simulation(sim))
     }
 
+    /// Whether `device` can also hold the draw lists
+    /// ([`GpuSimulation::record_draw_lists`]) of this field: their largest
+    /// binding ([`crate::draw_lists::largest_binding`]) within one storage
+    /// binding. A host that draws from the GPU's buffers asks before its
+    /// first lists (wgpu would fail them otherwise).
+    ///
+    /// # Errors
+    /// [`GpuError::TooLarge`], naming the list.
+    pub fn supports_draw_lists(&self, device: &wgpu::Device) -> Result<(), GpuError> {
+        let (bytes, what) = crate::draw_lists::largest_binding(
+            u64::from(self.field.count),
+            u64::from(self.field.cell_count),
+        );
+        let limit = GpuField::binding_limit(device);
+        if bytes > limit {
+            return Err(GpuError::TooLarge { what, bytes, limit });
+        }
+        Ok(())
+    }
+
     /// [`GpuSimulation::supports`] with the object table's layout already
     /// made (it is then uploaded, not made again).
     fn supports_with(
@@ -192,13 +212,10 @@ impl GpuSimulation {
         }
         let limit = GpuField::binding_limit(device);
         let blades = &sim.field.blades;
-        let whole_field = blades.count as u64 * 16;
-        if whole_field > limit {
-            return Err(GpuError::TooLarge {
-                what: "the per-blade forces and neighbour table (16 bytes a blade, not chunked)",
-                bytes: whole_field,
-                limit,
-            });
+        let (bytes, what) =
+            GpuField::whole_field_binding(blades.count as u64, sim.field.cells.lod.len() as u64);
+        if bytes > limit {
+            return Err(GpuError::TooLarge { what, bytes, limit });
         }
         let layout = &sim.field.layout;
         let patch = layout.cells_in_patch() as u32 * layout.blades_per_cell;

@@ -6,7 +6,8 @@
 //! encoders (`record_step`, several sub-steps a step) as with the
 //! submit-for-you `step`; and the published limits are needed: the
 //! default limits alone are refused with a message naming the limit, not
-//! a wgpu panic.
+//! a wgpu panic; and so is a storage binding too small for one of the
+//! whole-field arrays (the cells' rest boxes, the draw lists' billboards).
 
 mod common;
 
@@ -86,4 +87,52 @@ fn the_default_limits_alone_are_refused_with_a_message() {
         Err(e) => panic!("wrong error: {e}"),
         Ok(_) => panic!("accepted a device below the step's needs"),
     }
+}
+
+/// A device whose storage binding holds the step's per-blade arrays but
+/// not the cells' rest boxes (32 bytes a cell) is refused with a message
+/// naming them, not a wgpu validation panic; one that holds the step but
+/// not the draw lists' billboards (48 bytes a cell) is told so by
+/// `supports_draw_lists`, before any list is made.
+#[test]
+fn a_binding_too_small_for_a_whole_field_array_is_refused_with_its_name() {
+    // 65,536 cells of one blade and no object: the cells' arrays are the
+    // largest bindings.
+    let text = "[field]\npatches = [16, 16]\ncells_per_patch = 16\n";
+    let sim = trample::scene::Scene::parse(text, "cells.toml", std::path::Path::new("."))
+        .expect("scene")
+        .build()
+        .expect("simulation");
+    assert!(sim.bodies.is_empty());
+    let cells = sim.field.cells.lod.len() as u64;
+    let blades = sim.field.blades.count as u64;
+    assert!(
+        32 * cells > 16 * blades,
+        "the rest boxes are the largest array"
+    );
+    let with_binding = |bytes: u64| {
+        let mut limits = required_limits(&sim);
+        limits.max_storage_buffer_binding_size = bytes;
+        trample_testkit::gpu::test_gpu_exact(required_features(), limits)
+    };
+    let host = with_binding(32 * cells - 4);
+    match GpuSimulation::new(&host.device, &host.queue, sim.clone()) {
+        Err(GpuError::TooLarge { what, bytes, .. }) => {
+            eprintln!("{what}: {bytes} bytes");
+            assert!(what.contains("rest boxes") && bytes == 32 * cells, "{what}");
+        }
+        Err(e) => panic!("wrong error: {e}"),
+        Ok(_) => panic!("accepted a binding smaller than the cells' rest boxes"),
+    }
+    let host = with_binding(48 * cells - 4);
+    let g = GpuSimulation::new(&host.device, &host.queue, sim.clone()).expect("the step fits");
+    match g.supports_draw_lists(&host.device) {
+        Err(GpuError::TooLarge { what, bytes, .. }) => {
+            assert!(what.contains("billboard") && bytes == 48 * cells, "{what}");
+        }
+        other => panic!("draw lists over the binding not refused: {other:?}"),
+    }
+    let host = with_binding(48 * cells);
+    let g = GpuSimulation::new(&host.device, &host.queue, sim).expect("the step fits");
+    g.supports_draw_lists(&host.device).expect("the lists fit");
 }

@@ -48,6 +48,10 @@ struct Billboard {
 @group(2) @binding(2) var<storage, read> cells: array<u32>;
 @group(2) @binding(3) var<uniform> params: Params;
 @group(2) @binding(4) var<storage, read> billboards: array<Billboard>;
+// The blades' chunk: x its first blade (and, on the GPU path, its first
+// listed blade), y its blades (`pos` holds them: vertex k of the chunk's
+// blade l at pos[k * y + l]). The CPU path draws one chunk, (0, blades).
+@group(2) @binding(5) var<uniform> chunk: vec4<u32>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -65,10 +69,10 @@ fn wind_tip(root: vec3<f32>) -> vec3<f32> {
     return wind_tip_offset_at(root, params.wind, params.gusts, params.time.x);
 }
 
-fn vertex_of(k: u32, b: u32) -> vec3<f32> {
-    let count = params.counts.x;
-    let root = pos[b].xyz;
-    return blade_wind_vertex(root, pos[k * count + b].xyz, k, params.counts.y, wind_tip(root));
+// Vertex k of the chunk's blade l, as drawn in the wind.
+fn vertex_of(k: u32, l: u32) -> vec3<f32> {
+    let root = pos[l].xyz;
+    return blade_wind_vertex(root, pos[k * chunk.y + l].xyz, k, params.counts.y, wind_tip(root));
 }
 
 // Two triangles a quad: corners (0,0) (1,0) (0,1), (0,1) (1,0) (1,1).
@@ -86,19 +90,21 @@ fn blade_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32
     let listed = ii / copies;
     let copy = ii % copies;
     // The CPU path lists cells; the GPU path (eye.w = 1) lists blades as
-    // (blade, colour) pairs.
+    // (blade, colour) pairs, a chunk's from its first blade on.
     var b = cells[listed / per_cell] * per_cell + listed % per_cell;
     if (params.eye.w == 1.0) {
-        b = cells[2u * listed];
+        b = cells[2u * (chunk.x + listed)];
     }
+    // The blade within the chunk's vertices.
+    let l = b - chunk.x;
     let n = params.counts.y;
     let c = corner_of(vi);
     let k = vi / 6u + c.y;
     let side = f32(c.x) - 0.5;
-    let root = pos[b].xyz;
-    let p = vertex_of(k, b);
+    let root = pos[l].xyz;
+    let p = vertex_of(k, l);
     // Tangent of the bent shape at vertex k (central difference).
-    let dir = normalize(vertex_of(min(k + 1u, n), b) - vertex_of(max(k, 1u) - 1u, b));
+    let dir = normalize(vertex_of(min(k + 1u, n), l) - vertex_of(max(k, 1u) - 1u, l));
     let seed = copy_seed(b, copy);
     let across = blade_across(seed, dir);
     let t = f32(k) / f32(n);
@@ -121,7 +127,7 @@ fn blade_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32
     out.normal = blade_normal(across, dir, side);
     // Ambient occlusion: darker to the root and when laid flat (the
     // stored blade's root-to-tip elevation, without the drawn wind).
-    let chord = pos[n * params.counts.x + b].xyz - root;
+    let chord = pos[n * chunk.y + l].xyz - root;
     let upright = chord.y / max(length(chord), 1e-6);
     out.albedo = blade_albedo(tint, t) * grass_ao_at(t, upright, params.time.w);
     out.uv = vec2<f32>(f32(c.x), t);

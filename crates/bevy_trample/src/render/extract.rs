@@ -89,6 +89,21 @@ pub struct GrassFrame {
     blade_runs: Vec<Range<u32>>,
 }
 
+impl GrassFrame {
+    /// Whether the draws read the GPU path's buffers this frame.
+    #[must_use]
+    pub fn on_gpu_path(&self) -> bool {
+        #[cfg(feature = "gpu")]
+        {
+            self.gpu.is_some()
+        }
+        #[cfg(not(feature = "gpu"))]
+        {
+            false
+        }
+    }
+}
+
 /// Copies this frame's field into the render world: the vertices of the
 /// blades the steps since the last frame changed (all of them for a new
 /// field), the drawn cells and billboards of the camera in charge, the
@@ -113,6 +128,14 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
         return;
     };
     let field = &mut *field;
+    if field.wants_gpu() && field.backend() == crate::TrampleBackend::Cpu {
+        // To be handed to the GPU path once the main world has Bevy's
+        // device (the first frame or two): nothing drawn until then (the
+        // CPU path's uploads are not made for a field the device may only
+        // hold in chunks).
+        frame.layout = None;
+        return;
+    }
     let sim = &field.sim;
     let bl = &sim.field.blades;
     let layout = &sim.field.layout;
@@ -131,7 +154,7 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
         }
         frame.gpu = gpu;
     }
-    let on_gpu = on_gpu(frame);
+    let on_gpu = frame.on_gpu_path();
     if field.changes.take(sim, &mut frame.blade_runs) {
         frame.full = Some(
             bl.width
@@ -197,19 +220,6 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
             }
         }));
     frame.params = grass_params(sim, &look);
-}
-
-/// Whether the draws read the GPU path's buffers this frame.
-fn on_gpu(frame: &GrassFrame) -> bool {
-    #[cfg(feature = "gpu")]
-    {
-        frame.gpu.is_some()
-    }
-    #[cfg(not(feature = "gpu"))]
-    {
-        let _ = frame;
-        false
-    }
 }
 
 /// This frame's draw parameters for `sim` drawn with `look`: the wind and

@@ -26,7 +26,8 @@ pub struct GrassPipeline {
     pub mesh_pipeline: MeshPipeline,
     /// `blades.wgsl`.
     pub shader: Handle<Shader>,
-    /// Group 2: blade vertices, blade shape, drawn cells, parameters, billboards.
+    /// Group 2: blade vertices, blade shape, drawn cells, parameters,
+    /// billboards, the blades' chunk.
     pub grass_layout: BindGroupLayoutDescriptor,
     /// A vertex layout with positions only, to ask the mesh pipeline for
     /// its descriptor (the grass itself has no vertex buffer).
@@ -52,6 +53,7 @@ pub fn init_grass_pipeline(
                 storage_buffer_read_only_sized(false, None),
                 uniform_buffer_sized(false, None),
                 storage_buffer_read_only_sized(false, None),
+                uniform_buffer_sized(false, None),
             ),
         ),
     );

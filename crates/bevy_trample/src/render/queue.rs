@@ -4,7 +4,7 @@
 //! the grass's bind group (group 2), then one instanced draw.
 
 use super::GrassDraw;
-use super::gpu::GrassGpu;
+use super::gpu::{DRAW_ARGS_BYTES, GrassGpu};
 use super::pipeline::GrassPipeline;
 use bevy::asset::AssetId;
 use bevy::core_pipeline::core_3d::{Opaque3d, Opaque3dBatchSetKey, Opaque3dBinKey};
@@ -55,17 +55,24 @@ impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
         let gpu = gpu.into_inner();
-        let (Some(draw), Some(group)) = (draw, gpu.bind_group.as_ref()) else {
+        let (Some(draw), Some(group)) = (draw, gpu.bind_groups.first()) else {
             return RenderCommandResult::Skip;
         };
         if let Some(indirect) = &gpu.indirect {
-            // The GPU path's lists: the counts are on the GPU.
-            let offset = match draw {
-                GrassDraw::Blades => 0,
-                GrassDraw::Billboards => indirect.billboard_args,
-            };
-            pass.set_bind_group(2, group, &[]);
-            pass.draw_indirect(&indirect.args, offset);
+            // The GPU path's lists: the counts are on the GPU; the blades
+            // one draw a chunk of their vertices.
+            match draw {
+                GrassDraw::Blades => {
+                    for (k, group) in gpu.bind_groups.iter().enumerate() {
+                        pass.set_bind_group(2, group, &[]);
+                        pass.draw_indirect(&indirect.args, DRAW_ARGS_BYTES * k as u64);
+                    }
+                }
+                GrassDraw::Billboards => {
+                    pass.set_bind_group(2, group, &[]);
+                    pass.draw_indirect(&indirect.args, indirect.billboard_args);
+                }
+            }
             return RenderCommandResult::Success;
         }
         let (vertices, instances) = match draw {

@@ -3,7 +3,7 @@
 //! by `trample-gpu-wgpu29`) on Bevy's own device and queue, the draws
 //! reading its buffers in place (blade vertices, and instance lists and
 //! indirect draws the GPU builds), so the blades never travel back to the
-//! CPU.
+//! CPU; the cells' flatness does, for the track on the ground ([`track`]).
 //!
 //! Bevy puts its [`RenderDevice`] and [`RenderQueue`] in the main world as
 //! well as the render world, so the step stays where it is on the CPU path
@@ -17,9 +17,12 @@
 //! never in an app without a renderer) the field steps on the CPU path; the
 //! first step with a device hands the simulation over as it is (the GPU
 //! path takes a simulation mid-run). A field the GPU path cannot take
-//! (the device's limits, a field over one storage binding: the draws bind
-//! one chunk of blade vertices) stays on the CPU path, and
-//! [`TrampleField::gpu_refused`] says why (logged once).
+//! (the device's limits, [`GpuSimulation::supports`]) stays on the CPU
+//! path, and [`TrampleField::gpu_refused`] says why (logged once). A field
+//! whose blade vertices pass one storage binding is in chunks of patches,
+//! drawn one indirect draw a chunk.
+
+pub mod track;
 
 use crate::field::TrampleField;
 use crate::render::extract::WIDTH_OVER_CELL;
@@ -64,6 +67,8 @@ pub struct GpuPath {
     pub(crate) made: u64,
     /// The look the last draw lists were made for.
     look: Option<GrassLook>,
+    /// The cells' flatness copied back for the ground's track.
+    track: track::TrackReadback,
 }
 
 /// What the draws read of the GPU path this frame (wgpu handles: cloning
@@ -72,8 +77,10 @@ pub struct GpuPath {
 pub struct GpuDrawBuffers {
     /// Which GPU field these belong to ([`GpuPath::made`]).
     pub made: u64,
-    /// Blade vertices (the core's layout, the field's one chunk).
-    pub pos: wgpu::Buffer,
+    /// Per chunk of patches: its blade vertices (the core's layout over
+    /// the chunk's blades), its first blade and its blade count. The
+    /// blades' indirect draw of chunk k is at `16 k` of `args`.
+    pub chunks: Vec<(wgpu::Buffer, u32, u32)>,
     /// Blade instances, `(blade, debug colour)` pairs.
     pub instances: wgpu::Buffer,
     /// Billboard instances (48 bytes, as the CPU path's).
@@ -104,17 +111,24 @@ pub(crate) fn step(
         start(field, device, queue).ok()?;
     }
     let look = ctx.look();
-    let path = field.gpu.as_mut()?;
+    let mut path = field.gpu.take()?;
+    path.track.take(device, field);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("bevy_trample step"),
     });
     std::mem::swap(&mut field.sim, &mut path.gpu.sim);
     let stepped = path.gpu.record_step(device, queue, &mut encoder, dt);
+    let mut copied = None;
     if stepped.is_ok() {
-        record_lists(path, device, queue, &mut encoder, look);
+        record_lists(&mut path, device, queue, &mut encoder, look);
+        copied = path.track.record(&mut encoder, &path.gpu.field.flatness);
     }
     std::mem::swap(&mut field.sim, &mut path.gpu.sim);
     queue.submit([encoder.finish()]);
+    if let Some(k) = copied {
+        path.track.map(k);
+    }
+    field.gpu = Some(path);
     Some(
         stepped
             .map(|_| field.sim.timings.clone())
@@ -122,26 +136,34 @@ pub(crate) fn step(
     )
 }
 
-/// The draw lists again when the look changed since the last step (a
-/// paused game whose look is changed).
+/// Hands the field to the GPU path as soon as Bevy's device is in the
+/// main world (before any step, so that the first frames draw), and makes
+/// the draw lists again when none were made or the look changed since
+/// the last step (a paused game whose look is changed).
 pub(crate) fn refresh_lists(field: &mut TrampleField, ctx: &GpuContext) {
     let Some((device, queue)) = ctx.handles() else {
         return;
     };
+    if field.wants_gpu() && field.gpu.is_none() && start(field, device, queue).is_err() {
+        return;
+    }
     let look = ctx.look();
-    let Some(path) = field.gpu.as_mut() else {
+    let Some(mut path) = field.gpu.take() else {
         return;
     };
+    path.track.take(device, field);
     if path.look == Some(look) {
+        field.gpu = Some(path);
         return;
     }
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("bevy_trample draw lists"),
     });
     std::mem::swap(&mut field.sim, &mut path.gpu.sim);
-    record_lists(path, device, queue, &mut encoder, look);
+    record_lists(&mut path, device, queue, &mut encoder, look);
     std::mem::swap(&mut field.sim, &mut path.gpu.sim);
     queue.submit([encoder.finish()]);
+    field.gpu = Some(path);
 }
 
 /// Hands the field's simulation to the GPU path; on a refusal it stays on
@@ -163,26 +185,20 @@ fn start(field: &mut TrampleField, device: &wgpu::Device, queue: &wgpu::Queue) -
         Ok(mut gpu) => {
             // The real simulation back to the field, the stand-in to the GPU's.
             std::mem::swap(&mut field.sim, &mut gpu.sim);
-            let chunks = gpu.field.chunks.len();
-            if chunks > 1 {
-                let why = format!(
-                    "its {} blades need {chunks} chunks of blade vertices on this device \
-                     (one storage binding holds {:.2} MiB), and the plugin's draws bind one: \
-                     use fewer blades or segments a blade",
-                    field.sim.field.blades.count,
-                    device.limits().max_storage_buffer_binding_size as f64 / f64::from(1 << 20)
-                );
-                refuse(field, why);
+            if let Err(e) = gpu.supports_draw_lists(device) {
+                refuse(field, e.to_string());
                 return Err(());
             }
             info!(
                 "bevy_trample: the field ({} blades) steps on the GPU path from simulated time {:.3} s",
                 field.sim.field.blades.count, field.sim.time
             );
+            let track = track::TrackReadback::new(device, u64::from(gpu.field.cell_count));
             field.gpu = Some(GpuPath {
                 gpu,
                 made: MADE.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
                 look: None,
+                track,
             });
             Ok(())
         }
@@ -248,10 +264,15 @@ impl TrampleField {
     pub fn gpu_draw_buffers(&self) -> Option<GpuDrawBuffers> {
         let path = self.gpu.as_ref()?;
         let lists = path.gpu.draw_lists()?;
-        let chunk = path.gpu.field.chunks.first()?;
         Some(GpuDrawBuffers {
             made: path.made,
-            pos: chunk.pos.clone(),
+            chunks: path
+                .gpu
+                .field
+                .chunks
+                .iter()
+                .map(|c| (c.pos.clone(), c.first_blade, c.blades))
+                .collect(),
             instances: lists.blade_instances.clone(),
             billboards: lists.billboards.clone(),
             args: lists.args.clone(),
