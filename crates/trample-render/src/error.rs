@@ -16,9 +16,10 @@ pub enum RenderError {
     /// The adapter refused to create a device.
     #[error("cannot create a GPU device: {0}")]
     Device(String),
-    /// The adapter cannot hold the field's blade buffer in one binding.
+    /// The adapter cannot hold the field's blade buffer (or, drawing from
+    /// the GPU path, its draw lists' instances) in one binding.
     #[error(
-        "the blade buffer needs {needed} bytes in one storage binding; this adapter allows {allowed}"
+        "the blade buffer (or the GPU path's instance list) needs {needed} bytes in one storage binding; this adapter allows {allowed}"
     )]
     BladesTooLarge {
         /// Bytes the vertex buffer needs.

@@ -156,6 +156,16 @@ impl FieldRenderer {
         target: TargetFormat,
         params: RenderParams,
     ) -> Result<Self, RenderError> {
+        // The draw lists' buffers within one storage binding, or a message
+        // instead of a validation error at the first frame.
+        if let Err(trample_gpu::GpuError::TooLarge { bytes, limit, .. }) =
+            gpu.supports_draw_lists(device)
+        {
+            return Err(RenderError::BladesTooLarge {
+                needed: bytes,
+                allowed: limit,
+            });
+        }
         Self::with_blades(device, queue, &gpu.sim, target, params, true)
     }
 
