@@ -75,7 +75,7 @@ pub struct GpuPath {
 /// one clones a reference).
 #[derive(Clone, Debug)]
 pub struct GpuDrawBuffers {
-    /// Which GPU field these belong to ([`GpuPath::made`]).
+    /// Which GPU field these belong to (each hand-over makes a new one).
     pub made: u64,
     /// Per chunk of patches: its blade vertices (the core's layout over
     /// the chunk's blades), its first blade and its blade count. The
