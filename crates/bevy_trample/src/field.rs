@@ -156,6 +156,7 @@ impl TrampleField {
     }
 
     /// Whether the next step is to try the GPU path.
+    #[cfg(feature = "render")]
     pub(crate) fn wants_gpu(&self) -> bool {
         self.backend == TrampleBackend::Gpu && self.gpu_refused.is_none()
     }
