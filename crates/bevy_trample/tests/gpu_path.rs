@@ -2,8 +2,10 @@
 //! (`TrampleField::on_gpu`, feature `gpu`): a sphere moved by a system
 //! leaves the same track as on the CPU path (DESIGN §7's parity, 1e-3 m),
 //! in one chunk of blade vertices or in several; the frame drawn from the
-//! GPU's buffers (one indirect draw a chunk) is the CPU path's frame; and
-//! a field the device cannot take stays on the CPU path and says why.
+//! GPU's buffers (one indirect draw a chunk) is the CPU path's frame, and
+//! so is the CPU path's frame drawn in chunks (a device whose binding is
+//! under the field's vertices); and a field the device cannot take stays
+//! on the CPU path and says why.
 //!
 //! These tests need a Vulkan adapter (Bevy 0.19's wgpu is built without
 //! GL here): lavapipe on CI (`.ci/run` installs it), a GPU elsewhere. No
@@ -11,13 +13,15 @@
 
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy::render::RenderPlugin;
+use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::renderer::{RenderAdapterInfo, RenderDevice, RenderQueue};
 use bevy::render::settings::{Backends, RenderCreation, WgpuLimits, WgpuSettings};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::render::{RenderApp, RenderPlugin};
 use bevy::time::TimeUpdateStrategy;
 use bevy::winit::WinitPlugin;
+use bevy_trample::render::gpu::GrassGpu;
 use bevy_trample::{
     TrampleBackend, TrampleCamera, TrampleField, TramplePlugin, TrampleSystems, Trampler,
 };
@@ -108,7 +112,10 @@ fn app(field: TrampleField, render: Option<Option<WgpuLimits>>) -> App {
                         synchronous_pipeline_compilation: true,
                         ..default()
                     })
-                    .disable::<WinitPlugin>(),
+                    .disable::<WinitPlugin>()
+                    // The render world stays in the app (its buffers are
+                    // looked at), rendering each update in turn.
+                    .disable::<PipelinedRenderingPlugin>(),
             );
         }
         None => {
@@ -244,16 +251,27 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
     // stage): the step's stages bind more. A storage binding of 512 KiB
     // less 4 bytes: the cells' rest boxes (32 bytes a cell, 512 KiB) are
     // one array of the step. 767 KiB: the step's arrays fit, the draw
-    // lists' billboards (48 bytes a cell, 768 KiB) do not.
+    // lists' billboards (48 bytes a cell, 768 KiB) do not. 96 KiB: the
+    // rest boxes again, and the CPU path's draws cannot bind the blades'
+    // shapes (8 bytes a blade, 128 KiB) either.
+    // On the CPU path the blade vertices (1.25 MiB) are drawn in chunks of
+    // whole patches (20 KiB a patch): 1 on WebGPU's 128 MiB, 3 of 25
+    // patches at 512 KiB, 2 at 767 KiB; none drawn at 96 KiB.
     let mut rest_boxes = binding_of(512);
     rest_boxes.max_storage_buffer_binding_size -= 4;
-    for (limits, words) in [
+    for (limits, words, drawn_chunks) in [
         (
             WgpuLimits::default(),
             ["storage buffers", "required_limits"],
+            Some(1),
         ),
-        (rest_boxes, ["rest boxes", "524288 bytes"]),
-        (binding_of(767), ["billboard instances", "786432 bytes"]),
+        (rest_boxes, ["rest boxes", "524288 bytes"], Some(3)),
+        (
+            binding_of(767),
+            ["billboard instances", "786432 bytes"],
+            Some(2),
+        ),
+        (binding_of(96), ["rest boxes", "524288 bytes"], None),
     ] {
         let mut app = app(field().on_gpu(), Some(Some(limits)));
         wait_for_device(&mut app);
@@ -268,6 +286,12 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
         assert!(field.gpu_draw_buffers().is_none());
         // The CPU path went on with the same simulation: the sphere's track.
         assert!(pressed(field) > 100, "{} blades pressed", pressed(field));
+        let drawn = app
+            .sub_app(RenderApp)
+            .world()
+            .get_resource::<GrassGpu>()
+            .map(|g| g.chunks.len());
+        assert_eq!(drawn, drawn_chunks, "{why}");
     }
 }
 
@@ -330,15 +354,17 @@ fn compare(a: &[u8], b: &[u8]) -> (usize, f64) {
 }
 
 #[test]
-fn the_frame_drawn_from_the_gpus_buffers_is_the_cpu_paths_frame() {
-    // Three apps on the renderer: the CPU path, the GPU path in one chunk,
-    // the GPU path in two (one indirect draw a chunk).
+fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
+    // Four apps on the renderer: the CPU path, the GPU path in one chunk,
+    // the GPU path in two (one indirect draw a chunk), the CPU path in two
+    // (its uploads cut at a patch border, one draw a chunk).
     let mut cpu = app(field(), Some(None));
     let mut gpu = app(field().on_gpu(), Some(None));
     let mut chunked = app(field().on_gpu(), Some(Some(small_binding())));
+    let mut cpu_chunked = app(field(), Some(Some(small_binding())));
     let mut frames = Vec::new();
     let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
-    for app in [&mut cpu, &mut gpu, &mut chunked] {
+    for app in [&mut cpu, &mut gpu, &mut chunked, &mut cpu_chunked] {
         wait_for_device(app);
         // The camera for the last few steps only: drawing every frame on a
         // software rasteriser is most of the time.
@@ -360,17 +386,35 @@ fn the_frame_drawn_from_the_gpus_buffers_is_the_cpu_paths_frame() {
     }
     let on = |app: &App| app.world().resource::<TrampleField>().backend();
     assert_eq!(
-        [on(&cpu), on(&gpu), on(&chunked)],
+        [on(&cpu), on(&gpu), on(&chunked), on(&cpu_chunked)],
         [
             TrampleBackend::Cpu,
             TrampleBackend::Gpu,
-            TrampleBackend::Gpu
+            TrampleBackend::Gpu,
+            TrampleBackend::Cpu
         ]
+    );
+    // The CPU path's vertices: one buffer on the adapter's limits, two
+    // chunks of patches on the small binding.
+    let chunks = |app: &mut App| {
+        let gpu = app.sub_app(RenderApp).world().resource::<GrassGpu>();
+        (gpu.chunk_blades.clone(), gpu.drawn.clone())
+    };
+    let (whole, _) = chunks(&mut cpu);
+    assert_eq!(whole, [0..16_384]);
+    let (cut, drawn) = chunks(&mut cpu_chunked);
+    assert_eq!(cut.len(), 2, "{cut:?}");
+    assert!(
+        drawn.iter().all(|d| !d.is_empty()),
+        "both chunks draw: {drawn:?}"
     );
     let pixels = (FRAME[0] * FRAME[1]) as usize;
     // The three frames, to look at.
     let dir = std::env::temp_dir();
-    for (name, frame) in ["cpu", "gpu", "gpu_chunks"].iter().zip(&frames) {
+    for (name, frame) in ["cpu", "gpu", "gpu_chunks", "cpu_chunks"]
+        .iter()
+        .zip(&frames)
+    {
         let path = dir.join(format!("bevy_trample_gpu_path_{name}.png"));
         image::save_buffer(
             &path,
@@ -388,14 +432,18 @@ fn the_frame_drawn_from_the_gpus_buffers_is_the_cpu_paths_frame() {
         .filter(|p| p[1] > p[0] && p[1] > p[2])
         .count();
     assert!(green > pixels / 3, "{green} of {pixels} pixels green");
-    for (name, frame) in [("one chunk", &frames[1]), ("two chunks", &frames[2])] {
+    for (name, frame) in [
+        ("GPU path, one chunk", &frames[1]),
+        ("GPU path, two chunks", &frames[2]),
+        ("CPU path, two chunks", &frames[3]),
+    ] {
         let (differing, mean) = compare(&frames[0], frame);
         eprintln!(
-            "GPU path ({name}) against the CPU path: {differing} of {pixels} pixels differ, mean difference {mean:.3}"
+            "{name} against the CPU path: {differing} of {pixels} pixels differ, mean difference {mean:.3}"
         );
         assert!(
             differing * 1000 <= pixels && mean < 0.25,
-            "GPU path ({name}): {differing} of {pixels} pixels differ (mean {mean:.3})"
+            "{name}: {differing} of {pixels} pixels differ (mean {mean:.3})"
         );
     }
 }

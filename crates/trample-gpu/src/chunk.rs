@@ -18,6 +18,7 @@ use std::ops::Range;
 
 use crate::error::GpuError;
 use crate::kernel::grid;
+use trample::field::ChunkError;
 
 /// The uniform of one chunk. Layout-compatible with `Chunk` in `chunk.wgsl`.
 #[repr(C)]
@@ -94,7 +95,8 @@ impl GpuChunk {
 /// The blade ranges of the chunks of a field of `count` blades of `verts`
 /// vertices, cut at multiples of `unit` blades (a patch; `count` is a
 /// multiple of it), each chunk's positions (16 bytes a vertex) within
-/// `max_bytes`. As few chunks as fit, all but the last of equal size.
+/// `max_bytes`: the core's [`trample::field::plan_chunks`] (a renderer on
+/// the CPU path cuts a field the same way), its refusals as [`GpuError`]s.
 ///
 /// # Errors
 /// [`GpuError::TooLarge`] when one unit alone is over `max_bytes`;
@@ -105,29 +107,14 @@ pub fn plan_chunks(
     unit: u32,
     max_bytes: u64,
 ) -> Result<Vec<Range<u32>>, GpuError> {
-    if unit == 0 || !count.is_multiple_of(unit) {
-        return Err(GpuError::Layout(format!(
-            "{count} blades are not whole chunk units of {unit} blades"
-        )));
-    }
-    let unit_bytes = u64::from(unit) * u64::from(verts) * 16;
-    if unit_bytes > max_bytes {
-        return Err(GpuError::TooLarge {
+    trample::field::plan_chunks(count, verts, unit, max_bytes).map_err(|e| match e {
+        ChunkError::UnitTooLarge { bytes, limit } => GpuError::TooLarge {
             what: "the blade positions of one patch (the smallest chunk)",
-            bytes: unit_bytes,
-            limit: max_bytes,
-        });
-    }
-    let units_per_chunk = (max_bytes / unit_bytes).min(u64::from(u32::MAX)) as u32;
-    let per_chunk = units_per_chunk.saturating_mul(unit);
-    let mut out = Vec::new();
-    let mut start = 0u32;
-    while start < count {
-        let end = start.saturating_add(per_chunk).min(count);
-        out.push(start..end);
-        start = end;
-    }
-    Ok(out)
+            bytes,
+            limit,
+        },
+        ChunkError::Layout { .. } => GpuError::Layout(e.to_string()),
+    })
 }
 
 #[cfg(test)]
@@ -135,17 +122,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn chunks_cover_the_field_in_whole_units_within_the_limit() {
-        // 10 patches of 64 blades, 5 vertices: 5,120 bytes a patch.
-        let plan = plan_chunks(640, 5, 64, 3 * 5_120 + 100).unwrap();
-        assert_eq!(plan, vec![0..192, 192..384, 384..576, 576..640]);
-        let one = plan_chunks(640, 5, 64, u64::MAX).unwrap();
-        assert_eq!(one, vec![0..640]);
-    }
-
-    #[test]
     fn a_patch_over_the_limit_is_refused_by_name() {
+        // The plan itself is the core's (`trample::field::chunks`); here
+        // its refusals as the GPU path's errors.
+        assert_eq!(plan_chunks(640, 5, 64, 3 * 5_120).unwrap().len(), 4);
         let e = plan_chunks(640, 5, 64, 5_000).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GpuError::TooLarge {
+                    bytes: 5_120,
+                    limit: 5_000,
+                    ..
+                }
+            ),
+            "{e}"
+        );
         assert!(e.to_string().contains("one patch"), "{e}");
         assert!(plan_chunks(640, 5, 0, 1 << 20).is_err());
         assert!(plan_chunks(650, 5, 64, 1 << 20).is_err());

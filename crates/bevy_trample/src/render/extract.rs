@@ -63,8 +63,10 @@ const _: () = assert!(std::mem::size_of::<BillboardInstance>() == 48);
 /// The render world's copy of this frame's field.
 #[derive(Resource, Default)]
 pub struct GrassFrame {
-    /// Blades, segments per blade and blades per cell; `None` before a field exists.
-    pub layout: Option<[u32; 3]>,
+    /// Blades, segments per blade, blades per cell and blades per patch
+    /// (the unit the vertices are cut at into chunks,
+    /// [`trample::field::plan_chunks`]); `None` before a field exists.
+    pub layout: Option<[u32; 4]>,
     /// Set when every blade is in `staging` (a new field): the buffers are
     /// made anew. Also carries each blade's `[width, tint]`.
     pub full: Option<Vec<[f32; 2]>>,
@@ -75,7 +77,8 @@ pub struct GrassFrame {
     /// Vertex data of `runs` (the core's layout, `[x, y, z, 0]`).
     pub staging: Vec<BladeVertex>,
     /// Cells drawn as blades: the Geometry-LOD cells and the near blend
-    /// band's Billboard-LOD cells ([`drawn_blade_cells`]).
+    /// band's Billboard-LOD cells ([`drawn_blade_cells`]), ascending (the
+    /// draws cut the list at the chunks' borders).
     pub cells: Vec<u32>,
     /// Billboards drawn.
     pub billboards: Vec<BillboardInstance>,
@@ -139,7 +142,12 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
     let sim = &field.sim;
     let bl = &sim.field.blades;
     let layout = &sim.field.layout;
-    let shape = [bl.count as u32, bl.segments as u32, layout.blades_per_cell];
+    let shape = [
+        bl.count as u32,
+        bl.segments as u32,
+        layout.blades_per_cell,
+        layout.cells_in_patch() as u32 * layout.blades_per_cell,
+    ];
     if frame.layout != Some(shape) {
         field.changes.reset();
         frame.layout = Some(shape);

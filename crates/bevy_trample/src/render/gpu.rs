@@ -1,9 +1,11 @@
 //! The field's GPU buffers in the render world: blade vertices (the core's
 //! layout, uploaded whole once, then only the runs of blades that
-//! changed), per-blade shape, this frame's drawn cells and billboards, the
-//! draw parameters; and their bind group (group 2 of `blades.wgsl`). On
-//! the GPU path (feature `gpu`) the GPU's own buffers instead: its blade
-//! vertices, one bind group for each chunk of them, and its lists.
+//! changed; in chunks of patches when the field is over one storage
+//! binding, [`trample::field::chunks`]), per-blade shape, this frame's
+//! drawn cells and billboards, the draw parameters; and their bind groups
+//! (group 2 of `blades.wgsl`, one a chunk). On the GPU path (feature
+//! `gpu`) the GPU's own buffers instead: its blade vertices, in its own
+//! chunks, and its lists.
 
 use super::extract::{BillboardInstance, GrassFrame, GrassParams};
 use super::pipeline::GrassPipeline;
@@ -12,10 +14,12 @@ use bevy::render::render_resource::{
     BindGroup, BindGroupEntries, Buffer, BufferDescriptor, BufferUsages, PipelineCache,
 };
 use bevy::render::renderer::{RenderDevice, RenderQueue};
+use std::ops::Range;
+use trample::field::{drawn_ranges, plan_chunks};
 
 /// Bytes of one blade vertex on the GPU: `vec4<f32>` (the core's
 /// [`trample::field::BladeVertex`], `[x, y, z, 0]`).
-pub const VERTEX_BYTES: u64 = 16;
+pub const VERTEX_BYTES: u64 = trample::field::chunks::VERTEX_BYTES;
 
 /// Bytes of one indirect draw's arguments (`DrawIndirectArgs`: vertex
 /// count, instance count, first vertex, first instance).
@@ -24,8 +28,17 @@ pub const DRAW_ARGS_BYTES: u64 = 16;
 /// The field's buffers and what the draws need to know.
 #[derive(Resource)]
 pub struct GrassGpu {
-    /// Blade vertices, `pos[k * blades + b]`.
-    pub pos: Buffer,
+    /// Blade vertices by chunk of patches (one chunk for a field within
+    /// one storage binding): the chunk's vertices (vertex k of its blade l
+    /// at `k * blades + l`) and its `(first blade, blades, 0, 0)` uniform.
+    /// On the CPU path the uploads, on the GPU path its own buffers.
+    pub chunks: Vec<(Buffer, Buffer)>,
+    /// On the CPU path: each chunk's blades (global indices), as `chunks`.
+    pub chunk_blades: Vec<Range<u32>>,
+    /// On the CPU path: each chunk's blade instances drawn this frame (the
+    /// drawn cells cut at the chunks' borders, × blades per cell × drawn
+    /// copies; instance indices into the whole list).
+    pub drawn: Vec<Range<u32>>,
     /// Per blade `[width, tint]`.
     pub shape: Buffer,
     /// Cells drawn as blades (grows as needed).
@@ -34,12 +47,9 @@ pub struct GrassGpu {
     pub billboards: Buffer,
     /// [`GrassParams`].
     pub params: Buffer,
-    /// The blades' chunk, `(first blade, blades, 0, 0)`: on the CPU path
-    /// one chunk, `(0, blades)`.
-    pub chunk: Buffer,
     /// Bind groups over all of them (made in `PrepareBindGroups`; empty
-    /// until then): one, or on the GPU path one a chunk of blades (the
-    /// billboards are drawn with the first).
+    /// until then): one a chunk of blade vertices (the billboards are
+    /// drawn with the first).
     pub bind_groups: Vec<BindGroup>,
     /// Blade instances drawn this frame: cells × blades per cell × drawn
     /// copies per blade ([`super::look::GrassLook::copies`]).
@@ -51,7 +61,7 @@ pub struct GrassGpu {
     /// Bytes of vertex data uploaded this frame (for measurements).
     pub uploaded_bytes: u64,
     /// On the GPU path: its indirect draws (blades at 0, billboards at
-    /// `billboard_args`), and which GPU field `pos`, `cells` and
+    /// `billboard_args`), and which GPU field `chunks`, `cells` and
     /// `billboards` are the buffers of.
     pub indirect: Option<Indirect>,
 }
@@ -60,8 +70,6 @@ pub struct GrassGpu {
 pub struct Indirect {
     /// `DrawIndirectArgs`: chunk k's blades at `16 k`, then the billboards'.
     pub args: Buffer,
-    /// Per chunk its blade vertices and its `(first blade, blades)`.
-    pub chunks: Vec<(Buffer, Buffer)>,
     /// Byte offset of the billboards' draw.
     pub billboard_args: u64,
     /// The GPU field they belong to.
@@ -98,19 +106,29 @@ fn grown(
     })
 }
 
-/// The CPU path's buffer of this frame that the device cannot bind whole,
-/// if one: its name and size.
-fn too_large(frame: &GrassFrame, vertices: u64, limit: u64) -> Option<(&'static str, u64)> {
-    [
-        ("blade vertices", vertices * VERTEX_BYTES),
+/// How the CPU path's buffers of this frame fit the device: the chunks of
+/// the blade vertices (`blades` blades of `verts` vertices, cut at
+/// `unit` blades), or why the field cannot be drawn (a whole-field array
+/// over one binding, or one patch's vertices).
+fn fit(
+    frame: &GrassFrame,
+    [blades, verts, unit]: [u32; 3],
+    limit: u64,
+) -> Result<Vec<Range<u32>>, String> {
+    let whole = [
+        ("blade shapes", u64::from(blades) * 8),
         ("drawn cells", frame.cells.len() as u64 * 4),
         (
             "billboards",
             (frame.billboards.len() * std::mem::size_of::<BillboardInstance>()) as u64,
         ),
-    ]
-    .into_iter()
-    .find(|&(_, bytes)| bytes > limit)
+    ];
+    if let Some((what, bytes)) = whole.into_iter().find(|&(_, bytes)| bytes > limit) {
+        return Err(format!(
+            "the field's {what} take {bytes} bytes, over the {limit} bytes the device binds whole"
+        ));
+    }
+    plan_chunks(blades, verts, unit, limit).map_err(|e| format!("{e}"))
 }
 
 /// Makes the buffers for a new field and uploads this frame's changes.
@@ -122,36 +140,35 @@ pub fn prepare_grass_buffers(
     gpu: Option<ResMut<GrassGpu>>,
     mut refused: Local<Option<String>>,
 ) {
-    let Some([blades, segments, per_cell]) = frame.layout else {
+    let Some([blades, segments, per_cell, unit]) = frame.layout else {
         if gpu.is_some() {
             commands.remove_resource::<GrassGpu>();
         }
         return;
     };
     let on_gpu = frame.on_gpu_path();
-    // On the GPU path the vertices are the GPU's: no buffer of the CPU's.
-    let vertices = if on_gpu {
-        1
-    } else {
-        u64::from(blades) * u64::from(segments + 1)
-    };
     let limit = binding_limit(&device);
-    if let Some((what, bytes)) = too_large(&frame, vertices, limit).filter(|_| !on_gpu) {
-        // Not drawn rather than a validation error that stops the app.
-        let why = format!(
-            "the field's {what} take {bytes} bytes, over the {limit} bytes the device binds \
-             whole: the grass is not drawn on the CPU path (the GPU path, \
-             TrampleField::on_gpu, draws a field in chunks)"
-        );
-        if refused.as_ref() != Some(&why) {
-            warn!("bevy_trample: {why}");
-            *refused = Some(why);
+    // On the GPU path the vertices and lists are the GPU's, in its chunks.
+    let plan = if on_gpu {
+        Ok(Vec::new())
+    } else {
+        fit(&frame, [blades, segments + 1, unit], limit)
+    };
+    let plan = match plan {
+        Ok(plan) => plan,
+        Err(why) => {
+            // Not drawn rather than a validation error that stops the app.
+            let why = format!("{why}: the grass is not drawn");
+            if refused.as_ref() != Some(&why) {
+                warn!("bevy_trample: {why}");
+                *refused = Some(why);
+            }
+            if gpu.is_some() {
+                commands.remove_resource::<GrassGpu>();
+            }
+            return;
         }
-        if gpu.is_some() {
-            commands.remove_resource::<GrassGpu>();
-        }
-        return;
-    }
+    };
     let mut made;
     let gpu = match (gpu, &frame.full) {
         (Some(gpu), None) => {
@@ -167,13 +184,25 @@ pub fn prepare_grass_buffers(
                 BufferUsages::STORAGE,
             );
             queue.write_buffer(&shape, 0, bytemuck::cast_slice(shape_data));
+            let chunks = plan
+                .iter()
+                .map(|r| {
+                    let vertices = u64::from(r.len() as u32) * u64::from(segments + 1);
+                    (
+                        buffer(
+                            &device,
+                            "trample blade vertices",
+                            vertices * VERTEX_BYTES,
+                            BufferUsages::STORAGE,
+                        ),
+                        chunk_uniform(&device, r.start, r.len() as u32),
+                    )
+                })
+                .collect();
             made = Some(GrassGpu {
-                pos: buffer(
-                    &device,
-                    "trample blade vertices",
-                    vertices * VERTEX_BYTES,
-                    BufferUsages::STORAGE,
-                ),
+                chunks,
+                chunk_blades: plan.clone(),
+                drawn: Vec::new(),
                 shape,
                 cells: buffer(&device, "trample drawn cells", 4096, BufferUsages::STORAGE),
                 billboards: buffer(
@@ -188,7 +217,6 @@ pub fn prepare_grass_buffers(
                     std::mem::size_of::<GrassParams>() as u64,
                     BufferUsages::UNIFORM,
                 ),
-                chunk: chunk_uniform(&device, 0, blades),
                 bind_groups: Vec::new(),
                 blades: 0,
                 billboard_count: 0,
@@ -199,48 +227,38 @@ pub fn prepare_grass_buffers(
             made.as_mut().unwrap_or_else(|| unreachable!())
         }
     };
-    // Only the runs of changed blades.
-    let mut at = 0usize;
-    gpu.uploaded_bytes = 0;
-    for &(first, len) in &frame.runs {
-        let data = &frame.staging[at..at + len as usize];
-        at += len as usize;
-        queue.write_buffer(
-            &gpu.pos,
-            u64::from(first) * VERTEX_BYTES,
-            bytemuck::cast_slice(data),
-        );
-        gpu.uploaded_bytes += u64::from(len) * VERTEX_BYTES;
-    }
     #[cfg(feature = "gpu")]
     if let Some(g) = &frame.gpu {
         // The GPU path's own buffers, bound in place of the uploads.
         if gpu.indirect.as_ref().map(|i| i.made) != Some(g.made) {
             gpu.cells = Buffer::from(g.instances.clone());
             gpu.billboards = Buffer::from(g.billboards.clone());
+            gpu.chunks = g
+                .chunks
+                .iter()
+                .map(|(pos, first, blades)| {
+                    (
+                        Buffer::from(pos.clone()),
+                        chunk_uniform(&device, *first, *blades),
+                    )
+                })
+                .collect();
+            gpu.chunk_blades.clear();
             gpu.indirect = Some(Indirect {
                 args: Buffer::from(g.args.clone()),
-                chunks: g
-                    .chunks
-                    .iter()
-                    .map(|(pos, first, blades)| {
-                        (
-                            Buffer::from(pos.clone()),
-                            chunk_uniform(&device, *first, *blades),
-                        )
-                    })
-                    .collect(),
                 billboard_args: g.billboard_args,
                 made: g.made,
             });
             gpu.bind_groups.clear();
         }
+        gpu.uploaded_bytes = 0;
         queue.write_buffer(&gpu.params, 0, bytemuck::bytes_of(&frame.params));
         if let Some(gpu) = made {
             commands.insert_resource(gpu);
         }
         return;
     }
+    gpu.uploaded_bytes = upload_runs(&queue, gpu, &frame, blades);
     let cell_bytes = (frame.cells.len() * 4) as u64;
     if let Some(b) = grown(
         &device,
@@ -266,13 +284,46 @@ pub fn prepare_grass_buffers(
     }
     queue.write_buffer(&gpu.billboards, 0, bytemuck::cast_slice(&frame.billboards));
     queue.write_buffer(&gpu.params, 0, bytemuck::bytes_of(&frame.params));
-    gpu.blades = (frame.cells.len() as u32)
-        .saturating_mul(per_cell)
-        .saturating_mul(frame.params.counts[3].max(1));
+    // Each chunk draws the listed cells whose blades it holds (the list is
+    // ascending, so they are one run of it).
+    let instances_a_cell = per_cell.saturating_mul(frame.params.counts[3].max(1));
+    let at = |i: usize| (i as u32).saturating_mul(instances_a_cell);
+    gpu.drawn = drawn_ranges(&frame.cells, &gpu.chunk_blades, per_cell)
+        .into_iter()
+        .map(|r| at(r.start)..at(r.end))
+        .collect();
+    gpu.blades = at(frame.cells.len());
     gpu.billboard_count = frame.billboards.len() as u32;
     if let Some(gpu) = made {
         commands.insert_resource(gpu);
     }
+}
+
+/// Writes the frame's runs of changed vertices (the core's layout over
+/// all `blades`: vertex k of blade b at `k * blades + b`) into the chunks
+/// that hold them; the bytes written.
+fn upload_runs(queue: &RenderQueue, gpu: &GrassGpu, frame: &GrassFrame, blades: u32) -> u64 {
+    let mut at = 0usize;
+    let mut bytes = 0;
+    for &(first, len) in &frame.runs {
+        let data = &frame.staging[at..at + len as usize];
+        at += len as usize;
+        // A run lies within one vertex level k (the extract cuts them so).
+        let (k, b0) = (first / blades.max(1), first % blades.max(1));
+        for ((pos, _), chunk) in gpu.chunks.iter().zip(&gpu.chunk_blades) {
+            let lo = b0.max(chunk.start);
+            let hi = (b0 + len).min(chunk.end);
+            if lo >= hi {
+                continue;
+            }
+            let in_chunk =
+                u64::from(k) * u64::from(chunk.len() as u32) + u64::from(lo - chunk.start);
+            let part = &data[(lo - b0) as usize..(hi - b0) as usize];
+            queue.write_buffer(pos, in_chunk * VERTEX_BYTES, bytemuck::cast_slice(part));
+            bytes += u64::from(hi - lo) * VERTEX_BYTES;
+        }
+    }
+    bytes
 }
 
 /// A chunk's `(first blade, blades, 0, 0)` uniform (`chunk` in blades.wgsl).
@@ -284,8 +335,8 @@ fn chunk_uniform(device: &RenderDevice, first: u32, blades: u32) -> Buffer {
     })
 }
 
-/// (Re)makes the bind groups when a buffer was (re)made: one over the
-/// uploads, or on the GPU path one a chunk of its blade vertices.
+/// (Re)makes the bind groups when a buffer was (re)made: one a chunk of
+/// blade vertices (the uploads', or the GPU path's own).
 pub fn prepare_grass_bind_group(
     device: Res<RenderDevice>,
     cache: Res<PipelineCache>,
@@ -313,13 +364,10 @@ pub fn prepare_grass_bind_group(
             )),
         )
     };
-    let groups = match &gpu.indirect {
-        Some(indirect) => indirect
-            .chunks
-            .iter()
-            .map(|(pos, chunk)| group(pos, chunk))
-            .collect(),
-        None => vec![group(&gpu.pos, &gpu.chunk)],
-    };
+    let groups = gpu
+        .chunks
+        .iter()
+        .map(|(pos, chunk)| group(pos, chunk))
+        .collect();
     gpu.bind_groups = groups;
 }

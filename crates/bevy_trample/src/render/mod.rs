@@ -13,9 +13,10 @@
 //! shader defs) for `blades.wgsl`, whose blade shape, wind and colour are
 //! the shader library `trample::blade_shape` shared with trample-render.
 //!
-//! When the plugin moves to a Bevy on wgpu 30, the GPU path (trample-gpu)
-//! can step the field in the render world and these draws read its
-//! buffers in place of the uploads.
+//! A field whose blade vertices pass one storage binding is uploaded and
+//! drawn in chunks of patches ([`trample::field::chunks`]), one draw a
+//! chunk. On the GPU path ([`crate::gpu_path`]) the draws read the GPU's
+//! own buffers (its chunks, its lists, indirect) in place of the uploads.
 
 pub mod extract;
 pub mod gpu;

@@ -37,9 +37,10 @@ pub type DrawGrass = (
 );
 
 /// Binds group 2 and draws: every drawn blade (each of its drawn copies)
-/// as an instance of `6 · segments` vertices (two triangles a segment), or
-/// every billboard as an instance of 12 (two crossed quads); on the GPU
-/// path the same draws, indirect (the GPU listed them).
+/// as an instance of `6 · segments` vertices (two triangles a segment),
+/// one draw a chunk of blade vertices, or every billboard as an instance
+/// of 12 (two crossed quads); on the GPU path the same draws, indirect
+/// (the GPU listed them).
 pub struct DrawGrassInstances;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
@@ -75,15 +76,31 @@ impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
             }
             return RenderCommandResult::Success;
         }
-        let (vertices, instances) = match draw {
-            GrassDraw::Blades => (6 * gpu.segments, gpu.blades),
-            GrassDraw::Billboards => (12, gpu.billboard_count),
-        };
-        if instances == 0 {
-            return RenderCommandResult::Skip;
+        match draw {
+            GrassDraw::Blades => {
+                // One draw a chunk of blade vertices, of the listed cells
+                // whose blades it holds.
+                let mut drew = false;
+                for (group, instances) in gpu.bind_groups.iter().zip(&gpu.drawn) {
+                    if instances.is_empty() {
+                        continue;
+                    }
+                    pass.set_bind_group(2, group, &[]);
+                    pass.draw(0..6 * gpu.segments, instances.clone());
+                    drew = true;
+                }
+                if !drew {
+                    return RenderCommandResult::Skip;
+                }
+            }
+            GrassDraw::Billboards => {
+                if gpu.billboard_count == 0 {
+                    return RenderCommandResult::Skip;
+                }
+                pass.set_bind_group(2, group, &[]);
+                pass.draw(0..12, 0..gpu.billboard_count);
+            }
         }
-        pass.set_bind_group(2, group, &[]);
-        pass.draw(0..vertices, 0..instances);
         RenderCommandResult::Success
     }
 }

@@ -4,6 +4,7 @@
 pub mod blades;
 pub mod cells;
 pub mod changes;
+pub mod chunks;
 pub mod drawn;
 pub mod frustum;
 pub mod generate;
@@ -22,6 +23,7 @@ pub mod terrain;
 pub use blades::{BladeVertex, Blades, MAX_SEGMENTS};
 pub use cells::Cells;
 pub use changes::ChangeSet;
+pub use chunks::{ChunkError, drawn_ranges, plan_chunks};
 pub use drawn::{drawn_blade_cells, drawn_cells};
 pub use field::Field;
 pub use frustum::{Frustum, cull_patches, cull_patches_each};
