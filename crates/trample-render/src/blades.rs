@@ -1,12 +1,16 @@
 //! Geometric blades: the vertex buffer (the core's layout, uploaded each
-//! frame), per-blade width and tint, and a compact instance list of the
-//! blades of visible Geometry-LOD cells (built on the CPU each frame). With
-//! the GPU path ([`BladePass::draw_gpu`]) nothing is uploaded: one indirect
-//! draw per chunk of the field, straight from trample-gpu's buffers.
+//! frame; a field over one storage binding in chunks,
+//! [`trample::field::chunks`], one draw a chunk), per-blade width and
+//! tint, and a compact instance list of the blades of visible Geometry-LOD
+//! cells (built on the CPU each frame). With the GPU path
+//! ([`BladePass::draw_gpu`]) nothing is uploaded: one indirect draw per
+//! chunk of the field, straight from trample-gpu's buffers.
 
 use crate::globals::shader_module;
+use std::ops::Range;
 use trample::Simulation;
-use trample::field::{Lod, drawn_blade_cells};
+use trample::field::chunks::VERTEX_BYTES;
+use trample::field::{Lod, drawn_blade_cells, plan_chunks, split_at_chunks};
 
 /// One drawn blade. Layout-compatible with `vec2<u32>` of `instances` in blades.wgsl.
 #[repr(C)]
@@ -24,26 +28,39 @@ const _: () = assert!(std::mem::size_of::<BladeInstance>() == 8);
 pub struct BladePass {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
-    /// The CPU path's vertex buffer; `None` for a pass drawing the GPU
-    /// path's buffers ([`BladePass::new_gpu`]) until a CPU frame needs it.
-    pos: Option<wgpu::Buffer>,
+    /// The CPU path's vertex buffers, one a chunk of blades (one for a
+    /// field within one storage binding); empty for a pass drawing the GPU
+    /// path's buffers ([`BladePass::new_gpu`]) until a CPU frame needs them.
+    cpu_chunks: Vec<CpuChunk>,
     shape: wgpu::Buffer,
     instances: wgpu::Buffer,
-    /// `(0, blade count)`: the CPU path's one chunk.
-    whole: wgpu::Buffer,
-    /// Per chunk of the GPU path: `(first blade, blades)`.
+    /// Per chunk of the GPU path: `(first blade, blades, first blade)`.
     gpu_chunks: Vec<wgpu::Buffer>,
-    bind_group: Option<wgpu::BindGroup>,
     list: Vec<BladeInstance>,
+    /// Per CPU chunk, the run of `list` it draws this frame.
+    drawn: Vec<Range<usize>>,
     segments: u32,
+}
+
+/// One chunk of the CPU path's blade vertices.
+struct CpuChunk {
+    /// Its vertices, the core's layout over its blades.
+    pos: wgpu::Buffer,
+    /// Its blades (global indices).
+    blades: Range<u32>,
+    /// `(first blade, blades, first listed instance, 0)`: z rewritten each
+    /// frame.
+    uniform: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
 }
 
 impl BladePass {
     /// Creates the pass for `sim`'s field.
     ///
     /// # Errors
-    /// The adapter cannot read storage buffers in vertex shaders, or the
-    /// field's vertex buffer exceeds one storage binding.
+    /// The adapter cannot read storage buffers in vertex shaders, or one
+    /// of the field's whole arrays (the blades' shapes, 8 bytes a blade)
+    /// exceeds one storage binding.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -52,27 +69,74 @@ impl BladePass {
         target: &crate::TargetFormat,
     ) -> Result<Self, crate::RenderError> {
         let mut pass = Self::new_gpu(device, queue, globals, sim, target)?;
-        pass.pos = Some(Self::cpu_positions(device, sim)?);
-        pass.bind_group = Some(pass.bind_cpu(device));
+        pass.make_cpu_chunks(device, sim)?;
         Ok(pass)
     }
 
-    /// The CPU path's vertex buffer for `sim`'s field.
-    fn cpu_positions(
+    /// The CPU path's vertex buffers for `sim`'s field: as few chunks as
+    /// fit one storage binding each, cut at any blade (the list drawn is
+    /// of blades), bound with the shapes and the instance list.
+    fn make_cpu_chunks(
+        &mut self,
         device: &wgpu::Device,
         sim: &Simulation,
-    ) -> Result<wgpu::Buffer, crate::RenderError> {
-        let allowed = device.limits().max_storage_buffer_binding_size;
-        let needed = (sim.field.blades.pos.len().max(1) * 16) as u64;
-        if needed > allowed {
-            return Err(crate::RenderError::BladesTooLarge { needed, allowed });
+    ) -> Result<(), crate::RenderError> {
+        let limits = device.limits();
+        let allowed = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let blades = &sim.field.blades;
+        let shape = blades.count as u64 * 8;
+        if shape > allowed {
+            return Err(crate::RenderError::BladesTooLarge {
+                needed: shape,
+                allowed,
+            });
         }
-        Ok(device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("blade vertices"),
-            size: needed,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        }))
+        let verts = blades.segments as u32 + 1;
+        let plan = plan_chunks(blades.count as u32, verts, 1, allowed).map_err(|e| match e {
+            trample::field::ChunkError::UnitTooLarge { bytes, limit } => {
+                crate::RenderError::BladesTooLarge {
+                    needed: bytes,
+                    allowed: limit,
+                }
+            }
+            // A unit of one blade divides every count.
+            trample::field::ChunkError::Layout { .. } => unreachable!("{e}"),
+        })?;
+        self.cpu_chunks = plan
+            .into_iter()
+            .map(|r| {
+                let size = (u64::from(r.end - r.start) * u64::from(verts) * VERTEX_BYTES).max(16);
+                let pos = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("blade vertices"),
+                    size,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let uniform = chunk_uniform(device, r.start, r.end - r.start, 0);
+                let bind_group = self.bind(device, &pos, &self.instances, &uniform);
+                CpuChunk {
+                    pos,
+                    blades: r,
+                    uniform,
+                    bind_group,
+                }
+            })
+            .collect();
+        Ok(())
+    }
+
+    /// Binds the CPU path's chunks again (the instance list was remade).
+    fn rebind_cpu(&mut self, device: &wgpu::Device) {
+        let groups: Vec<_> = self
+            .cpu_chunks
+            .iter()
+            .map(|c| self.bind(device, &c.pos, &self.instances, &c.uniform))
+            .collect();
+        for (chunk, group) in self.cpu_chunks.iter_mut().zip(groups) {
+            chunk.bind_group = group;
+        }
     }
 
     /// Creates the pass for drawing `sim`'s field from the GPU path's
@@ -118,7 +182,6 @@ impl BladePass {
                 crate::pipeline::vertex_uniform(3),
             ],
         });
-        let whole = chunk_uniform(device, 0, blades.count as u32);
         let module = shader_module(device, "blades.wgsl", include_str!("blades.wgsl"));
         let pipeline = crate::pipeline::build(
             device,
@@ -137,21 +200,14 @@ impl BladePass {
         Ok(Self {
             pipeline,
             layout,
-            pos: None,
+            cpu_chunks: Vec::new(),
             shape,
             instances,
-            whole,
             gpu_chunks: Vec::new(),
-            bind_group: None,
             list: Vec::new(),
+            drawn: Vec::new(),
             segments: blades.segments as u32,
         })
-    }
-
-    /// The CPU path's bind group (its vertex buffer must exist).
-    fn bind_cpu(&self, device: &wgpu::Device) -> wgpu::BindGroup {
-        let pos = self.pos.as_ref().expect("made before binding");
-        self.bind(device, pos, &self.instances, &self.whole)
     }
 
     fn bind(
@@ -205,20 +261,20 @@ impl BladePass {
     ) -> (u64, u64) {
         let blades = &sim.field.blades;
         let mut upload = upload;
-        if self.pos.is_none() {
+        if self.cpu_chunks.is_empty() {
             // A pass made for the GPU path drawing a CPU frame: a field
-            // over one binding draws no blades rather than failing.
-            let Ok(pos) = Self::cpu_positions(device, sim) else {
+            // whose shapes pass one binding draws no blades rather than
+            // failing.
+            if self.make_cpu_chunks(device, sim).is_err() {
                 self.list.clear();
+                self.drawn.clear();
                 return (0, 0);
-            };
-            self.pos = Some(pos);
-            self.bind_group = Some(self.bind_cpu(device));
+            }
             upload = Upload::All;
         }
         let mut bytes = 0;
-        if let Some(pos) = &self.pos {
-            bytes += upload_positions(queue, pos, &sim.field, upload);
+        for chunk in &self.cpu_chunks {
+            bytes += upload_positions(queue, chunk, &sim.field, upload);
         }
 
         let layout = &sim.field.layout;
@@ -256,9 +312,16 @@ impl BladePass {
             list_bytes,
         ) {
             self.instances = b;
-            self.bind_group = Some(self.bind_cpu(device));
+            self.rebind_cpu(device);
         }
         queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.list));
+        // Each chunk draws the run of the (ascending) list it holds, from
+        // its first listed instance on.
+        let chunks: Vec<_> = self.cpu_chunks.iter().map(|c| c.blades.clone()).collect();
+        self.drawn = split_at_chunks(&self.list, |i| u64::from(i.blade), &chunks);
+        for (chunk, run) in self.cpu_chunks.iter().zip(&self.drawn) {
+            queue.write_buffer(&chunk.uniform, 8, bytemuck::bytes_of(&(run.start as u32)));
+        }
         (bytes, list_bytes)
     }
 
@@ -271,13 +334,15 @@ impl BladePass {
     /// Records the draw into `pass`, `copies` drawn blades for each listed
     /// one ([`crate::RenderParams::near_density`]; at least 1).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, copies: u32) {
-        let Some(group) = self.bind_group.as_ref().filter(|_| !self.list.is_empty()) else {
-            return;
-        };
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(1, group, &[]);
-        let instances = (self.list.len() as u32).saturating_mul(copies.max(1));
-        pass.draw(0..2 * (self.segments + 1), 0..instances);
+        for (chunk, run) in self.cpu_chunks.iter().zip(&self.drawn) {
+            if run.is_empty() {
+                continue;
+            }
+            pass.set_bind_group(1, &chunk.bind_group, &[]);
+            let instances = (run.len() as u32).saturating_mul(copies.max(1));
+            pass.draw(0..2 * (self.segments + 1), 0..instances);
+        }
     }
 
     /// The vertices of one blade's strip.
@@ -299,7 +364,7 @@ impl BladePass {
             self.gpu_chunks = field
                 .chunks
                 .iter()
-                .map(|c| chunk_uniform(device, c.first_blade, c.blades))
+                .map(|c| chunk_uniform(device, c.first_blade, c.blades, c.first_blade))
                 .collect();
         }
         field
@@ -326,13 +391,15 @@ impl BladePass {
     }
 }
 
-/// A chunk's `(first blade, blades)` uniform (`chunk` in blades.wgsl).
-fn chunk_uniform(device: &wgpu::Device, first: u32, blades: u32) -> wgpu::Buffer {
+/// A chunk's `(first blade, blades, first listed instance, 0)` uniform
+/// (`chunk` in blades.wgsl): the GPU path lists a chunk's blades from its
+/// first blade on; the CPU path's list is compact (rewritten each frame).
+fn chunk_uniform(device: &wgpu::Device, first: u32, blades: u32, listed: u32) -> wgpu::Buffer {
     use wgpu::util::DeviceExt;
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("blade chunk"),
-        contents: bytemuck::cast_slice(&[first, blades, 0, 0]),
-        usage: wgpu::BufferUsages::UNIFORM,
+        contents: bytemuck::cast_slice(&[first, blades, listed, 0]),
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
     })
 }
 
@@ -354,40 +421,45 @@ pub enum Upload {
 pub const MERGE_GAP_BLADES: u32 = 32;
 
 /// Writes `field`'s blade vertices (vertex-major, [`trample::field::Blades::pos_bytes`])
-/// into `pos` as `upload` says; returns the bytes written.
+/// of `chunk`'s blades into its buffer (the same layout over the chunk's
+/// blades) as `upload` says; returns the bytes written.
 fn upload_positions(
     queue: &wgpu::Queue,
-    pos: &wgpu::Buffer,
+    chunk: &CpuChunk,
     field: &trample::field::Field,
     upload: Upload,
 ) -> u64 {
     let blades = &field.blades;
     const VERTEX: usize = std::mem::size_of::<trample::field::BladeVertex>();
     let bytes = blades.pos_bytes();
-    match upload {
-        Upload::None => 0,
-        Upload::All => {
-            queue.write_buffer(pos, 0, bytes);
-            bytes.len() as u64
-        }
+    let runs: Vec<Range<u32>> = match upload {
+        Upload::None => return 0,
+        Upload::All => vec![chunk.blades.clone()],
         Upload::Changed => {
-            let mut runs: Vec<std::ops::Range<u32>> = Vec::new();
+            let mut runs: Vec<Range<u32>> = Vec::new();
             for r in field.changed_blades().ranges() {
+                let r = r.start.max(chunk.blades.start)..r.end.min(chunk.blades.end);
+                if r.is_empty() {
+                    continue;
+                }
                 match runs.last_mut() {
                     Some(last) if r.start - last.end <= MERGE_GAP_BLADES => last.end = r.end,
                     _ => runs.push(r),
                 }
             }
-            let mut written = 0;
-            for k in 0..=blades.segments {
-                for r in &runs {
-                    let first = (k * blades.count + r.start as usize) * VERTEX;
-                    let last = (k * blades.count + r.end as usize) * VERTEX;
-                    queue.write_buffer(pos, first as u64, &bytes[first..last]);
-                    written += (last - first) as u64;
-                }
-            }
-            written
+            runs
+        }
+    };
+    let in_chunk = (chunk.blades.end - chunk.blades.start) as usize;
+    let mut written = 0;
+    for k in 0..=blades.segments {
+        for r in &runs {
+            let first = (k * blades.count + r.start as usize) * VERTEX;
+            let last = (k * blades.count + r.end as usize) * VERTEX;
+            let to = (k * in_chunk + (r.start - chunk.blades.start) as usize) * VERTEX;
+            queue.write_buffer(&chunk.pos, to as u64, &bytes[first..last]);
+            written += (last - first) as u64;
         }
     }
+    written
 }

@@ -1,16 +1,18 @@
 // Geometric blades (DESIGN §8): one instance per blade, a two-sided tapered
 // strip of 2·(n+1) vertices pulled from the blade vertex buffer, laid out as
 // the core stores it over a chunk of blades: vertex k of blade b at
-// pos[k * blades + (b - first)] (Eq. 1). The CPU path draws the whole field
-// as one chunk; the GPU path (trample-gpu) one draw per chunk, straight from
-// its buffers.
+// pos[k * blades + (b - first)] (Eq. 1). Both paths draw one draw per chunk:
+// the CPU path its uploads (one chunk for a field within one binding), the
+// GPU path (trample-gpu) straight from its buffers.
 
 // x: width (m), y: tint in [0, 1).
 @group(1) @binding(0) var<storage, read> pos: array<vec4<f32>>;
 @group(1) @binding(1) var<storage, read> shape: array<vec2<f32>>;
 // x: blade index, y: debug colour (RGBA8, 0 = shade normally).
 @group(1) @binding(2) var<storage, read> instances: array<vec2<u32>>;
-// x: the chunk's first blade (and its first instance), y: its blades.
+// x: the chunk's first blade, y: its blades, z: its first instance in
+// `instances` (the GPU path lists a chunk's blades from its first blade on,
+// z = x; the CPU path's list is compact).
 @group(1) @binding(3) var<uniform> chunk: vec4<u32>;
 
 struct VertexOut {
@@ -54,7 +56,7 @@ fn blade_upright(b: u32) -> f32 {
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VertexOut {
     let copies = drawn_copies();
-    let inst = instances[chunk.x + ii / copies];
+    let inst = instances[chunk.z + ii / copies];
     let copy = ii % copies;
     let b = inst.x;
     let n = globals.params.y;

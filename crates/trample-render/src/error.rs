@@ -16,8 +16,10 @@ pub enum RenderError {
     /// The adapter refused to create a device.
     #[error("cannot create a GPU device: {0}")]
     Device(String),
-    /// The adapter cannot hold the field's blade buffer (or, drawing from
-    /// the GPU path, its draw lists' instances) in one binding.
+    /// The adapter cannot hold one of the field's whole arrays (the
+    /// blades' shapes, 8 bytes a blade; drawing from the GPU path, its draw
+    /// lists' instances) or one blade's vertices in one binding. (Blade
+    /// vertices over one binding are drawn in chunks.)
     #[error(
         "the blade buffer (or the GPU path's instance list) needs {needed} bytes in one storage binding; this adapter allows {allowed}"
     )]

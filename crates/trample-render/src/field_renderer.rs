@@ -131,7 +131,9 @@ impl FieldRenderer {
     /// # Errors
     /// [`RenderError::NoVertexStorage`] for an adapter that cannot read
     /// storage buffers in vertex shaders, [`RenderError::BladesTooLarge`]
-    /// for a field over one storage binding (see [`FieldRenderer::new_gpu`]).
+    /// for a field whose blades' shapes (8 bytes a blade) pass one storage
+    /// binding. Blade vertices over one binding are uploaded and drawn in
+    /// chunks ([`trample::field::chunks`]).
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -144,8 +146,8 @@ impl FieldRenderer {
 
     /// A renderer that draws the field of a GPU-path simulation straight
     /// from its buffers ([`FieldRenderer::prepare_gpu`]; `gpu.sim` gives
-    /// the objects and terrain): no blade vertex buffer of its own, so
-    /// fields over one storage binding draw too.
+    /// the objects and terrain): no blade vertex buffer of its own (the
+    /// GPU path's chunks are drawn one indirect draw each).
     ///
     /// # Errors
     /// As [`FieldRenderer::new`], less the field's size.

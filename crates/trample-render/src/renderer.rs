@@ -42,8 +42,8 @@ impl Renderer {
 
     /// A renderer that draws the field of a GPU-path simulation straight
     /// from its buffers ([`Renderer::encode_gpu`]; `gpu.sim` gives the
-    /// camera, objects and terrain): no blade vertex buffer of its own, so
-    /// fields over one storage binding draw too.
+    /// camera, objects and terrain): no blade vertex buffer of its own (the
+    /// GPU path's chunks are drawn one indirect draw each).
     ///
     /// # Errors
     /// As [`Renderer::new`], less the field's size.

@@ -94,3 +94,72 @@ fn changed_blades_only_and_the_same_frame_as_a_full_upload() {
     let again = follower.draw(device, queue, &sim);
     assert_eq!(again.vertex_bytes, 0);
 }
+
+/// A device on `gpu`'s adapter whose storage bindings hold `bytes`.
+fn device_with_binding(
+    gpu: &trample_render::headless::Gpu,
+    bytes: u64,
+) -> (wgpu::Device, wgpu::Queue) {
+    let limits = wgpu::Limits {
+        max_storage_buffer_binding_size: bytes,
+        ..trample_render::required_limits(&gpu.adapter)
+    };
+    pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("small bindings"),
+        required_limits: limits,
+        ..Default::default()
+    }))
+    .expect("a device with smaller limits than the adapter's")
+}
+
+#[test]
+fn a_field_over_one_binding_is_uploaded_and_drawn_in_chunks() {
+    // 1,024 blades of 5 vertices: 80 KiB of vertices. A binding of 32 KiB
+    // holds 409 blades' vertices: three chunks (before: BladesTooLarge).
+    let gpu = trample_render::headless::create_device()
+        .unwrap_or_else(|e| panic!("the upload test needs an adapter: {e}"));
+    let params = RenderParams {
+        width: W,
+        height: H,
+        samples: gpu.msaa(4),
+        ..Default::default()
+    };
+    let (small, small_queue) = device_with_binding(&gpu, 32 << 10);
+    let mut sim = scene();
+    let full_bytes = sim.field.blades.pos_bytes().len() as u64;
+    assert_eq!(full_bytes, 80 << 10);
+    let mut chunked = Renderer::new(&small, &small_queue, &sim, params)
+        .unwrap_or_else(|e| panic!("a field in chunks: {e}"));
+    let first = chunked.draw(&small, &small_queue, &sim);
+    assert_eq!(
+        first.vertex_bytes, full_bytes,
+        "every vertex, chunk by chunk"
+    );
+    // Changed blades only, split between the chunks they lie in.
+    for _ in 0..45 {
+        sim.step(1.0 / 60.0).unwrap();
+        let counts = chunked.draw(&small, &small_queue, &sim);
+        assert!(counts.vertex_bytes > 0 && counts.vertex_bytes < full_bytes / 2);
+    }
+    let in_chunks = chunked.read_frame(&small, &small_queue).unwrap();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let whole = Renderer::new(device, queue, &sim, params)
+        .unwrap()
+        .render(device, queue, &sim)
+        .unwrap();
+    let differing = in_chunks
+        .pixels()
+        .zip(whole.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    let grass = whole
+        .pixels()
+        .filter(|p| p[1] > p[0] && p[1] > p[2])
+        .count();
+    eprintln!("in chunks against whole: {differing} pixels differ; {grass} green");
+    assert!(grass > (W * H / 4) as usize, "{grass} grass pixels");
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels differ between the field in chunks and whole"
+    );
+}

@@ -84,15 +84,25 @@ pub fn drawn_ranges(
     blades_per_cell: u32,
 ) -> Vec<Range<usize>> {
     let per_cell = u64::from(blades_per_cell.max(1));
-    let first_blade = |c: u32| u64::from(c) * per_cell;
+    split_at_chunks(cells, |&c| u64::from(c) * per_cell, chunks)
+}
+
+/// For a list of drawn things ascending by their first blade (`blade`
+/// gives it: a cell's, or a blade's own index) and the chunks' blade
+/// ranges (ascending): the range of `list` that lies in each chunk, one a
+/// chunk. A thing past the last chunk is in none.
+#[must_use]
+pub fn split_at_chunks<T>(
+    list: &[T],
+    blade: impl Fn(&T) -> u64,
+    chunks: &[Range<u32>],
+) -> Vec<Range<usize>> {
     let mut at = 0usize;
     chunks
         .iter()
         .map(|chunk| {
-            let start =
-                at + cells[at..].partition_point(|&c| first_blade(c) < u64::from(chunk.start));
-            let end =
-                start + cells[start..].partition_point(|&c| first_blade(c) < u64::from(chunk.end));
+            let start = at + list[at..].partition_point(|t| blade(t) < u64::from(chunk.start));
+            let end = start + list[start..].partition_point(|t| blade(t) < u64::from(chunk.end));
             at = end;
             start..end
         })
@@ -154,5 +164,9 @@ mod tests {
         assert_eq!(drawn_ranges(&[1, 50], &chunks, 2), vec![0..1, 1..1, 1..1]);
         // One chunk takes the whole list.
         assert_eq!(drawn_ranges(&cells, &[0..20], 2), vec![0..6]);
+        // A list of blades (a renderer's instances).
+        let blades = [(1u32, 'a'), (7, 'b'), (8, 'c'), (19, 'd')];
+        let r = split_at_chunks(&blades, |b| u64::from(b.0), &chunks);
+        assert_eq!(r, vec![0..2, 2..3, 3..4]);
     }
 }
