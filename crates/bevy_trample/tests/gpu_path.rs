@@ -401,7 +401,7 @@ fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
         (gpu.chunk_blades.clone(), gpu.drawn.clone())
     };
     let (whole, _) = chunks(&mut cpu);
-    assert_eq!(whole, [0..16_384]);
+    assert_eq!((whole.len(), whole.first()), (1, Some(&(0..16_384))));
     let (cut, drawn) = chunks(&mut cpu_chunked);
     assert_eq!(cut.len(), 2, "{cut:?}");
     assert!(

@@ -110,6 +110,8 @@ pub fn split_at_chunks<T>(
 }
 
 #[cfg(test)]
+// One chunk is a list of one blade range here, not a range to collect.
+#[allow(clippy::single_range_in_vec_init)]
 mod tests {
     use super::*;
 
