@@ -120,6 +120,9 @@ fn main() -> Result<()> {
     file.field.cells_per_patch = CELLS_PER_PATCH;
     file.field.cell_size_m = CELL_M;
     file.sim.recovery_s = 8.0;
+    // 128 patches a side is scenes/herd.toml's field (16.8 M blades, about
+    // 10 GiB): its limit, over the default 8 GiB.
+    file.sim.memory_limit_gib = 12.0;
     let side = args.patches as f32 * CELLS_PER_PATCH as f32 * CELL_M;
     // Blades within a third of the field, billboards to its far edge.
     file.lod.geometry_m = (side / 3.0).clamp(8.0, 40.0);

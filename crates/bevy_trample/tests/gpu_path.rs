@@ -61,8 +61,14 @@ fn small_binding() -> WgpuLimits {
     binding_of(768)
 }
 
-/// 12.8 × 12.8 m of grass (16,384 blades), the paper's lasting track.
+/// 12.8 × 12.8 m of grass (16,384 blades), the paper's lasting track,
+/// blades to 30 m (all of them).
 fn field() -> TrampleField {
+    field_with_blades_to(30.0)
+}
+
+/// The same field drawn as blades to `geometry_m`, billboards beyond.
+fn field_with_blades_to(geometry_m: f32) -> TrampleField {
     let builder = SimulationBuilder::new()
         .field(FieldParams {
             patches: [8, 8],
@@ -70,7 +76,7 @@ fn field() -> TrampleField {
             ..FieldParams::default()
         })
         .lod(LodParams {
-            geometry_m: 30.0,
+            geometry_m,
             billboard_m: 40.0,
         })
         .sim(SimParams {
@@ -275,7 +281,13 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
     ] {
         let mut app = app(field().on_gpu(), Some(Some(limits)));
         wait_for_device(&mut app);
-        for _ in 0..FRAMES {
+        for _ in 0..FRAMES - 3 {
+            app.update();
+        }
+        // A camera for the last frames: the draws are queued and drawn (or
+        // skip, when the field is not drawn).
+        add_camera(&mut app);
+        for _ in 0..3 {
             app.update();
         }
         let field = app.world().resource::<TrampleField>();
@@ -356,12 +368,15 @@ fn compare(a: &[u8], b: &[u8]) -> (usize, f64) {
 #[test]
 fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
     // Four apps on the renderer: the CPU path, the GPU path in one chunk,
-    // the GPU path in two (one indirect draw a chunk), the CPU path in two
-    // (its uploads cut at a patch border, one draw a chunk).
+    // the GPU path in two (one indirect draw a chunk), the CPU path on a
+    // binding of 256 KiB, Bevy's own least (its uploads in chunks of 12
+    // patches, one draw a chunk; its billboards in pieces of 5,461). Blades
+    // to 4 m from the eye, billboards beyond.
+    let field = || field_with_blades_to(4.0);
     let mut cpu = app(field(), Some(None));
     let mut gpu = app(field().on_gpu(), Some(None));
     let mut chunked = app(field().on_gpu(), Some(Some(small_binding())));
-    let mut cpu_chunked = app(field(), Some(Some(small_binding())));
+    let mut cpu_chunked = app(field(), Some(Some(binding_of(256))));
     let mut frames = Vec::new();
     let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
     for app in [&mut cpu, &mut gpu, &mut chunked, &mut cpu_chunked] {
@@ -394,20 +409,32 @@ fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
             TrampleBackend::Cpu
         ]
     );
-    // The CPU path's vertices: one buffer on the adapter's limits, two
-    // chunks of patches on the small binding.
+    // The CPU path's vertices: one buffer on the adapter's limits, six
+    // chunks of patches on the small binding; its billboards one piece, or
+    // several.
     let chunks = |app: &mut App| {
         let gpu = app.sub_app(RenderApp).world().resource::<GrassGpu>();
-        (gpu.chunk_blades.clone(), gpu.drawn.clone())
+        (
+            gpu.chunk_blades.clone(),
+            gpu.drawn.clone(),
+            gpu.billboard_counts.clone(),
+        )
     };
-    let (whole, _) = chunks(&mut cpu);
+    let (whole, _, billboards) = chunks(&mut cpu);
     assert_eq!((whole.len(), whole.first()), (1, Some(&(0..16_384))));
-    let (cut, drawn) = chunks(&mut cpu_chunked);
-    assert_eq!(cut.len(), 2, "{cut:?}");
-    assert!(
-        drawn.iter().all(|d| !d.is_empty()),
-        "both chunks draw: {drawn:?}"
+    assert_eq!(billboards.len(), 1);
+    let (cut, drawn, pieces) = chunks(&mut cpu_chunked);
+    eprintln!(
+        "CPU path on 256 KiB: {} chunks, blade instances {drawn:?}; billboards {billboards:?} in pieces {pieces:?}",
+        cut.len()
     );
+    assert_eq!(cut.len(), 6, "{cut:?}");
+    assert!(
+        drawn.iter().filter(|d| !d.is_empty()).count() >= 2,
+        "blades from several chunks: {drawn:?}"
+    );
+    assert!(pieces.len() >= 2, "billboards in pieces: {pieces:?}");
+    assert_eq!(pieces.iter().sum::<u32>(), billboards[0]);
     let pixels = (FRAME[0] * FRAME[1]) as usize;
     // The three frames, to look at.
     let dir = std::env::temp_dir();
@@ -435,7 +462,7 @@ fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
     for (name, frame) in [
         ("GPU path, one chunk", &frames[1]),
         ("GPU path, two chunks", &frames[2]),
-        ("CPU path, two chunks", &frames[3]),
+        ("CPU path, in chunks", &frames[3]),
     ] {
         let (differing, mean) = compare(&frames[0], frame);
         eprintln!(

@@ -43,18 +43,22 @@ pub struct GrassGpu {
     pub shape: Buffer,
     /// Cells drawn as blades (grows as needed).
     pub cells: Buffer,
-    /// Billboards (grows as needed).
-    pub billboards: Buffer,
+    /// Billboards, in pieces of at most one storage binding (each grows
+    /// as needed; on the GPU path its one list).
+    pub billboards: Vec<Buffer>,
+    /// Billboards drawn this frame from each piece.
+    pub billboard_counts: Vec<u32>,
     /// [`GrassParams`].
     pub params: Buffer,
     /// Bind groups over all of them (made in `PrepareBindGroups`; empty
-    /// until then): one a chunk of blade vertices (the billboards are
-    /// drawn with the first).
+    /// until then): one a chunk of blade vertices (with the first piece
+    /// of billboards), then one a further piece of billboards (with the
+    /// first chunk of blades).
     pub bind_groups: Vec<BindGroup>,
     /// Blade instances drawn this frame: cells × blades per cell × drawn
     /// copies per blade ([`super::look::GrassLook::copies`]).
     pub blades: u32,
-    /// Billboards drawn this frame.
+    /// Billboards drawn this frame (all pieces).
     pub billboard_count: u32,
     /// Segments per blade (`n`).
     pub segments: u32,
@@ -92,7 +96,8 @@ fn binding_limit(device: &RenderDevice) -> u64 {
 }
 
 /// `None` when `old` holds `bytes`, else a new buffer half as large again
-/// (within `limit`, never below `bytes`).
+/// (within `limit`, never below `bytes`), its size a multiple of 4 bytes
+/// (a storage binding's must be: half again of 4 · an odd count was not).
 fn grown(
     device: &RenderDevice,
     old: &Buffer,
@@ -101,15 +106,29 @@ fn grown(
     limit: u64,
 ) -> Option<Buffer> {
     (old.size() < bytes).then(|| {
-        let size = (bytes + bytes / 2).min(limit).max(bytes);
-        buffer(device, label, size, BufferUsages::STORAGE)
+        buffer(
+            device,
+            label,
+            grown_size(bytes, limit),
+            BufferUsages::STORAGE,
+        )
     })
+}
+
+/// The size [`grown`] gives a buffer that must hold `bytes` (a multiple of
+/// 4) within a binding of `limit` bytes.
+fn grown_size(bytes: u64, limit: u64) -> u64 {
+    (bytes + bytes / 2)
+        .next_multiple_of(16)
+        .min(limit & !3)
+        .max(bytes)
 }
 
 /// How the CPU path's buffers of this frame fit the device: the chunks of
 /// the blade vertices (`blades` blades of `verts` vertices, cut at
 /// `unit` blades), or why the field cannot be drawn (a whole-field array
-/// over one binding, or one patch's vertices).
+/// over one binding, or one patch's vertices). The billboards are drawn
+/// in pieces ([`billboard_pieces`]).
 fn fit(
     frame: &GrassFrame,
     [blades, verts, unit]: [u32; 3],
@@ -118,10 +137,6 @@ fn fit(
     let whole = [
         ("blade shapes", u64::from(blades) * 8),
         ("drawn cells", frame.cells.len() as u64 * 4),
-        (
-            "billboards",
-            (frame.billboards.len() * std::mem::size_of::<BillboardInstance>()) as u64,
-        ),
     ];
     if let Some((what, bytes)) = whole.into_iter().find(|&(_, bytes)| bytes > limit) {
         return Err(format!(
@@ -205,12 +220,13 @@ pub fn prepare_grass_buffers(
                 drawn: Vec::new(),
                 shape,
                 cells: buffer(&device, "trample drawn cells", 4096, BufferUsages::STORAGE),
-                billboards: buffer(
+                billboards: vec![buffer(
                     &device,
                     "trample billboards",
                     48 * 1024,
                     BufferUsages::STORAGE,
-                ),
+                )],
+                billboard_counts: Vec::new(),
                 params: buffer(
                     &device,
                     "trample grass params",
@@ -232,7 +248,7 @@ pub fn prepare_grass_buffers(
         // The GPU path's own buffers, bound in place of the uploads.
         if gpu.indirect.as_ref().map(|i| i.made) != Some(g.made) {
             gpu.cells = Buffer::from(g.instances.clone());
-            gpu.billboards = Buffer::from(g.billboards.clone());
+            gpu.billboards = vec![Buffer::from(g.billboards.clone())];
             gpu.chunks = g
                 .chunks
                 .iter()
@@ -271,18 +287,33 @@ pub fn prepare_grass_buffers(
         gpu.bind_groups.clear();
     }
     queue.write_buffer(&gpu.cells, 0, bytemuck::cast_slice(&frame.cells));
-    let bb_bytes = (frame.billboards.len() * std::mem::size_of::<BillboardInstance>()) as u64;
-    if let Some(b) = grown(
-        &device,
-        &gpu.billboards,
-        "trample billboards",
-        bb_bytes,
-        limit,
-    ) {
-        gpu.billboards = b;
-        gpu.bind_groups.clear();
+    let pieces = billboard_pieces(frame.billboards.len(), limit);
+    gpu.billboard_counts.clear();
+    for (k, piece) in pieces.into_iter().enumerate() {
+        let data = &frame.billboards[piece];
+        let bytes = std::mem::size_of_val(data) as u64;
+        if k == gpu.billboards.len() {
+            gpu.billboards.push(buffer(
+                &device,
+                "trample billboards",
+                bytes,
+                BufferUsages::STORAGE,
+            ));
+            gpu.bind_groups.clear();
+        }
+        if let Some(b) = grown(
+            &device,
+            &gpu.billboards[k],
+            "trample billboards",
+            bytes,
+            limit,
+        ) {
+            gpu.billboards[k] = b;
+            gpu.bind_groups.clear();
+        }
+        queue.write_buffer(&gpu.billboards[k], 0, bytemuck::cast_slice(data));
+        gpu.billboard_counts.push(data.len() as u32);
     }
-    queue.write_buffer(&gpu.billboards, 0, bytemuck::cast_slice(&frame.billboards));
     queue.write_buffer(&gpu.params, 0, bytemuck::bytes_of(&frame.params));
     // Each chunk draws the listed cells whose blades it holds (the list is
     // ascending, so they are one run of it).
@@ -326,6 +357,16 @@ fn upload_runs(queue: &RenderQueue, gpu: &GrassGpu, frame: &GrassFrame, blades: 
     bytes
 }
 
+/// The pieces of a list of `count` billboards (48 bytes each) that each fit
+/// a binding of `limit` bytes: as few as fit, all but the last full; none
+/// for an empty list.
+fn billboard_pieces(count: usize, limit: u64) -> Vec<Range<usize>> {
+    let per = (limit / std::mem::size_of::<BillboardInstance>() as u64).max(1) as usize;
+    (0..count.div_ceil(per))
+        .map(|k| k * per..((k + 1) * per).min(count))
+        .collect()
+}
+
 /// A chunk's `(first blade, blades, 0, 0)` uniform (`chunk` in blades.wgsl).
 fn chunk_uniform(device: &RenderDevice, first: u32, blades: u32) -> Buffer {
     device.create_buffer_with_data(&bevy::render::render_resource::BufferInitDescriptor {
@@ -336,7 +377,8 @@ fn chunk_uniform(device: &RenderDevice, first: u32, blades: u32) -> Buffer {
 }
 
 /// (Re)makes the bind groups when a buffer was (re)made: one a chunk of
-/// blade vertices (the uploads', or the GPU path's own).
+/// blade vertices (the uploads', or the GPU path's own), then one a
+/// further piece of billboards.
 pub fn prepare_grass_bind_group(
     device: Res<RenderDevice>,
     cache: Res<PipelineCache>,
@@ -350,7 +392,7 @@ pub fn prepare_grass_bind_group(
         return;
     }
     let layout = cache.get_bind_group_layout(&pipeline.grass_layout);
-    let group = |pos: &Buffer, chunk: &Buffer| {
+    let group = |(pos, chunk): &(Buffer, Buffer), billboards: &Buffer| {
         device.create_bind_group(
             "trample grass",
             &layout,
@@ -359,15 +401,52 @@ pub fn prepare_grass_bind_group(
                 gpu.shape.as_entire_binding(),
                 gpu.cells.as_entire_binding(),
                 gpu.params.as_entire_binding(),
-                gpu.billboards.as_entire_binding(),
+                billboards.as_entire_binding(),
                 chunk.as_entire_binding(),
             )),
         )
     };
+    let (Some(first_chunk), Some(first_piece)) = (gpu.chunks.first(), gpu.billboards.first())
+    else {
+        return;
+    };
     let groups = gpu
         .chunks
         .iter()
-        .map(|(pos, chunk)| group(pos, chunk))
+        .map(|c| group(c, first_piece))
+        .chain(gpu.billboards[1..].iter().map(|b| group(first_chunk, b)))
         .collect();
     gpu.bind_groups = groups;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{billboard_pieces, grown_size};
+
+    #[test]
+    fn a_grown_buffer_binds_whole() {
+        // 4,959 drawn cells: 19,836 bytes; half again was 29,754, which a
+        // storage binding refuses (not a multiple of 4).
+        for bytes in [4, 19_836, 48 * 7, 1 << 20] {
+            let size = grown_size(bytes, 1 << 27);
+            assert!(
+                size >= bytes + bytes / 2 && size % 4 == 0,
+                "{bytes}: {size}"
+            );
+        }
+        // Within the limit (a multiple of 4 below it), never below the bytes.
+        assert_eq!(grown_size(1000, 1202), 1200);
+        assert_eq!(grown_size(1000, 1000), 1000);
+    }
+
+    #[test]
+    fn billboards_are_cut_into_pieces_of_one_binding() {
+        // 48 bytes a billboard: a binding of 480 bytes holds 10.
+        assert_eq!(billboard_pieces(25, 480), [0..10, 10..20, 20..25]);
+        assert_eq!(billboard_pieces(20, 480), [0..10, 10..20]);
+        assert_eq!(billboard_pieces(3, 1 << 27).len(), 1);
+        assert!(billboard_pieces(0, 480).is_empty());
+        // A binding under one billboard still draws them, one a piece.
+        assert_eq!(billboard_pieces(2, 10), [0..1, 1..2]);
+    }
 }

@@ -44,7 +44,9 @@ pub type DrawGrass = (
 pub struct DrawGrassInstances;
 
 impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
-    type Param = SRes<GrassGpu>;
+    // Optional: a field the device cannot draw has none (the draws stay
+    // queued and skip).
+    type Param = Option<SRes<GrassGpu>>;
     type ViewQuery = ();
     type ItemQuery = Read<GrassDraw>;
 
@@ -55,7 +57,9 @@ impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
         gpu: SystemParamItem<'w, '_, Self::Param>,
         pass: &mut TrackedRenderPass<'w>,
     ) -> RenderCommandResult {
-        let gpu = gpu.into_inner();
+        let Some(gpu) = gpu.map(|g| g.into_inner()) else {
+            return RenderCommandResult::Skip;
+        };
         let (Some(draw), Some(group)) = (draw, gpu.bind_groups.first()) else {
             return RenderCommandResult::Skip;
         };
@@ -94,11 +98,22 @@ impl<P: PhaseItem> RenderCommand<P> for DrawGrassInstances {
                 }
             }
             GrassDraw::Billboards => {
-                if gpu.billboard_count == 0 {
+                // The first piece with the first chunk's group, each
+                // further piece with its own.
+                let more = gpu.bind_groups.get(gpu.chunks.len()..).unwrap_or(&[]);
+                let groups = std::iter::once(group).chain(more);
+                let mut drew = false;
+                for (group, &count) in groups.zip(&gpu.billboard_counts) {
+                    if count == 0 {
+                        continue;
+                    }
+                    pass.set_bind_group(2, group, &[]);
+                    pass.draw(0..12, 0..count);
+                    drew = true;
+                }
+                if !drew {
                     return RenderCommandResult::Skip;
                 }
-                pass.set_bind_group(2, group, &[]);
-                pass.draw(0..12, 0..gpu.billboard_count);
             }
         }
         RenderCommandResult::Success
