@@ -42,8 +42,8 @@ path = {{ kind = "line", from = [-2.0, 0.3, 0.0], to = [2.0, 0.3, 0.0], duration
         .unwrap()
 }
 
-#[test]
-fn changed_blades_only_and_the_same_frame_as_a_full_upload() {
+/// The adapter's device and the frames' parameters.
+fn device_and_params() -> (trample_render::headless::Gpu, RenderParams) {
     let gpu = trample_render::headless::create_device()
         .unwrap_or_else(|e| panic!("the upload test needs an adapter: {e}"));
     let params = RenderParams {
@@ -52,6 +52,12 @@ fn changed_blades_only_and_the_same_frame_as_a_full_upload() {
         samples: gpu.msaa(4),
         ..Default::default()
     };
+    (gpu, params)
+}
+
+#[test]
+fn changed_blades_only_and_the_same_frame_as_a_full_upload() {
+    let (gpu, params) = device_and_params();
     let (device, queue) = (&gpu.device, &gpu.queue);
     let mut sim = scene();
     let full_bytes = sim.field.blades.pos_bytes().len() as u64;
@@ -116,14 +122,7 @@ fn device_with_binding(
 fn a_field_over_one_binding_is_uploaded_and_drawn_in_chunks() {
     // 1,024 blades of 5 vertices: 80 KiB of vertices. A binding of 32 KiB
     // holds 409 blades' vertices: three chunks (before: BladesTooLarge).
-    let gpu = trample_render::headless::create_device()
-        .unwrap_or_else(|e| panic!("the upload test needs an adapter: {e}"));
-    let params = RenderParams {
-        width: W,
-        height: H,
-        samples: gpu.msaa(4),
-        ..Default::default()
-    };
+    let (gpu, params) = device_and_params();
     let (small, small_queue) = device_with_binding(&gpu, 32 << 10);
     let mut sim = scene();
     let full_bytes = sim.field.blades.pos_bytes().len() as u64;

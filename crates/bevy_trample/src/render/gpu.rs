@@ -430,7 +430,7 @@ mod tests {
         for bytes in [4, 19_836, 48 * 7, 1 << 20] {
             let size = grown_size(bytes, 1 << 27);
             assert!(
-                size >= bytes + bytes / 2 && size % 4 == 0,
+                size >= bytes + bytes / 2 && size.is_multiple_of(4),
                 "{bytes}: {size}"
             );
         }
