@@ -1,12 +1,14 @@
 //! Billboards: one instance per Billboard-LOD cell of a visible patch, built
-//! on the CPU each frame from the cells' base, height and current slope.
+//! on the CPU each frame from the cells' base, height and current slope;
+//! a list over one storage binding is drawn in pieces (one buffer and one
+//! draw a piece, [`trample::field::list_pieces`]).
 
 use crate::globals::shader_module;
 use glam::{UVec4, Vec4};
 use trample::Simulation;
 use trample::deform::billboard::billboard_top;
-use trample::field::Lod;
 use trample::field::generate::GROUND_CLEARANCE_M;
+use trample::field::{Lod, list_pieces};
 
 /// Billboard width / cell side: "a bit longer than the cell" (DESIGN §8), so
 /// neighbouring billboards overlap and no gap shows between cells.
@@ -41,8 +43,11 @@ pub struct BillboardPass {
     layout: wgpu::BindGroupLayout,
     clump: wgpu::TextureView,
     sampler: wgpu::Sampler,
-    instances: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
+    /// The instance buffers, one a piece of the list within one storage
+    /// binding, and their bind groups.
+    pieces: Vec<(wgpu::Buffer, wgpu::BindGroup)>,
+    /// This frame's billboards a piece.
+    counts: Vec<u32>,
     list: Vec<BillboardInstance>,
 }
 
@@ -97,8 +102,8 @@ impl BillboardPass {
             layout,
             clump,
             sampler,
-            instances,
-            bind_group,
+            pieces: vec![(instances, bind_group)],
+            counts: Vec::new(),
             list: Vec::new(),
         }
     }
@@ -179,23 +184,34 @@ impl BillboardPass {
             }
         }
         let bytes = (self.list.len() * 48) as u64;
-        if let Some(b) = crate::pipeline::grown(
-            device,
-            Some(&self.instances),
-            "billboard instances",
-            wgpu::BufferUsages::STORAGE,
-            bytes,
-        ) {
-            self.instances = b;
-            self.bind_group = Self::bind(
+        let limits = device.limits();
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        self.counts.clear();
+        for (k, piece) in list_pieces(self.list.len(), 48, limit)
+            .into_iter()
+            .enumerate()
+        {
+            let data = &self.list[piece];
+            let current = self.pieces.get(k).map(|(b, _)| b);
+            if let Some(b) = crate::pipeline::grown(
                 device,
-                &self.layout,
-                &self.instances,
-                &self.clump,
-                &self.sampler,
-            );
+                current,
+                "billboard instances",
+                wgpu::BufferUsages::STORAGE,
+                std::mem::size_of_val(data) as u64,
+            ) {
+                let group = Self::bind(device, &self.layout, &b, &self.clump, &self.sampler);
+                if k < self.pieces.len() {
+                    self.pieces[k] = (b, group);
+                } else {
+                    self.pieces.push((b, group));
+                }
+            }
+            queue.write_buffer(&self.pieces[k].0, 0, bytemuck::cast_slice(data));
+            self.counts.push(data.len() as u32);
         }
-        queue.write_buffer(&self.instances, 0, bytemuck::cast_slice(&self.list));
         bytes
     }
 
@@ -205,14 +221,23 @@ impl BillboardPass {
         self.list.len()
     }
 
-    /// Records the draw into `pass`.
+    /// Billboards drawn from each piece of the list by the last
+    /// [`BillboardPass::prepare`] (one piece for a list within one binding).
+    #[must_use]
+    pub fn pieces(&self) -> &[u32] {
+        &self.counts
+    }
+
+    /// Records the draws into `pass`: one a piece of the list.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         if self.list.is_empty() {
             return;
         }
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(1, &self.bind_group, &[]);
-        pass.draw(0..VERTICES, 0..self.list.len() as u32);
+        for ((_, group), &count) in self.pieces.iter().zip(&self.counts) {
+            pass.set_bind_group(1, group, &[]);
+            pass.draw(0..VERTICES, 0..count);
+        }
     }
 
     /// The bind group of the GPU path's billboards (`lists`, made by

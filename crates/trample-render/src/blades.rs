@@ -325,6 +325,13 @@ impl BladePass {
         (bytes, list_bytes)
     }
 
+    /// Chunks of blade vertices the CPU path's draws use (0 before its
+    /// first frame, or drawing the GPU path's buffers).
+    #[must_use]
+    pub fn chunks(&self) -> usize {
+        self.cpu_chunks.len()
+    }
+
     /// Blades drawn by the last [`BladePass::prepare`].
     #[must_use]
     pub fn drawn(&self) -> usize {

@@ -76,6 +76,12 @@ pub struct FrameCounts {
     pub blades: usize,
     /// Billboards (0 on the GPU path).
     pub billboards: usize,
+    /// Draws of the blades: one a chunk of blade vertices within one
+    /// storage binding (1 for a field within one; 0 on the GPU path).
+    pub blade_chunks: usize,
+    /// Draws of the billboards: one a piece of their list within one
+    /// storage binding (0 on the GPU path).
+    pub billboard_pieces: usize,
     /// Bytes of blade vertices written for the frame: only those of the
     /// blades the last step changed ([`trample::field::Field::changed_blades`])
     /// when the renderer saw the step before, none without a step, all of
@@ -392,6 +398,8 @@ impl FieldRenderer {
         FrameCounts {
             blades: self.blades.drawn(),
             billboards: self.billboards.drawn(),
+            blade_chunks: self.blades.chunks(),
+            billboard_pieces: self.billboards.pieces().len(),
             vertex_bytes,
             uploaded_bytes: bytes + vertex_bytes,
         }

@@ -156,6 +156,9 @@ pub fn texture_and_sampler(binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {
 /// else a new buffer of the next power of two bytes (`usage` plus
 /// `COPY_DST`) to replace it (bind groups over the old one must be made
 /// again). Growing by powers of two keeps reallocations rare as lists grow.
+/// A storage buffer grows no larger than the device binds whole (nor
+/// below `bytes`): the next power of two of a list just within the
+/// binding was over it.
 #[must_use]
 pub fn grown(
     device: &wgpu::Device,
@@ -167,10 +170,42 @@ pub fn grown(
     if current.is_some_and(|b| b.size() >= bytes) {
         return None;
     }
+    let limits = device.limits();
+    let limit = if usage.contains(wgpu::BufferUsages::STORAGE) {
+        limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size)
+    } else {
+        limits.max_buffer_size
+    };
     Some(device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
-        size: bytes.max(16).next_power_of_two(),
+        size: grown_size(bytes, limit),
         usage: usage | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     }))
+}
+
+/// The size [`grown`] gives a buffer that must hold `bytes` (a multiple of
+/// 4) within `limit` bytes: the next power of two (16 at least), cut to
+/// the limit (a multiple of 4 below it), never below `bytes`.
+#[must_use]
+pub fn grown_size(bytes: u64, limit: u64) -> u64 {
+    bytes.max(16).next_power_of_two().min(limit & !3).max(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::grown_size;
+
+    #[test]
+    fn grown_sizes_stay_within_the_binding() {
+        assert_eq!(grown_size(10, 1 << 20), 16);
+        assert_eq!(grown_size(100, 1 << 20), 128);
+        // The next power of two (1 MiB) is over a binding of 767 KiB.
+        assert_eq!(grown_size(700 << 10, 767 << 10), 767 << 10);
+        // A limit that is not a multiple of 4 is cut down to one.
+        assert_eq!(grown_size(1000, 1026), 1024);
+        assert_eq!(grown_size(1000, 1003), 1000);
+    }
 }

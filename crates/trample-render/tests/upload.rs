@@ -10,8 +10,15 @@ use trample_render::{RenderParams, Renderer};
 const W: u32 = 160;
 const H: u32 = 120;
 
-/// A 3.2 m field seen from above with a ball rolling through it.
+/// A 3.2 m field seen from above with a ball rolling through it, drawn as
+/// blades (to 50 m).
 fn scene() -> Simulation {
+    scene_with_blades_to(50.0)
+}
+
+/// The same, drawn as blades to `geometry_m` from the camera and as
+/// billboards beyond.
+fn scene_with_blades_to(geometry_m: f32) -> Simulation {
     let toml = format!(
         r#"
 [field]
@@ -20,7 +27,7 @@ cells_per_patch = 8
 cell_size_m = 0.1
 blade_width_m = 0.03
 [lod]
-geometry_m = 50.0
+geometry_m = {geometry_m}
 billboard_m = 60.0
 [sim]
 recovery_s = 1.0
@@ -34,7 +41,7 @@ shape = {{ kind = "sphere", radius_m = 0.3, subdivisions = 2 }}
 orientation = "rolling"
 path = {{ kind = "line", from = [-2.0, 0.3, 0.0], to = [2.0, 0.3, 0.0], duration_s = 1.0 }}
 "#,
-        aspect = W as f32 / H as f32
+        aspect = W as f32 / H as f32,
     );
     Scene::parse(&toml, "upload.toml", std::path::Path::new("."))
         .unwrap()
@@ -134,6 +141,7 @@ fn a_field_over_one_binding_is_uploaded_and_drawn_in_chunks() {
         first.vertex_bytes, full_bytes,
         "every vertex, chunk by chunk"
     );
+    assert_eq!(first.blade_chunks, 3);
     // Changed blades only, split between the chunks they lie in.
     for _ in 0..45 {
         sim.step(1.0 / 60.0).unwrap();
@@ -161,4 +169,39 @@ fn a_field_over_one_binding_is_uploaded_and_drawn_in_chunks() {
         differing, 0,
         "{differing} pixels differ between the field in chunks and whole"
     );
+}
+
+#[test]
+fn billboards_over_one_binding_are_drawn_in_pieces() {
+    // Blades to 3 m, billboards beyond, seen from 3 m up: every cell a
+    // billboard (1,024 of 48 bytes) and, in the near blend band, its blades
+    // too. A binding of 16 KiB takes 341 billboards a piece (4 pieces) and
+    // 204 blades' vertices a chunk (6 chunks).
+    let (gpu, params) = device_and_params();
+    let (small, small_queue) = device_with_binding(&gpu, 16 << 10);
+    let mut sim = scene_with_blades_to(3.0);
+    for _ in 0..20 {
+        sim.step(1.0 / 60.0).unwrap();
+    }
+    let mut pieces = Renderer::new(&small, &small_queue, &sim, params).unwrap();
+    let cut = pieces.draw(&small, &small_queue, &sim);
+    let in_pieces = pieces.read_frame(&small, &small_queue).unwrap();
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let mut whole = Renderer::new(device, queue, &sim, params).unwrap();
+    let all = whole.draw(device, queue, &sim);
+    let one = whole.read_frame(device, queue).unwrap();
+    eprintln!("whole: {all:?}\nin pieces: {cut:?}");
+    assert_eq!((all.blade_chunks, all.billboard_pieces), (1, 1));
+    assert!(
+        cut.blade_chunks >= 2 && cut.billboard_pieces >= 2,
+        "{cut:?}"
+    );
+    assert_eq!((cut.blades, cut.billboards), (all.blades, all.billboards));
+    assert!(all.blades > 100 && all.billboards > 341, "{all:?}");
+    let differing = in_pieces
+        .pixels()
+        .zip(one.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differing, 0, "{differing} pixels differ");
 }

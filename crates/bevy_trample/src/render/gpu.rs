@@ -15,7 +15,7 @@ use bevy::render::render_resource::{
 };
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use std::ops::Range;
-use trample::field::{drawn_ranges, plan_chunks};
+use trample::field::{drawn_ranges, list_pieces, plan_chunks};
 
 /// Bytes of one blade vertex on the GPU: `vec4<f32>` (the core's
 /// [`trample::field::BladeVertex`], `[x, y, z, 0]`).
@@ -128,7 +128,7 @@ fn grown_size(bytes: u64, limit: u64) -> u64 {
 /// the blade vertices (`blades` blades of `verts` vertices, cut at
 /// `unit` blades), or why the field cannot be drawn (a whole-field array
 /// over one binding, or one patch's vertices). The billboards are drawn
-/// in pieces ([`billboard_pieces`]).
+/// in pieces ([`list_pieces`]).
 fn fit(
     frame: &GrassFrame,
     [blades, verts, unit]: [u32; 3],
@@ -287,7 +287,11 @@ pub fn prepare_grass_buffers(
         gpu.bind_groups.clear();
     }
     queue.write_buffer(&gpu.cells, 0, bytemuck::cast_slice(&frame.cells));
-    let pieces = billboard_pieces(frame.billboards.len(), limit);
+    let pieces = list_pieces(
+        frame.billboards.len(),
+        std::mem::size_of::<BillboardInstance>() as u64,
+        limit,
+    );
     gpu.billboard_counts.clear();
     for (k, piece) in pieces.into_iter().enumerate() {
         let data = &frame.billboards[piece];
@@ -357,16 +361,6 @@ fn upload_runs(queue: &RenderQueue, gpu: &GrassGpu, frame: &GrassFrame, blades: 
     bytes
 }
 
-/// The pieces of a list of `count` billboards (48 bytes each) that each fit
-/// a binding of `limit` bytes: as few as fit, all but the last full; none
-/// for an empty list.
-fn billboard_pieces(count: usize, limit: u64) -> Vec<Range<usize>> {
-    let per = (limit / std::mem::size_of::<BillboardInstance>() as u64).max(1) as usize;
-    (0..count.div_ceil(per))
-        .map(|k| k * per..((k + 1) * per).min(count))
-        .collect()
-}
-
 /// A chunk's `(first blade, blades, 0, 0)` uniform (`chunk` in blades.wgsl).
 fn chunk_uniform(device: &RenderDevice, first: u32, blades: u32) -> Buffer {
     device.create_buffer_with_data(&bevy::render::render_resource::BufferInitDescriptor {
@@ -421,7 +415,7 @@ pub fn prepare_grass_bind_group(
 
 #[cfg(test)]
 mod tests {
-    use super::{billboard_pieces, grown_size};
+    use super::grown_size;
 
     #[test]
     fn a_grown_buffer_binds_whole() {
@@ -437,16 +431,5 @@ mod tests {
         // Within the limit (a multiple of 4 below it), never below the bytes.
         assert_eq!(grown_size(1000, 1202), 1200);
         assert_eq!(grown_size(1000, 1000), 1000);
-    }
-
-    #[test]
-    fn billboards_are_cut_into_pieces_of_one_binding() {
-        // 48 bytes a billboard: a binding of 480 bytes holds 10.
-        assert_eq!(billboard_pieces(25, 480), [0..10, 10..20, 20..25]);
-        assert_eq!(billboard_pieces(20, 480), [0..10, 10..20]);
-        assert_eq!(billboard_pieces(3, 1 << 27).len(), 1);
-        assert!(billboard_pieces(0, 480).is_empty());
-        // A binding under one billboard still draws them, one a piece.
-        assert_eq!(billboard_pieces(2, 10), [0..1, 1..2]);
     }
 }

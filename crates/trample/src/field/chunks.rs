@@ -109,6 +109,18 @@ pub fn split_at_chunks<T>(
         .collect()
 }
 
+/// The pieces of a list of `count` items of `item_bytes` each (a
+/// renderer's billboards, 48 bytes) that each fit a binding of `limit`
+/// bytes: as few as fit, all but the last full; none for an empty list; one
+/// item a piece when one item is over the binding.
+#[must_use]
+pub fn list_pieces(count: usize, item_bytes: u64, limit: u64) -> Vec<Range<usize>> {
+    let per = (limit / item_bytes.max(1)).clamp(1, usize::MAX as u64) as usize;
+    (0..count.div_ceil(per))
+        .map(|k| k * per..((k + 1) * per).min(count))
+        .collect()
+}
+
 #[cfg(test)]
 // One chunk is a list of one blade range here, not a range to collect.
 #[allow(clippy::single_range_in_vec_init)]
@@ -145,6 +157,17 @@ mod tests {
             Err(ChunkError::Layout { unit: 0, .. })
         ));
         assert!(plan_chunks(650, 5, 64, 1 << 20).is_err());
+    }
+
+    #[test]
+    fn lists_are_cut_into_pieces_of_one_binding() {
+        // 48 bytes an item: a binding of 480 bytes holds 10.
+        assert_eq!(list_pieces(25, 48, 480), [0..10, 10..20, 20..25]);
+        assert_eq!(list_pieces(20, 48, 480), [0..10, 10..20]);
+        assert_eq!(list_pieces(3, 48, 1 << 27).len(), 1);
+        assert!(list_pieces(0, 48, 480).is_empty());
+        // A binding under one item still takes them, one a piece.
+        assert_eq!(list_pieces(2, 48, 10), [0..1, 1..2]);
     }
 
     #[test]

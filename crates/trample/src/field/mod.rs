@@ -23,7 +23,7 @@ pub mod terrain;
 pub use blades::{BladeVertex, Blades, MAX_SEGMENTS};
 pub use cells::Cells;
 pub use changes::ChangeSet;
-pub use chunks::{ChunkError, drawn_ranges, plan_chunks, split_at_chunks};
+pub use chunks::{ChunkError, drawn_ranges, list_pieces, plan_chunks, split_at_chunks};
 pub use drawn::{drawn_blade_cells, drawn_cells};
 pub use field::Field;
 pub use frustum::{Frustum, cull_patches, cull_patches_each};
