@@ -95,7 +95,12 @@ impl BillboardPass {
                 alpha_to_coverage: false,
             },
         );
-        let instances = Self::buffer(device, 48 * 256);
+        // 256 billboards to start with, fewer on a device binding less.
+        let limits = device.limits();
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let instances = Self::buffer(device, (48 * 256).min(limit / 48 * 48).max(16));
         let bind_group = Self::bind(device, &layout, &instances, &clump, &sampler);
         Self {
             pipeline,

@@ -81,18 +81,8 @@ impl BladePass {
         device: &wgpu::Device,
         sim: &Simulation,
     ) -> Result<(), crate::RenderError> {
-        let limits = device.limits();
-        let allowed = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
+        let allowed = check_whole_arrays(device, sim)?;
         let blades = &sim.field.blades;
-        let shape = blades.count as u64 * 8;
-        if shape > allowed {
-            return Err(crate::RenderError::BladesTooLarge {
-                needed: shape,
-                allowed,
-            });
-        }
         let verts = blades.segments as u32 + 1;
         let plan = plan_chunks(blades.count as u32, verts, 1, allowed).map_err(|e| match e {
             trample::field::ChunkError::UnitTooLarge { bytes, limit } => {
@@ -172,7 +162,11 @@ impl BladePass {
             .map(|(&w, &t)| [w, t])
             .collect();
         queue.write_buffer(&shape, 0, bytemuck::cast_slice(&shape_data));
-        let instances = buffer("blade instances", 8 * 1024);
+        // 1,024 blades to start with, fewer on a device binding less.
+        let binding = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let instances = buffer("blade instances", (8 * 1024).min(binding & !7).max(16));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("blades"),
             entries: &[
@@ -396,6 +390,28 @@ impl BladePass {
             pass.draw_indirect(args, k as u64 * trample_gpu::draw_lists::DRAW_ARGS_BYTES);
         }
     }
+}
+
+/// Checks that the field's arrays a renderer binds whole fit one storage
+/// binding of `device`: the blades' shapes (8 bytes a blade) and the
+/// cells' flatness (4 bytes a cell, the ground's track). Gives the
+/// binding's bytes.
+///
+/// # Errors
+/// [`crate::RenderError::BladesTooLarge`] with the larger array's bytes.
+pub fn check_whole_arrays(
+    device: &wgpu::Device,
+    sim: &Simulation,
+) -> Result<u64, crate::RenderError> {
+    let limits = device.limits();
+    let allowed = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let needed = (sim.field.blades.count as u64 * 8).max(sim.field.cells.flatness.len() as u64 * 4);
+    if needed > allowed {
+        return Err(crate::RenderError::BladesTooLarge { needed, allowed });
+    }
+    Ok(allowed)
 }
 
 /// A chunk's `(first blade, blades, first listed instance, 0)` uniform

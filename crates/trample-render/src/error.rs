@@ -17,14 +17,15 @@ pub enum RenderError {
     #[error("cannot create a GPU device: {0}")]
     Device(String),
     /// The adapter cannot hold one of the field's whole arrays (the
-    /// blades' shapes, 8 bytes a blade; drawing from the GPU path, its draw
-    /// lists' instances) or one blade's vertices in one binding. (Blade
-    /// vertices over one binding are drawn in chunks.)
+    /// blades' shapes, 8 bytes a blade; the cells' flatness, 4 bytes a
+    /// cell; drawing from the GPU path, its draw lists) or one blade's
+    /// vertices in one binding. (Blade vertices and billboards over one
+    /// binding are drawn in chunks and pieces.)
     #[error(
-        "the blade buffer (or the GPU path's instance list) needs {needed} bytes in one storage binding; this adapter allows {allowed}"
+        "one of the field's arrays drawn whole (the blades' shapes or the cells' flatness; the GPU path's draw lists) needs {needed} bytes in one storage binding; this adapter allows {allowed}"
     )]
     BladesTooLarge {
-        /// Bytes the vertex buffer needs.
+        /// Bytes the array needs.
         needed: u64,
         /// `max_storage_buffer_binding_size`.
         allowed: u64,

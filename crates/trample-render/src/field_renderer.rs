@@ -137,8 +137,8 @@ impl FieldRenderer {
     /// # Errors
     /// [`RenderError::NoVertexStorage`] for an adapter that cannot read
     /// storage buffers in vertex shaders, [`RenderError::BladesTooLarge`]
-    /// for a field whose blades' shapes (8 bytes a blade) pass one storage
-    /// binding. Blade vertices over one binding are uploaded and drawn in
+    /// for a field whose blades' shapes (8 bytes a blade) or cells'
+    /// flatness (4 bytes a cell) pass one storage binding. Blade vertices over one binding are uploaded and drawn in
     /// chunks ([`trample::field::chunks`]).
     pub fn new(
         device: &wgpu::Device,
@@ -185,6 +185,9 @@ impl FieldRenderer {
         params: RenderParams,
         gpu: bool,
     ) -> Result<Self, RenderError> {
+        // The field's whole arrays within one binding, or a message before
+        // any pass binds them.
+        crate::blades::check_whole_arrays(device, sim)?;
         // Group 0: the globals, and the sun's shadow map with its
         // comparison sampler (shadows.rs).
         let [map_entry, sampler_entry] = crate::shadows::layout_entries();

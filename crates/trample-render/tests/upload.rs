@@ -169,6 +169,19 @@ fn a_field_over_one_binding_is_uploaded_and_drawn_in_chunks() {
         differing, 0,
         "{differing} pixels differ between the field in chunks and whole"
     );
+    // The blades' shapes (8 bytes a blade, 8 KiB) over the binding: refused
+    // with the sizes before any pass binds them.
+    let (tiny, tiny_queue) = device_with_binding(&gpu, 6 << 10);
+    match Renderer::new(&tiny, &tiny_queue, &sim, params) {
+        Err(
+            e @ trample_render::RenderError::BladesTooLarge {
+                needed: 8192,
+                allowed: 6144,
+            },
+        ) => eprintln!("refused: {e}"),
+        Err(e) => panic!("another refusal: {e}"),
+        Ok(_) => panic!("a binding of 6 KiB took the field"),
+    }
 }
 
 #[test]
