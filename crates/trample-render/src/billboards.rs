@@ -8,7 +8,7 @@ use glam::{UVec4, Vec4};
 use trample::Simulation;
 use trample::deform::billboard::billboard_top;
 use trample::field::generate::GROUND_CLEARANCE_M;
-use trample::field::{Lod, list_pieces};
+use trample::field::{Lod, drawn_cells, list_pieces};
 
 /// Billboard width / cell side: "a bit longer than the cell" (DESIGN §8), so
 /// neighbouring billboards overlap and no gap shows between cells.
@@ -163,30 +163,21 @@ impl BillboardPass {
         let cells = &sim.field.cells;
         let half = half_width(layout.cell_size);
         self.list.clear();
-        for (p, patch) in layout.patch_list.iter().enumerate() {
-            if !sim.visible.get(p).copied().unwrap_or(true) {
-                continue;
-            }
-            let first = patch.first_cell as usize;
-            for c in first..first + layout.cells_in_patch() {
-                if cells.lod[c] != Lod::Billboard {
-                    continue;
-                }
-                // Eq. 8's top edge with the core's ground guard: a slope that
-                // points into the ground lays the billboard on it instead.
-                let top = billboard_top(
-                    cells.base[c],
-                    cells.slope[c],
-                    cells.height[c],
-                    &sim.field.terrain,
-                    GROUND_CLEARANCE_M,
-                ) - cells.base[c];
-                self.list.push(BillboardInstance {
-                    base: cells.base[c].extend(half),
-                    top: top.extend(0.0),
-                    extra: UVec4::new(debug, c as u32, 0, 0),
-                });
-            }
+        for c in drawn_cells(layout, cells, &sim.visible, Lod::Billboard) {
+            // Eq. 8's top edge with the core's ground guard: a slope that
+            // points into the ground lays the billboard on it instead.
+            let top = billboard_top(
+                cells.base[c],
+                cells.slope[c],
+                cells.height[c],
+                &sim.field.terrain,
+                GROUND_CLEARANCE_M,
+            ) - cells.base[c];
+            self.list.push(BillboardInstance {
+                base: cells.base[c].extend(half),
+                top: top.extend(0.0),
+                extra: UVec4::new(debug, c as u32, 0, 0),
+            });
         }
         let bytes = (self.list.len() * 48) as u64;
         let limits = device.limits();

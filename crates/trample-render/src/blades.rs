@@ -279,8 +279,7 @@ impl BladePass {
         self.list.clear();
         for c in drawn_blade_cells(
             layout,
-            &cells.lod,
-            &cells.base,
+            cells,
             &sim.visible,
             sim.eye(),
             sim.lod.geometry_m,

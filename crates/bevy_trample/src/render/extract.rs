@@ -195,13 +195,11 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
         &[]
     };
     let cells = &sim.field.cells;
-    let lods = &cells.lod;
     let [near_band, _] = sim.lod.blend_bands(look.lod_blend_m, look.texture_blend_m);
     frame.cells.extend(
         drawn_blade_cells(
             layout,
-            lods,
-            &cells.base,
+            cells,
             visible,
             sim.eye(),
             sim.lod.geometry_m,
@@ -210,9 +208,8 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
         .map(|c| c as u32),
     );
     let half = 0.5 * WIDTH_OVER_CELL * layout.cell_size;
-    frame
-        .billboards
-        .extend(drawn_cells(layout, lods, visible, Lod::Billboard).map(|c| {
+    frame.billboards.extend(
+        drawn_cells(layout, cells, visible, Lod::Billboard).map(|c| {
             // Eq. 8's top edge with the core's ground guard.
             let top = billboard_top(
                 cells.base[c],
@@ -226,7 +223,8 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
                 top: top.extend(0.0).to_array(),
                 extra: [0, c as u32, 0, 0],
             }
-        }));
+        }),
+    );
     frame.params = grass_params(sim, &look);
 }
 

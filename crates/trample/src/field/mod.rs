@@ -24,7 +24,7 @@ pub use blades::{BladeVertex, Blades, MAX_SEGMENTS};
 pub use cells::Cells;
 pub use changes::ChangeSet;
 pub use chunks::{ChunkError, drawn_ranges, list_pieces, plan_chunks, split_at_chunks};
-pub use drawn::{drawn_blade_cells, drawn_cells};
+pub use drawn::{drawn_blade_cells, drawn_blade_cells_by_cell, drawn_cells, drawn_cells_by_cell};
 pub use field::Field;
 pub use frustum::{Frustum, cull_patches, cull_patches_each};
 pub use layout::{FieldLayout, NO_NEIGHBOUR, Patch};
