@@ -18,6 +18,8 @@
 //! # The field stepped on trample's GPU path with Bevy's device, the draws
 //! # reading its buffers (the CPU path steps it until the device exists).
 //! cargo run --release -p bevy_trample --example meadow -- --gpu
+//! # The blades cast shadows too (on the ground and on each other).
+//! cargo run --release -p bevy_trample --example meadow -- --grass-shadows
 //! ```
 
 use anyhow::{Context, Result, bail};
@@ -55,6 +57,9 @@ struct Args {
     hard_switch: bool,
     /// The GPU path (`--gpu`): `TrampleField::on_gpu`.
     gpu: bool,
+    /// The blades cast shadows (`--grass-shadows`):
+    /// `GrassLook::cast_shadows`.
+    grass_shadows: bool,
 }
 
 fn parse_args() -> Result<Args> {
@@ -78,17 +83,19 @@ fn parse_args() -> Result<Args> {
             }
             "--hard-switch" => args.hard_switch = true,
             "--gpu" => args.gpu = true,
+            "--grass-shadows" => args.grass_shadows = true,
             "-h" | "--help" => {
                 println!(
-                    "meadow [--frames N] [--screenshot FILE.png] [--hard-switch] [--gpu]\n  \
+                    "meadow [--frames N] [--screenshot FILE.png] [--hard-switch] [--gpu] [--grass-shadows]\n  \
                      arrow keys: drive the car\n  \
                      --hard-switch: the paper's look (no blend bands, no extra blades near the camera)\n  \
-                     --gpu: step the field on trample's GPU path with Bevy's device"
+                     --gpu: step the field on trample's GPU path with Bevy's device\n  \
+                     --grass-shadows: the blades cast shadows (GrassLook::cast_shadows)"
                 );
                 std::process::exit(0);
             }
             other => bail!(
-                "unknown argument {other:?} (allowed: --frames N, --screenshot FILE, --hard-switch, --gpu)"
+                "unknown argument {other:?} (allowed: --frames N, --screenshot FILE, --hard-switch, --gpu, --grass-shadows)"
             ),
         }
     }
@@ -143,13 +150,16 @@ fn main() -> Result<()> {
         ..default()
     })
     .insert_resource(CarMesh(Some(car)))
-    .insert_resource(if args.hard_switch {
-        GrassLook {
-            near_density: 1,
-            ..GrassLook::without_blend_bands()
+    .insert_resource(GrassLook {
+        cast_shadows: args.grass_shadows,
+        ..if args.hard_switch {
+            GrassLook {
+                near_density: 1,
+                ..GrassLook::without_blend_bands()
+            }
+        } else {
+            GrassLook::default()
         }
-    } else {
-        GrassLook::default()
     })
     .insert_resource(args.clone())
     .add_systems(Startup, setup)

@@ -16,12 +16,13 @@ use bevy::prelude::*;
 use bevy::render::pipelined_rendering::PipelinedRenderingPlugin;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::renderer::{RenderAdapterInfo, RenderDevice, RenderQueue};
-use bevy::render::settings::{Backends, RenderCreation, WgpuLimits, WgpuSettings};
+use bevy::render::settings::{Backends, RenderCreation, WgpuFeatures, WgpuLimits, WgpuSettings};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::render::{RenderApp, RenderPlugin};
 use bevy::time::TimeUpdateStrategy;
 use bevy::winit::WinitPlugin;
 use bevy_trample::render::gpu::GrassGpu;
+use bevy_trample::render::look::GrassLook;
 use bevy_trample::{
     TrampleBackend, TrampleCamera, TrampleField, TramplePlugin, TrampleSystems, Trampler,
 };
@@ -98,9 +99,21 @@ fn drive(time: Res<Time>, mut movers: Query<&mut Transform, With<Mover>>) {
 /// The plugin with a sphere trampler, on Bevy's renderer (no window) when
 /// `render` is given (its limits constrained to `limits`), else headless.
 fn app(field: TrampleField, render: Option<Option<WgpuLimits>>) -> App {
+    app_on(
+        field,
+        render.map(|constrained_limits| WgpuSettings {
+            backends: Some(Backends::VULKAN),
+            constrained_limits,
+            ..default()
+        }),
+    )
+}
+
+/// [`app`] on a renderer made with `settings` (Vulkan), else headless.
+fn app_on(field: TrampleField, settings: Option<WgpuSettings>) -> App {
     let mut app = App::new();
-    match render {
-        Some(constrained_limits) => {
+    match settings {
+        Some(settings) => {
             app.add_plugins(
                 DefaultPlugins
                     .set(WindowPlugin {
@@ -110,11 +123,7 @@ fn app(field: TrampleField, render: Option<Option<WgpuLimits>>) -> App {
                         ..default()
                     })
                     .set(RenderPlugin {
-                        render_creation: RenderCreation::from(WgpuSettings {
-                            backends: Some(Backends::VULKAN),
-                            constrained_limits,
-                            ..default()
-                        }),
+                        render_creation: RenderCreation::from(settings),
                         synchronous_pipeline_compilation: true,
                         ..default()
                     })
@@ -286,7 +295,7 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
         }
         // A camera for the last frames: the draws are queued and drawn (or
         // skip, when the field is not drawn).
-        add_camera(&mut app);
+        add_camera(&mut app, false);
         for _ in 0..3 {
             app.update();
         }
@@ -308,8 +317,9 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
 }
 
 /// Adds a camera (the trample camera) drawing into an image of `FRAME`
-/// pixels, looking at the sphere's track, and a sun; returns the image.
-fn add_camera(app: &mut App) -> Handle<Image> {
+/// pixels, looking at the sphere's track, and a sun (casting shadows when
+/// `shadows`); returns the image.
+fn add_camera(app: &mut App, shadows: bool) -> Handle<Image> {
     let mut image =
         Image::new_target_texture(FRAME[0], FRAME[1], TextureFormat::Rgba8UnormSrgb, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
@@ -324,7 +334,10 @@ fn add_camera(app: &mut App) -> Handle<Image> {
         TrampleCamera,
     ));
     app.world_mut().spawn((
-        DirectionalLight::default(),
+        DirectionalLight {
+            shadow_maps_enabled: shadows,
+            ..default()
+        },
         Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
     handle
@@ -386,7 +399,7 @@ fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
         while steps(app) < FRAMES - 5 {
             app.update();
         }
-        let image = add_camera(app);
+        let image = add_camera(app, false);
         while steps(app) < FRAMES {
             app.update();
         }
@@ -437,22 +450,11 @@ fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
     assert_eq!(pieces.iter().sum::<u32>(), billboards[0]);
     let pixels = (FRAME[0] * FRAME[1]) as usize;
     // The three frames, to look at.
-    let dir = std::env::temp_dir();
-    for (name, frame) in ["cpu", "gpu", "gpu_chunks", "cpu_chunks"]
-        .iter()
-        .zip(&frames)
-    {
-        let path = dir.join(format!("bevy_trample_gpu_path_{name}.png"));
-        image::save_buffer(
-            &path,
-            frame,
-            FRAME[0],
-            FRAME[1],
-            image::ExtendedColorType::Rgba8,
-        )
-        .expect("frame written");
-        eprintln!("{}", path.display());
-    }
+    save_frames(
+        "bevy_trample_gpu_path",
+        &["cpu", "gpu", "gpu_chunks", "cpu_chunks"],
+        &frames,
+    );
     // Grass fills the lower part of the frame: the frames are not empty.
     let green = frames[0]
         .chunks(4)
@@ -467,6 +469,102 @@ fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
         let (differing, mean) = compare(&frames[0], frame);
         eprintln!(
             "{name} against the CPU path: {differing} of {pixels} pixels differ, mean difference {mean:.3}"
+        );
+        assert!(
+            differing * 1000 <= pixels && mean < 0.25,
+            "{name}: {differing} of {pixels} pixels differ (mean {mean:.3})"
+        );
+    }
+}
+
+/// Writes the frames to the temporary folder as `{prefix}_{name}.png`, to
+/// look at, and prints their paths.
+fn save_frames(prefix: &str, names: &[&str], frames: &[Vec<u8>]) {
+    let dir = std::env::temp_dir();
+    for (name, frame) in names.iter().zip(frames) {
+        let path = dir.join(format!("{prefix}_{name}.png"));
+        image::save_buffer(
+            &path,
+            frame,
+            FRAME[0],
+            FRAME[1],
+            image::ExtendedColorType::Rgba8,
+        )
+        .expect("frame written");
+        eprintln!("{}", path.display());
+    }
+}
+
+/// `GrassLook::cast_shadows`: with a sun that casts shadows, the blades
+/// drawn into its shadow maps darken the frame (the blades shade the
+/// ground and each other) and brighten nothing; without it the frame is
+/// as before. The GPU path's blades cast the same shadows (its frame is
+/// the CPU path's, as in the test above), and so does a device without
+/// unclipped depth (the depth clamped in the vertex stage instead).
+#[test]
+fn blades_cast_shadows_when_asked() {
+    let looks = [false, true, true, true];
+    let clipped = WgpuSettings {
+        backends: Some(Backends::VULKAN),
+        disabled_features: Some(WgpuFeatures::DEPTH_CLIP_CONTROL),
+        ..default()
+    };
+    let mut apps = [
+        app(field(), Some(None)),
+        app(field(), Some(None)),
+        app(field().on_gpu(), Some(None)),
+        app_on(field(), Some(clipped)),
+    ];
+    let mut frames = Vec::new();
+    let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
+    for (app, cast_shadows) in apps.iter_mut().zip(looks) {
+        app.insert_resource(GrassLook {
+            cast_shadows,
+            ..default()
+        });
+        wait_for_device(app);
+        while steps(app) < 20 {
+            app.update();
+        }
+        let image = add_camera(app, true);
+        app.world_mut().resource_mut::<Time<Virtual>>().pause();
+        for _ in 0..4 {
+            app.update();
+        }
+        frames.push(capture(app, &image));
+    }
+    // The last device has no unclipped depth: the clamped vertex stage.
+    let unclipped = |app: &mut App| {
+        app.sub_app(RenderApp)
+            .world()
+            .resource::<bevy::pbr::PrepassPipeline>()
+            .depth_clip_control_supported
+    };
+    eprintln!("the adapter's unclipped depth: {}", unclipped(&mut apps[1]));
+    assert!(!unclipped(&mut apps[3]));
+    save_frames(
+        "bevy_trample_grass",
+        &["no_shadows", "shadows", "shadows_gpu", "shadows_clamped"],
+        &frames,
+    );
+    let pixels = (FRAME[0] * FRAME[1]) as usize;
+    let luma = |p: &[u8]| u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]);
+    let (mut darker, mut brighter) = (0, 0);
+    for (off, on) in frames[0].chunks(4).zip(frames[1].chunks(4)) {
+        let (a, b) = (luma(off), luma(on));
+        darker += usize::from(b + 24 < a);
+        brighter += usize::from(a + 24 < b);
+    }
+    eprintln!("grass shadows: {darker} of {pixels} pixels darker, {brighter} brighter");
+    assert!(darker > pixels / 10, "{darker} of {pixels} pixels darker");
+    assert!(
+        brighter * 100 <= pixels,
+        "{brighter} of {pixels} pixels brighter"
+    );
+    for (name, frame) in [("GPU path", &frames[2]), ("no unclipped depth", &frames[3])] {
+        let (differing, mean) = compare(&frames[1], frame);
+        eprintln!(
+            "{name}: shadows against the CPU path's: {differing} of {pixels} pixels differ, mean {mean:.3}"
         );
         assert!(
             differing * 1000 <= pixels && mean < 0.25,

@@ -123,6 +123,12 @@ fn blade_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32
 
     var out: VertexOut;
     out.clip = view.clip_from_world * vec4<f32>(world, 1.0);
+#ifdef SHADOW_CLAMP_ORTHO
+    // A directional light's shadow view on a device without unclipped
+    // depth: a blade nearer to the light than the cascade's near plane
+    // (reverse Z: depth above 1) is kept, at the near plane.
+    out.clip.z = min(out.clip.z, out.clip.w);
+#endif
     out.world = world;
     out.normal = blade_normal(across, dir, side);
     // Ambient occlusion: darker to the root and when laid flat (the

@@ -84,6 +84,9 @@ pub struct GrassFrame {
     pub billboards: Vec<BillboardInstance>,
     /// Draw parameters.
     pub params: GrassParams,
+    /// Whether the blades are drawn into the lights' shadow maps
+    /// ([`crate::render::look::GrassLook::cast_shadows`]).
+    pub cast_shadows: bool,
     /// On the GPU path: the buffers the draws read in place of `runs`,
     /// `cells` and `billboards` (which then stay empty).
     #[cfg(feature = "gpu")]
@@ -122,6 +125,7 @@ pub fn extract_grass(mut main: ResMut<MainWorld>, mut frame: ResMut<GrassFrame>)
         .get_resource::<GrassLook>()
         .copied()
         .unwrap_or_default();
+    frame.cast_shadows = look.cast_shadows;
     let Some(mut field) = main.get_resource_mut::<TrampleField>() else {
         frame.layout = None;
         #[cfg(feature = "gpu")]

@@ -64,6 +64,15 @@ pub struct GrassLook {
     /// turns it off): the track shows on the ground at every level of
     /// detail, past the billboards too.
     pub track_darkening: f32,
+    /// Whether the blades cast shadows (default false): the drawn blades
+    /// (Geometry-LOD cells and the near blend band's) are drawn again into
+    /// the shadow maps of every light that casts shadows (Bevy's `Shadow`
+    /// phase: each cascade of a directional light, each face of a point
+    /// light), so a blade shades the ground and the blades behind it, and
+    /// a track reads by its missing shadows. The billboards cast none (a
+    /// depth-only draw would cast their whole quads). Costs the blades'
+    /// vertices once more for each shadow view.
+    pub cast_shadows: bool,
 }
 
 impl Default for GrassLook {
@@ -75,6 +84,7 @@ impl Default for GrassLook {
             near_density_m: 8.0,
             ambient_occlusion: 1.0,
             track_darkening: 0.8,
+            cast_shadows: false,
         }
     }
 }

@@ -8,7 +8,9 @@
 //! what changed (the blades the last steps moved, this frame's drawn cells
 //! and billboards, the [`look::GrassLook`]: blend bands and render
 //! density) into the render world; [`gpu`] uploads only that;
-//! [`queue`] puts the two draws into each camera's opaque phase;
+//! [`queue`] puts the two draws into each camera's opaque phase (and,
+//! with [`look::GrassLook::cast_shadows`], the blades into each light's
+//! shadow phase, a depth-only pipeline from [`pipeline`]);
 //! [`pipeline`] specialises Bevy's mesh pipeline (its view bindings and
 //! shader defs) for `blades.wgsl`, whose blade shape, wind and colour are
 //! the shader library `trample::blade_shape` shared with trample-render.
@@ -29,7 +31,7 @@ use bevy::asset::{embedded_asset, uuid_handle};
 use bevy::camera::primitives::Aabb;
 use bevy::camera::visibility::{self, VisibilityClass};
 use bevy::core_pipeline::core_3d::Opaque3d;
-use bevy::pbr::MeshPipelineSystems;
+use bevy::pbr::{MeshPipelineSystems, Shadow};
 use bevy::prelude::*;
 use bevy::render::extract_component::{ExtractComponent, ExtractComponentPlugin};
 use bevy::render::render_phase::AddRenderCommand;
@@ -87,6 +89,7 @@ impl Plugin for TrampleRenderPlugin {
             .init_resource::<extract::GrassFrame>()
             .init_resource::<queue::PendingGrassQueues>()
             .add_render_command::<Opaque3d, queue::DrawGrass>()
+            .add_render_command::<Shadow, queue::DrawGrassShadow>()
             .add_systems(
                 RenderStartup,
                 pipeline::init_grass_pipeline.after(MeshPipelineSystems),
@@ -96,6 +99,7 @@ impl Plugin for TrampleRenderPlugin {
                 Render,
                 (
                     queue::queue_grass.in_set(RenderSystems::Queue),
+                    queue::queue_grass_shadows.in_set(RenderSystems::Queue),
                     gpu::prepare_grass_buffers.in_set(RenderSystems::PrepareResources),
                     gpu::prepare_grass_bind_group.in_set(RenderSystems::PrepareBindGroups),
                 ),

@@ -4,19 +4,26 @@
 //! `blades.wgsl` for shaders, no vertex buffers (vertices are pulled from
 //! the storage buffers of group 2) and no back-face culling (blades and
 //! billboards are seen from both sides).
+//!
+//! The blades' shadow pipeline (`GrassLook::cast_shadows`) draws the same
+//! vertex stage into a light's shadow map, depth only, with Bevy's prepass
+//! view bindings (the light's view) in group 0, as Bevy's own shadow
+//! casters are drawn.
 
 use super::GrassDraw;
 use bevy::asset::{AssetServer, load_embedded_asset};
+use bevy::core_pipeline::core_3d::CORE_3D_DEPTH_FORMAT;
 use bevy::mesh::{Mesh, MeshVertexBufferLayouts, PrimitiveTopology};
-use bevy::pbr::{MeshPipeline, MeshPipelineKey};
+use bevy::pbr::{MeshPipeline, MeshPipelineKey, PrepassPipeline};
 use bevy::platform::collections::HashMap;
 use bevy::prelude::*;
 use bevy::render::render_resource::binding_types::{
     storage_buffer_read_only_sized, uniform_buffer_sized,
 };
 use bevy::render::render_resource::{
-    BindGroupLayoutDescriptor, BindGroupLayoutEntries, CachedRenderPipelineId, PipelineCache,
-    ShaderStages, SpecializedMeshPipeline,
+    BindGroupLayoutDescriptor, BindGroupLayoutEntries, CachedRenderPipelineId, CompareFunction,
+    DepthBiasState, DepthStencilState, MultisampleState, PipelineCache, ShaderStages,
+    SpecializedMeshPipeline, SpecializedMeshPipelineError, StencilState,
 };
 
 /// What the grass pipelines are made from (render world).
@@ -34,6 +41,9 @@ pub struct GrassPipeline {
     vertex_layout: bevy::mesh::MeshVertexBufferLayoutRef,
     /// Pipelines made so far, per view key and draw.
     pub cache: HashMap<(MeshPipelineKey, GrassDraw), CachedRenderPipelineId>,
+    /// The blades' shadow pipelines made so far: for directional lights'
+    /// views (orthographic, depth unclipped) and for the others.
+    pub shadow_cache: HashMap<bool, CachedRenderPipelineId>,
 }
 
 /// Makes the [`GrassPipeline`] once Bevy's mesh pipeline exists.
@@ -68,6 +78,7 @@ pub fn init_grass_pipeline(
         grass_layout,
         vertex_layout: positions_only.get_mesh_vertex_buffer_layout(&mut layouts),
         cache: HashMap::default(),
+        shadow_cache: HashMap::default(),
     });
 }
 
@@ -126,6 +137,72 @@ impl GrassPipeline {
         d.primitive.cull_mode = None;
         let id = cache.queue_render_pipeline(d);
         self.cache.insert((key, draw), id);
+        Ok(id)
+    }
+
+    /// The blades' pipeline for a light's shadow view (`directional`: a
+    /// cascade of a directional light, else a point or spot light's face),
+    /// queued for creation the first time it is asked for: the blades'
+    /// vertex stage, no fragment stage, Bevy's shadow depth (reverse Z,
+    /// `GreaterEqual`, no bias: Bevy biases when it samples), group 0 the
+    /// prepass's view bindings, group 1 its empty group, group 2 the
+    /// grass's. A directional light's casters nearer to it than its
+    /// cascade's near plane still cast (unclipped depth where the device
+    /// has it, else the depth clamped in the vertex stage,
+    /// `SHADOW_CLAMP_ORTHO`), as Bevy does for its meshes.
+    ///
+    /// # Errors
+    /// The mesh pipeline's own error for a key it cannot specialise.
+    pub fn shadow_pipeline(
+        &mut self,
+        cache: &PipelineCache,
+        prepass: &PrepassPipeline,
+        directional: bool,
+    ) -> Result<CachedRenderPipelineId, SpecializedMeshPipelineError> {
+        if let Some(&id) = self.shadow_cache.get(&directional) {
+            return Ok(id);
+        }
+        let projection = if directional {
+            MeshPipelineKey::VIEW_PROJECTION_ORTHOGRAPHIC
+        } else {
+            MeshPipelineKey::VIEW_PROJECTION_PERSPECTIVE
+        };
+        let key = MeshPipelineKey::DEPTH_PREPASS
+            | projection
+            | MeshPipelineKey::from_primitive_topology_and_strip_index(
+                PrimitiveTopology::TriangleList,
+                None,
+            );
+        // The mesh pipeline's descriptor gives the shader defs its view
+        // bindings need; the blades' vertex stage reads only `view` of
+        // group 0, which the prepass's view layout binds the same way.
+        let mut d = self.mesh_pipeline.specialize(key, &self.vertex_layout)?;
+        d.label = Some("trample blades shadow".into());
+        d.vertex.shader = self.shader.clone();
+        d.vertex.entry_point = Some("blade_vertex".into());
+        d.vertex.buffers.clear();
+        let unclipped = directional && prepass.depth_clip_control_supported;
+        if directional && !unclipped {
+            d.vertex.shader_defs.push("SHADOW_CLAMP_ORTHO".into());
+        }
+        d.fragment = None;
+        d.layout = vec![
+            prepass.view_layout_no_motion_vectors.clone(),
+            prepass.empty_layout.clone(),
+            self.grass_layout.clone(),
+        ];
+        d.primitive.cull_mode = None;
+        d.primitive.unclipped_depth = unclipped;
+        d.depth_stencil = Some(DepthStencilState {
+            format: CORE_3D_DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(CompareFunction::GreaterEqual),
+            stencil: StencilState::default(),
+            bias: DepthBiasState::default(),
+        });
+        d.multisample = MultisampleState::default();
+        let id = cache.queue_render_pipeline(d);
+        self.shadow_cache.insert(directional, id);
         Ok(id)
     }
 }

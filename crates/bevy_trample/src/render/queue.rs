@@ -1,7 +1,9 @@
 //! Puts the two grass draws into every 3D view's opaque phase (Bevy's
 //! `Opaque3d`: the same pass and depth buffer as the scene's meshes) and
 //! the render command that draws them: view bindings (groups 0 and 1),
-//! the grass's bind group (group 2), then one instanced draw.
+//! the grass's bind group (group 2), then one instanced draw. With
+//! `GrassLook::cast_shadows`, the blades' draw goes into every shadow
+//! view's `Shadow` phase too (the prepass's view bindings, the same draw).
 
 use super::GrassDraw;
 use super::gpu::{DRAW_ARGS_BYTES, GrassGpu};
@@ -12,7 +14,11 @@ use bevy::ecs::query::ROQueryItem;
 use bevy::ecs::system::SystemParamItem;
 use bevy::ecs::system::lifetimeless::{Read, SRes};
 use bevy::mesh::Mesh;
-use bevy::pbr::{SetMeshViewBindGroup, SetMeshViewBindingArrayBindGroup, ViewKeyCache};
+use bevy::pbr::{
+    LightEntity, PrepassPipeline, SetMeshViewBindGroup, SetMeshViewBindingArrayBindGroup,
+    SetPrepassViewBindGroup, SetPrepassViewEmptyBindGroup, Shadow, ShadowBatchSetKey, ShadowBinKey,
+    ViewKeyCache,
+};
 use bevy::prelude::*;
 use bevy::render::camera::{DirtySpecializations, PendingQueues};
 use bevy::render::mesh::allocator::MeshSlabs;
@@ -21,6 +27,7 @@ use bevy::render::render_phase::{
     RenderCommandResult, SetItemPipeline, TrackedRenderPass, ViewBinnedRenderPhases,
 };
 use bevy::render::render_resource::PipelineCache;
+use bevy::render::sync_world::MainEntity;
 use bevy::render::view::{ExtractedView, RenderVisibleEntities};
 
 /// Draw entities that could not be queued yet (Bevy's bookkeeping for
@@ -33,6 +40,16 @@ pub type DrawGrass = (
     SetItemPipeline,
     SetMeshViewBindGroup<0>,
     SetMeshViewBindingArrayBindGroup<1>,
+    DrawGrassInstances,
+);
+
+/// The render command of the blades' draw into a light's shadow map:
+/// the prepass's view bindings (the light's view; groups 0 and 1), then
+/// the draw of [`DrawGrass`].
+pub type DrawGrassShadow = (
+    SetItemPipeline,
+    SetPrepassViewBindGroup<0>,
+    SetPrepassViewEmptyBindGroup<1>,
     DrawGrassInstances,
 );
 
@@ -180,5 +197,63 @@ pub fn queue_grass(
                 BinnedRenderPhaseType::NonMesh,
             );
         }
+    }
+}
+
+/// Queues the blades' draw into every shadow view's phase (each cascade of
+/// a directional light, each face of a point light, each spot light) when
+/// `GrassLook::cast_shadows` is on this frame, and takes it out of them
+/// when it is off. The draw is not culled per light: the blades drawn are
+/// the camera's (its drawn cells), which lie within the field's bounds.
+#[allow(clippy::too_many_arguments)]
+pub fn queue_grass_shadows(
+    pipeline_cache: Res<PipelineCache>,
+    pipeline: Option<ResMut<GrassPipeline>>,
+    prepass: Option<Res<PrepassPipeline>>,
+    frame: Res<super::extract::GrassFrame>,
+    mut phases: ResMut<ViewBinnedRenderPhases<Shadow>>,
+    draw_functions: Res<DrawFunctions<Shadow>>,
+    lights: Query<(&LightEntity, &ExtractedView)>,
+    draws: Query<(Entity, &MainEntity, &GrassDraw)>,
+) {
+    let (Some(mut pipeline), Some(prepass)) = (pipeline, prepass) else {
+        return;
+    };
+    let Some((entity, &main_entity, _)) = draws.iter().find(|(_, _, d)| **d == GrassDraw::Blades)
+    else {
+        return;
+    };
+    let draw_shadow = draw_functions.read().id::<DrawGrassShadow>();
+    for (light, view) in &lights {
+        let Some(phase) = phases.get_mut(&view.retained_view_entity) else {
+            continue;
+        };
+        // Added anew each frame (the pipeline may differ): out first.
+        phase.remove(main_entity);
+        if !frame.cast_shadows || frame.layout.is_none() {
+            continue;
+        }
+        let directional = matches!(light, LightEntity::Directional { .. });
+        let pipeline_id = match pipeline.shadow_pipeline(&pipeline_cache, &prepass, directional) {
+            Ok(id) => id,
+            Err(e) => {
+                error!("bevy_trample: grass shadow pipeline: {e}");
+                continue;
+            }
+        };
+        phase.add(
+            ShadowBatchSetKey {
+                pipeline: pipeline_id,
+                draw_function: draw_shadow,
+                material_bind_group_index: None,
+                slabs: MeshSlabs::default(),
+            },
+            ShadowBinKey {
+                asset_id: AssetId::<Mesh>::invalid().untyped(),
+            },
+            (entity, main_entity),
+            InputUniformIndex::default(),
+            BinnedRenderPhaseType::NonMesh,
+        );
     }
 }
