@@ -57,7 +57,7 @@ struct Args {
     hard_switch: bool,
     /// The GPU path (`--gpu`): `TrampleField::on_gpu`.
     gpu: bool,
-    /// The blades cast shadows (`--grass-shadows`):
+    /// The grass casts shadows (`--grass-shadows`):
     /// `GrassLook::cast_shadows`.
     grass_shadows: bool,
 }
@@ -90,7 +90,7 @@ fn parse_args() -> Result<Args> {
                      arrow keys: drive the car\n  \
                      --hard-switch: the paper's look (no blend bands, no extra blades near the camera)\n  \
                      --gpu: step the field on trample's GPU path with Bevy's device\n  \
-                     --grass-shadows: the blades cast shadows (GrassLook::cast_shadows)"
+                     --grass-shadows: the grass casts shadows (GrassLook::cast_shadows)"
                 );
                 std::process::exit(0);
             }

@@ -4,7 +4,8 @@
 //! in one chunk of blade vertices or in several; the frame drawn from the
 //! GPU's buffers (one indirect draw a chunk) is the CPU path's frame, and
 //! so is the CPU path's frame drawn in chunks (a device whose binding is
-//! under the field's vertices); and a field the device cannot take stays
+//! under the field's vertices), without and with the grass's shadows
+//! (`GrassLook::cast_shadows`); and a field the device cannot take stays
 //! on the CPU path and says why.
 //!
 //! These tests need a Vulkan adapter (Bevy 0.19's wgpu is built without
@@ -295,7 +296,7 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
         }
         // A camera for the last frames: the draws are queued and drawn (or
         // skip, when the field is not drawn).
-        add_camera(&mut app, false);
+        add_camera(&mut app, true);
         for _ in 0..3 {
             app.update();
         }
@@ -317,9 +318,12 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
 }
 
 /// Adds a camera (the trample camera) drawing into an image of `FRAME`
-/// pixels, looking at the sphere's track, and a sun (casting shadows when
-/// `shadows`); returns the image.
-fn add_camera(app: &mut App, shadows: bool) -> Handle<Image> {
+/// pixels, looking at the sphere's track, and a sun that casts shadows
+/// (the grass's own with `GrassLook::cast_shadows`, in one cascade of 1024
+/// × 1024 texels: Bevy's four of 2048 would cost a software rasteriser
+/// sixteen times the texels); returns the image. The camera draws when
+/// `drawing`, else from [`draw_frames`] on.
+fn add_camera(app: &mut App, drawing: bool) -> Handle<Image> {
     let mut image =
         Image::new_target_texture(FRAME[0], FRAME[1], TextureFormat::Rgba8UnormSrgb, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
@@ -330,17 +334,36 @@ fn add_camera(app: &mut App, shadows: bool) -> Handle<Image> {
         // mapping's table) the frame would be magenta.
         bevy::core_pipeline::tonemapping::Tonemapping::Reinhard,
         RenderTarget::from(handle.clone()),
+        Camera {
+            is_active: drawing,
+            ..default()
+        },
         Transform::from_xyz(-1.0, 3.0, 5.0).looking_at(Vec3::new(-1.0, 0.0, 0.0), Vec3::Y),
         TrampleCamera,
     ));
+    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 1024 });
     app.world_mut().spawn((
         DirectionalLight {
-            shadow_maps_enabled: shadows,
+            shadow_maps_enabled: true,
             ..default()
         },
+        bevy::light::CascadeShadowConfigBuilder {
+            num_cascades: 1,
+            maximum_distance: 20.0,
+            ..default()
+        }
+        .build(),
         Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
     handle
+}
+
+/// Turns on the drawing of `app`'s cameras.
+fn draw_frames(app: &mut App) {
+    let mut cameras = app.world_mut().query::<&mut Camera>();
+    for mut camera in cameras.iter_mut(app.world_mut()) {
+        camera.is_active = true;
+    }
 }
 
 /// The image `app`'s camera draws now (RGBA8).
@@ -378,24 +401,31 @@ fn compare(a: &[u8], b: &[u8]) -> (usize, f64) {
     (differing, sum as f64 / a.len() as f64)
 }
 
-#[test]
-fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
-    // Four apps on the renderer: the CPU path, the GPU path in one chunk,
-    // the GPU path in two (one indirect draw a chunk), the CPU path on a
-    // binding of 256 KiB, Bevy's own least (its uploads in chunks of 12
-    // patches, one draw a chunk; its billboards in pieces of 5,461). Blades
-    // to 4 m from the eye, billboards beyond.
-    let field = || field_with_blades_to(4.0);
-    let mut cpu = app(field(), Some(None));
-    let mut gpu = app(field().on_gpu(), Some(None));
-    let mut chunked = app(field().on_gpu(), Some(Some(small_binding())));
-    let mut cpu_chunked = app(field(), Some(Some(binding_of(256))));
-    let mut frames = Vec::new();
+/// Blades to 4 m from the eye, billboards beyond (fading in over the
+/// default 4 m band): the camera of `add_camera` (3 m up, 5 m from its
+/// target) sees blades alone in its lowest rows (the ground 3.7 to 4 m
+/// away) and billboards alone past 8 m (rows 26 to 56, where the field
+/// ends; the blades' shadows fall 1.5 m at most from them).
+fn frame_field() -> TrampleField {
+    field_with_blades_to(4.0)
+}
+
+/// The frames of `apps` (on the renderer), each without and then with
+/// `GrassLook::cast_shadows` (a sun that casts shadows in both), after
+/// `FRAMES` steps; saved as `{prefix}_{name}.png` and
+/// `{prefix}_shadows_{name}.png`.
+fn frames_without_and_with_shadows(
+    apps: &mut [&mut App],
+    prefix: &str,
+    names: &[&str],
+) -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
+    let (mut plain, mut shaded) = (Vec::new(), Vec::new());
     let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
-    for app in [&mut cpu, &mut gpu, &mut chunked, &mut cpu_chunked] {
+    for app in apps.iter_mut() {
         wait_for_device(app);
-        // The camera for the last few steps only: drawing every frame on a
-        // software rasteriser is most of the time.
+        // The camera for the last few steps (the field's levels of detail
+        // and drawn lists are its), drawing only once paused: each frame
+        // costs a software rasteriser seconds.
         while steps(app) < FRAMES - 5 {
             app.update();
         }
@@ -404,24 +434,99 @@ fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
             app.update();
         }
         // Paused: the GPU path's ground track, copied back a frame or two
-        // behind the grass, catches up; then the frame.
+        // behind the grass, catches up; then the frames.
         app.world_mut().resource_mut::<Time<Virtual>>().pause();
-        for _ in 0..4 {
+        draw_frames(app);
+        for _ in 0..2 {
             app.update();
         }
+        plain.push(capture(app, &image));
+        app.world_mut().resource_mut::<GrassLook>().cast_shadows = true;
+        shaded.push(capture(app, &image));
         assert_eq!(steps(app), FRAMES);
-        frames.push(capture(app, &image));
     }
+    save_frames(prefix, names, &plain);
+    save_frames(&format!("{prefix}_shadows"), names, &shaded);
+    (plain, shaded)
+}
+
+/// Each of `frames` (after the first) against the first, the CPU path's:
+/// at most one pixel in a thousand differs, and little.
+fn same_frames(frames: &[Vec<u8>], names: &[&str], shadows: &str) {
+    let pixels = (FRAME[0] * FRAME[1]) as usize;
+    for (name, frame) in names.iter().zip(frames).skip(1) {
+        let (differing, mean) = compare(&frames[0], frame);
+        eprintln!(
+            "{name} against the CPU path, {shadows} grass shadows: {differing} of {pixels} pixels differ, mean difference {mean:.3}"
+        );
+        assert!(
+            differing * 1000 <= pixels && mean < 0.25,
+            "{name}, {shadows} grass shadows: {differing} of {pixels} pixels differ (mean {mean:.3})"
+        );
+    }
+}
+
+/// The frames of the CPU path, the GPU path in one chunk and the GPU path
+/// in two (one indirect draw a chunk), without and with the grass's
+/// shadows: the GPU path's frames are the CPU path's.
+#[test]
+fn the_frames_drawn_from_the_gpus_buffers_are_the_cpu_paths_with_and_without_grass_shadows() {
+    let mut cpu = app(frame_field(), Some(None));
+    let mut gpu = app(frame_field().on_gpu(), Some(None));
+    let mut chunked = app(frame_field().on_gpu(), Some(Some(small_binding())));
+    let names = ["cpu", "gpu", "gpu_chunks"];
+    let (plain, shaded) = frames_without_and_with_shadows(
+        &mut [&mut cpu, &mut gpu, &mut chunked],
+        "bevy_trample_gpu_path",
+        &names,
+    );
     let on = |app: &App| app.world().resource::<TrampleField>().backend();
     assert_eq!(
-        [on(&cpu), on(&gpu), on(&chunked), on(&cpu_chunked)],
+        [on(&cpu), on(&gpu), on(&chunked)],
         [
             TrampleBackend::Cpu,
             TrampleBackend::Gpu,
-            TrampleBackend::Gpu,
-            TrampleBackend::Cpu
+            TrampleBackend::Gpu
         ]
     );
+    let names = ["CPU path", "GPU path, one chunk", "GPU path, two chunks"];
+    same_frames(&plain, &names, "without");
+    same_frames(&shaded, &names, "with");
+}
+
+/// The CPU path's frames, and those of the CPU path on a binding of 256
+/// KiB, Bevy's own least (its uploads in chunks of 12 patches, one draw a
+/// chunk; its billboards in pieces of 5,461), and on a device without
+/// unclipped depth (the shadows' depth clamped in the vertex stages
+/// instead), without and with `GrassLook::cast_shadows`: the same frames.
+/// With shadows, the grass drawn into the sun's shadow map darkens the
+/// frame (blades and billboards shade the ground and each other), where
+/// blades are drawn and where only billboards are, and brightens nothing.
+#[test]
+fn the_grass_casts_shadows_and_the_frames_drawn_in_chunks_or_clamped_are_the_cpu_paths() {
+    let clipped = WgpuSettings {
+        backends: Some(Backends::VULKAN),
+        disabled_features: Some(WgpuFeatures::DEPTH_CLIP_CONTROL),
+        ..default()
+    };
+    let mut cpu = app(frame_field(), Some(None));
+    let mut cpu_chunked = app(frame_field(), Some(Some(binding_of(256))));
+    let mut clamped = app_on(frame_field(), Some(clipped));
+    let names = ["cpu", "cpu_chunks", "clamped"];
+    let (plain, shaded) = frames_without_and_with_shadows(
+        &mut [&mut cpu, &mut cpu_chunked, &mut clamped],
+        "bevy_trample_grass",
+        &names,
+    );
+    // The last device has no unclipped depth: the clamped vertex stages.
+    let unclipped = |app: &mut App| {
+        app.sub_app(RenderApp)
+            .world()
+            .resource::<bevy::pbr::PrepassPipeline>()
+            .depth_clip_control_supported
+    };
+    eprintln!("the adapter's unclipped depth: {}", unclipped(&mut cpu));
+    assert!(!unclipped(&mut clamped));
     // The CPU path's vertices: one buffer on the adapter's limits, six
     // chunks of patches on the small binding; its billboards one piece, or
     // several.
@@ -449,31 +554,45 @@ fn the_frame_drawn_from_the_gpus_buffers_or_in_chunks_is_the_cpu_paths_frame() {
     assert!(pieces.len() >= 2, "billboards in pieces: {pieces:?}");
     assert_eq!(pieces.iter().sum::<u32>(), billboards[0]);
     let pixels = (FRAME[0] * FRAME[1]) as usize;
-    // The three frames, to look at.
-    save_frames(
-        "bevy_trample_gpu_path",
-        &["cpu", "gpu", "gpu_chunks", "cpu_chunks"],
-        &frames,
-    );
     // Grass fills the lower part of the frame: the frames are not empty.
-    let green = frames[0]
+    let green = plain[0]
         .chunks(4)
         .filter(|p| p[1] > p[0] && p[1] > p[2])
         .count();
     assert!(green > pixels / 3, "{green} of {pixels} pixels green");
-    for (name, frame) in [
-        ("GPU path, one chunk", &frames[1]),
-        ("GPU path, two chunks", &frames[2]),
-        ("CPU path, in chunks", &frames[3]),
-    ] {
-        let (differing, mean) = compare(&frames[0], frame);
-        eprintln!(
-            "{name} against the CPU path: {differing} of {pixels} pixels differ, mean difference {mean:.3}"
+    let names = ["CPU path", "CPU path, in chunks", "no unclipped depth"];
+    same_frames(&plain, &names, "without");
+    same_frames(&shaded, &names, "with");
+    let luma = |p: &[u8]| u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]);
+    // Pixels of `rows` darker and brighter with the grass's shadows than
+    // without (by more than 24 in the sum of R, G and B).
+    let row = 4 * FRAME[0] as usize;
+    let changed = |rows: std::ops::Range<usize>| {
+        let (off, on) = (
+            &plain[0][rows.start * row..rows.end * row],
+            &shaded[0][rows.start * row..rows.end * row],
         );
-        assert!(
-            differing * 1000 <= pixels && mean < 0.25,
-            "{name}: {differing} of {pixels} pixels differ (mean {mean:.3})"
-        );
+        let (mut darker, mut brighter) = (0, 0);
+        for (off, on) in off.chunks(4).zip(on.chunks(4)) {
+            let (a, b) = (luma(off), luma(on));
+            darker += usize::from(b + 24 < a);
+            brighter += usize::from(a + 24 < b);
+        }
+        (darker, brighter)
+    };
+    let (darker, brighter) = changed(0..FRAME[1] as usize);
+    eprintln!("grass shadows: {darker} of {pixels} pixels darker, {brighter} brighter");
+    assert!(darker > pixels / 10, "{darker} of {pixels} pixels darker");
+    assert!(
+        brighter * 100 <= pixels,
+        "{brighter} of {pixels} pixels brighter"
+    );
+    // Where only blades are drawn, and where only billboards are.
+    for (name, rows) in [("blades", 162..180), ("billboards", 30..52)] {
+        let (darker, _) = changed(rows.clone());
+        let of = rows.len() * FRAME[0] as usize;
+        eprintln!("{name}' rows {rows:?}: {darker} of {of} pixels darker");
+        assert!(darker * 10 > of, "{name}: {darker} of {of} pixels darker");
     }
 }
 
@@ -492,83 +611,5 @@ fn save_frames(prefix: &str, names: &[&str], frames: &[Vec<u8>]) {
         )
         .expect("frame written");
         eprintln!("{}", path.display());
-    }
-}
-
-/// `GrassLook::cast_shadows`: with a sun that casts shadows, the blades
-/// drawn into its shadow maps darken the frame (the blades shade the
-/// ground and each other) and brighten nothing; without it the frame is
-/// as before. The GPU path's blades cast the same shadows (its frame is
-/// the CPU path's, as in the test above), and so does a device without
-/// unclipped depth (the depth clamped in the vertex stage instead).
-#[test]
-fn blades_cast_shadows_when_asked() {
-    let looks = [false, true, true, true];
-    let clipped = WgpuSettings {
-        backends: Some(Backends::VULKAN),
-        disabled_features: Some(WgpuFeatures::DEPTH_CLIP_CONTROL),
-        ..default()
-    };
-    let mut apps = [
-        app(field(), Some(None)),
-        app(field(), Some(None)),
-        app(field().on_gpu(), Some(None)),
-        app_on(field(), Some(clipped)),
-    ];
-    let mut frames = Vec::new();
-    let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
-    for (app, cast_shadows) in apps.iter_mut().zip(looks) {
-        app.insert_resource(GrassLook {
-            cast_shadows,
-            ..default()
-        });
-        wait_for_device(app);
-        while steps(app) < 20 {
-            app.update();
-        }
-        let image = add_camera(app, true);
-        app.world_mut().resource_mut::<Time<Virtual>>().pause();
-        for _ in 0..4 {
-            app.update();
-        }
-        frames.push(capture(app, &image));
-    }
-    // The last device has no unclipped depth: the clamped vertex stage.
-    let unclipped = |app: &mut App| {
-        app.sub_app(RenderApp)
-            .world()
-            .resource::<bevy::pbr::PrepassPipeline>()
-            .depth_clip_control_supported
-    };
-    eprintln!("the adapter's unclipped depth: {}", unclipped(&mut apps[1]));
-    assert!(!unclipped(&mut apps[3]));
-    save_frames(
-        "bevy_trample_grass",
-        &["no_shadows", "shadows", "shadows_gpu", "shadows_clamped"],
-        &frames,
-    );
-    let pixels = (FRAME[0] * FRAME[1]) as usize;
-    let luma = |p: &[u8]| u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]);
-    let (mut darker, mut brighter) = (0, 0);
-    for (off, on) in frames[0].chunks(4).zip(frames[1].chunks(4)) {
-        let (a, b) = (luma(off), luma(on));
-        darker += usize::from(b + 24 < a);
-        brighter += usize::from(a + 24 < b);
-    }
-    eprintln!("grass shadows: {darker} of {pixels} pixels darker, {brighter} brighter");
-    assert!(darker > pixels / 10, "{darker} of {pixels} pixels darker");
-    assert!(
-        brighter * 100 <= pixels,
-        "{brighter} of {pixels} pixels brighter"
-    );
-    for (name, frame) in [("GPU path", &frames[2]), ("no unclipped depth", &frames[3])] {
-        let (differing, mean) = compare(&frames[1], frame);
-        eprintln!(
-            "{name}: shadows against the CPU path's: {differing} of {pixels} pixels differ, mean {mean:.3}"
-        );
-        assert!(
-            differing * 1000 <= pixels && mean < 0.25,
-            "{name}: {differing} of {pixels} pixels differ (mean {mean:.3})"
-        );
     }
 }

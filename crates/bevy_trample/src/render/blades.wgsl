@@ -75,6 +75,19 @@ fn vertex_of(k: u32, l: u32) -> vec3<f32> {
     return blade_wind_vertex(root, pos[k * chunk.y + l].xyz, k, params.counts.y, wind_tip(root));
 }
 
+// A world point in the view's clip space (a camera's, or a light's in the
+// shadow pipelines).
+fn clip_of(world: vec3<f32>) -> vec4<f32> {
+    var clip = view.clip_from_world * vec4<f32>(world, 1.0);
+#ifdef SHADOW_CLAMP_ORTHO
+    // A directional light's shadow view on a device without unclipped
+    // depth: grass nearer to the light than the cascade's near plane
+    // (reverse Z: depth above 1) is kept, at the near plane.
+    clip.z = min(clip.z, clip.w);
+#endif
+    return clip;
+}
+
 // Two triangles a quad: corners (0,0) (1,0) (0,1), (0,1) (1,0) (1,1).
 fn corner_of(vi: u32) -> vec2<u32> {
     let c = array<u32, 6>(0u, 1u, 2u, 2u, 1u, 3u)[vi % 6u];
@@ -122,13 +135,7 @@ fn blade_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32
     }
 
     var out: VertexOut;
-    out.clip = view.clip_from_world * vec4<f32>(world, 1.0);
-#ifdef SHADOW_CLAMP_ORTHO
-    // A directional light's shadow view on a device without unclipped
-    // depth: a blade nearer to the light than the cascade's near plane
-    // (reverse Z: depth above 1) is kept, at the near plane.
-    out.clip.z = min(out.clip.z, out.clip.w);
-#endif
+    out.clip = clip_of(world);
     out.world = world;
     out.normal = blade_normal(across, dir, side);
     // Ambient occlusion: darker to the root and when laid flat (the
@@ -156,7 +163,7 @@ fn billboard_vertex(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii:
     let world = bb.base.xyz + axis * (x * 2.0 - 1.0) * bb.base.w + top * y;
 
     var out: VertexOut;
-    out.clip = view.clip_from_world * vec4<f32>(world, 1.0);
+    out.clip = clip_of(world);
     out.world = world;
     // Lit as the blades look from afar, so that the levels meet without a
     // step in brightness (check_meadow's ring step, measured on lavapipe:
@@ -213,21 +220,35 @@ fn blade_fragment(v: VertexOut) -> @location(0) vec4<f32> {
 // random heights across it.
 const STRANDS: f32 = 7.0;
 
-@fragment
-fn billboard_fragment(v: VertexOut) -> @location(0) vec4<f32> {
+// Whether the billboard's point `v` lies on one of its drawn strands.
+fn on_a_strand(v: VertexOut) -> bool {
     let s = v.uv.x * STRANDS;
     let strand = u32(floor(s));
     let h = 0.55 + 0.45 * hash01(v.seed * 31u + strand);
     let across = abs(fract(s) - 0.5) * 2.0;
     // Each strand tapers to a point at its height.
     if (v.uv.y > h * (1.0 - across * across) || across > 0.8) {
-        discard;
+        return false;
     }
     // Blend bands: a share `presence` of the strands shows (a dithered
     // fade that keeps the drawn density as the blades thin out or the
     // ground takes over).
-    if (hash01(strand * 0x9e3779b9u ^ v.seed * 0x85ebca6bu) >= v.presence) {
+    return hash01(strand * 0x9e3779b9u ^ v.seed * 0x85ebca6bu) < v.presence;
+}
+
+@fragment
+fn billboard_fragment(v: VertexOut) -> @location(0) vec4<f32> {
+    if (!on_a_strand(v)) {
         discard;
     }
     return lit(v);
+}
+
+// The billboards in a light's shadow map: the strands the camera sees,
+// depth only (the quad's cut-out, not the whole quad).
+@fragment
+fn billboard_shadow_fragment(v: VertexOut) {
+    if (!on_a_strand(v)) {
+        discard;
+    }
 }

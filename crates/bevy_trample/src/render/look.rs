@@ -64,14 +64,16 @@ pub struct GrassLook {
     /// turns it off): the track shows on the ground at every level of
     /// detail, past the billboards too.
     pub track_darkening: f32,
-    /// Whether the blades cast shadows (default false): the drawn blades
-    /// (Geometry-LOD cells and the near blend band's) are drawn again into
-    /// the shadow maps of every light that casts shadows (Bevy's `Shadow`
-    /// phase: each cascade of a directional light, each face of a point
-    /// light), so a blade shades the ground and the blades behind it, and
-    /// a track reads by its missing shadows. The billboards cast none (a
-    /// depth-only draw would cast their whole quads). Costs the blades'
-    /// vertices once more for each shadow view.
+    /// Whether the grass casts shadows (default false): the drawn blades
+    /// (Geometry-LOD cells and the near blend band's) and billboards are
+    /// drawn again into the shadow maps of every light that casts shadows
+    /// (Bevy's `Shadow` phase: each cascade of a directional light, each
+    /// face of a point light), so a blade shades the ground and the blades
+    /// behind it, and a track reads by its missing shadows. A billboard
+    /// casts the shadow of its strands (the cut-out of its colour pass,
+    /// not its whole quads), so the shade goes on past the blades without
+    /// a bright ring where the levels of detail meet. Costs the blades'
+    /// vertices and the billboards once more for each shadow view.
     pub cast_shadows: bool,
 }
 

@@ -9,8 +9,8 @@
 //! and billboards, the [`look::GrassLook`]: blend bands and render
 //! density) into the render world; [`gpu`] uploads only that;
 //! [`queue`] puts the two draws into each camera's opaque phase (and,
-//! with [`look::GrassLook::cast_shadows`], the blades into each light's
-//! shadow phase, a depth-only pipeline from [`pipeline`]);
+//! with [`look::GrassLook::cast_shadows`], into each light's shadow
+//! phase, depth-only pipelines from [`pipeline`]);
 //! [`pipeline`] specialises Bevy's mesh pipeline (its view bindings and
 //! shader defs) for `blades.wgsl`, whose blade shape, wind and colour are
 //! the shader library `trample::blade_shape` shared with trample-render.

@@ -5,10 +5,11 @@
 //! the storage buffers of group 2) and no back-face culling (blades and
 //! billboards are seen from both sides).
 //!
-//! The blades' shadow pipeline (`GrassLook::cast_shadows`) draws the same
-//! vertex stage into a light's shadow map, depth only, with Bevy's prepass
-//! view bindings (the light's view) in group 0, as Bevy's own shadow
-//! casters are drawn.
+//! The shadow pipelines (`GrassLook::cast_shadows`) draw the same vertex
+//! stages into a light's shadow map, depth only (the billboards' strands
+//! cut out of their quads by a fragment stage), with Bevy's prepass view
+//! bindings (the light's view) in group 0, as Bevy's own shadow casters
+//! are drawn.
 
 use super::GrassDraw;
 use bevy::asset::{AssetServer, load_embedded_asset};
@@ -41,9 +42,10 @@ pub struct GrassPipeline {
     vertex_layout: bevy::mesh::MeshVertexBufferLayoutRef,
     /// Pipelines made so far, per view key and draw.
     pub cache: HashMap<(MeshPipelineKey, GrassDraw), CachedRenderPipelineId>,
-    /// The blades' shadow pipelines made so far: for directional lights'
-    /// views (orthographic, depth unclipped) and for the others.
-    pub shadow_cache: HashMap<bool, CachedRenderPipelineId>,
+    /// The shadow pipelines made so far, per draw: for directional
+    /// lights' views (`true`: orthographic, depth unclipped) and for the
+    /// others.
+    pub shadow_cache: HashMap<(bool, GrassDraw), CachedRenderPipelineId>,
 }
 
 /// Makes the [`GrassPipeline`] once Bevy's mesh pipeline exists.
@@ -140,13 +142,15 @@ impl GrassPipeline {
         Ok(id)
     }
 
-    /// The blades' pipeline for a light's shadow view (`directional`: a
+    /// The pipeline of `draw` for a light's shadow view (`directional`: a
     /// cascade of a directional light, else a point or spot light's face),
-    /// queued for creation the first time it is asked for: the blades'
-    /// vertex stage, no fragment stage, Bevy's shadow depth (reverse Z,
-    /// `GreaterEqual`, no bias: Bevy biases when it samples), group 0 the
-    /// prepass's view bindings, group 1 its empty group, group 2 the
-    /// grass's. A directional light's casters nearer to it than its
+    /// queued for creation the first time it is asked for: the draw's
+    /// vertex stage; no fragment stage for the blades, for the billboards
+    /// one that keeps only their strands (`billboard_shadow_fragment`: the
+    /// cut-out of their colour pass, no colour); Bevy's shadow depth
+    /// (reverse Z, `GreaterEqual`, no bias: Bevy biases when it samples),
+    /// group 0 the prepass's view bindings, group 1 its empty group, group
+    /// 2 the grass's. A directional light's casters nearer to it than its
     /// cascade's near plane still cast (unclipped depth where the device
     /// has it, else the depth clamped in the vertex stage,
     /// `SHADOW_CLAMP_ORTHO`), as Bevy does for its meshes.
@@ -158,8 +162,9 @@ impl GrassPipeline {
         cache: &PipelineCache,
         prepass: &PrepassPipeline,
         directional: bool,
+        draw: GrassDraw,
     ) -> Result<CachedRenderPipelineId, SpecializedMeshPipelineError> {
-        if let Some(&id) = self.shadow_cache.get(&directional) {
+        if let Some(&id) = self.shadow_cache.get(&(directional, draw)) {
             return Ok(id);
         }
         let projection = if directional {
@@ -174,18 +179,35 @@ impl GrassPipeline {
                 None,
             );
         // The mesh pipeline's descriptor gives the shader defs its view
-        // bindings need; the blades' vertex stage reads only `view` of
-        // group 0, which the prepass's view layout binds the same way.
+        // bindings need; the vertex stages read only `view` of group 0,
+        // which the prepass's view layout binds the same way.
         let mut d = self.mesh_pipeline.specialize(key, &self.vertex_layout)?;
-        d.label = Some("trample blades shadow".into());
+        let (label, vertex, fragment) = match draw {
+            GrassDraw::Blades => ("trample blades shadow", "blade_vertex", None),
+            GrassDraw::Billboards => (
+                "trample billboards shadow",
+                "billboard_vertex",
+                Some("billboard_shadow_fragment"),
+            ),
+        };
+        d.label = Some(label.into());
         d.vertex.shader = self.shader.clone();
-        d.vertex.entry_point = Some("blade_vertex".into());
+        d.vertex.entry_point = Some(vertex.into());
         d.vertex.buffers.clear();
         let unclipped = directional && prepass.depth_clip_control_supported;
         if directional && !unclipped {
             d.vertex.shader_defs.push("SHADOW_CLAMP_ORTHO".into());
         }
-        d.fragment = None;
+        d.fragment = match (fragment, d.fragment.take()) {
+            (Some(entry), Some(mut f)) => {
+                f.shader = self.shader.clone();
+                f.shader_defs.clone_from(&d.vertex.shader_defs);
+                f.entry_point = Some(entry.into());
+                f.targets.clear();
+                Some(f)
+            }
+            _ => None,
+        };
         d.layout = vec![
             prepass.view_layout_no_motion_vectors.clone(),
             prepass.empty_layout.clone(),
@@ -202,7 +224,7 @@ impl GrassPipeline {
         });
         d.multisample = MultisampleState::default();
         let id = cache.queue_render_pipeline(d);
-        self.shadow_cache.insert(directional, id);
+        self.shadow_cache.insert((directional, draw), id);
         Ok(id)
     }
 }

@@ -2,8 +2,8 @@
 //! `Opaque3d`: the same pass and depth buffer as the scene's meshes) and
 //! the render command that draws them: view bindings (groups 0 and 1),
 //! the grass's bind group (group 2), then one instanced draw. With
-//! `GrassLook::cast_shadows`, the blades' draw goes into every shadow
-//! view's `Shadow` phase too (the prepass's view bindings, the same draw).
+//! `GrassLook::cast_shadows`, both draws go into every shadow view's
+//! `Shadow` phase too (the prepass's view bindings, the same draws).
 
 use super::GrassDraw;
 use super::gpu::{DRAW_ARGS_BYTES, GrassGpu};
@@ -43,7 +43,7 @@ pub type DrawGrass = (
     DrawGrassInstances,
 );
 
-/// The render command of the blades' draw into a light's shadow map:
+/// The render command of a grass draw into a light's shadow map:
 /// the prepass's view bindings (the light's view; groups 0 and 1), then
 /// the draw of [`DrawGrass`].
 pub type DrawGrassShadow = (
@@ -200,11 +200,14 @@ pub fn queue_grass(
     }
 }
 
-/// Queues the blades' draw into every shadow view's phase (each cascade of
-/// a directional light, each face of a point light, each spot light) when
-/// `GrassLook::cast_shadows` is on this frame, and takes it out of them
-/// when it is off. The draw is not culled per light: the blades drawn are
-/// the camera's (its drawn cells), which lie within the field's bounds.
+/// Queues the two grass draws into every shadow view's phase (each cascade
+/// of a directional light, each face of a point light, each spot light)
+/// when `GrassLook::cast_shadows` is on this frame, and takes them out of
+/// them when it is off. The draws are not culled per light: the blades and
+/// billboards drawn are the camera's (its drawn cells and their blend
+/// bands), which lie within the field's bounds, so that the shadows fall
+/// from the grass the camera sees and change where its levels of detail
+/// do, as the grass does.
 #[allow(clippy::too_many_arguments)]
 pub fn queue_grass_shadows(
     pipeline_cache: Res<PipelineCache>,
@@ -219,41 +222,40 @@ pub fn queue_grass_shadows(
     let (Some(mut pipeline), Some(prepass)) = (pipeline, prepass) else {
         return;
     };
-    let Some((entity, &main_entity, _)) = draws.iter().find(|(_, _, d)| **d == GrassDraw::Blades)
-    else {
-        return;
-    };
     let draw_shadow = draw_functions.read().id::<DrawGrassShadow>();
     for (light, view) in &lights {
         let Some(phase) = phases.get_mut(&view.retained_view_entity) else {
             continue;
         };
-        // Added anew each frame (the pipeline may differ): out first.
-        phase.remove(main_entity);
-        if !frame.cast_shadows || frame.layout.is_none() {
-            continue;
-        }
         let directional = matches!(light, LightEntity::Directional { .. });
-        let pipeline_id = match pipeline.shadow_pipeline(&pipeline_cache, &prepass, directional) {
-            Ok(id) => id,
-            Err(e) => {
-                error!("bevy_trample: grass shadow pipeline: {e}");
+        for (entity, &main_entity, &draw) in &draws {
+            // Added anew each frame (the pipeline may differ): out first.
+            phase.remove(main_entity);
+            if !frame.cast_shadows || frame.layout.is_none() {
                 continue;
             }
-        };
-        phase.add(
-            ShadowBatchSetKey {
-                pipeline: pipeline_id,
-                draw_function: draw_shadow,
-                material_bind_group_index: None,
-                slabs: MeshSlabs::default(),
-            },
-            ShadowBinKey {
-                asset_id: AssetId::<Mesh>::invalid().untyped(),
-            },
-            (entity, main_entity),
-            InputUniformIndex::default(),
-            BinnedRenderPhaseType::NonMesh,
-        );
+            let pipeline_id =
+                match pipeline.shadow_pipeline(&pipeline_cache, &prepass, directional, draw) {
+                    Ok(id) => id,
+                    Err(e) => {
+                        error!("bevy_trample: grass shadow pipeline: {e}");
+                        continue;
+                    }
+                };
+            phase.add(
+                ShadowBatchSetKey {
+                    pipeline: pipeline_id,
+                    draw_function: draw_shadow,
+                    material_bind_group_index: None,
+                    slabs: MeshSlabs::default(),
+                },
+                ShadowBinKey {
+                    asset_id: AssetId::<Mesh>::invalid().untyped(),
+                },
+                (entity, main_entity),
+                InputUniformIndex::default(),
+                BinnedRenderPhaseType::NonMesh,
+            );
+        }
     }
 }
