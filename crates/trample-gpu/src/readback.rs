@@ -39,34 +39,9 @@ pub fn read_buffer<T: Pod>(
         .map_err(|e| fail(e.to_string()))?
         .map_err(|e| fail(e.to_string()))?;
     let out = {
-        let view = staging
-            .slice(..)
-            .get_mapped_range()
-            .mapped()
-            .map_err(fail)?;
+        let view = staging.slice(..).get_mapped_range();
         bytemuck::cast_slice::<u8, T>(&view).to_vec()
     };
     staging.unmap();
     Ok(out)
-}
-
-/// `BufferSlice::get_mapped_range`'s answer as a `Result`, whichever wgpu
-/// this crate is built against: wgpu 30 returns a `Result`, wgpu 29 (the
-/// one Bevy 0.19 renders with, for which `trample-gpu-wgpu29` builds these
-/// same sources) the view itself.
-trait Mapped {
-    /// The mapped view, or why it could not be had.
-    fn mapped(self) -> Result<wgpu::BufferView, String>;
-}
-
-impl Mapped for wgpu::BufferView {
-    fn mapped(self) -> Result<wgpu::BufferView, String> {
-        Ok(self)
-    }
-}
-
-impl<E: std::fmt::Display> Mapped for Result<wgpu::BufferView, E> {
-    fn mapped(self) -> Result<wgpu::BufferView, String> {
-        self.map_err(|e| e.to_string())
-    }
 }

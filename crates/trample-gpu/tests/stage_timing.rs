@@ -1,6 +1,6 @@
 //! Per-stage GPU times of `GpuSimulation`'s profiling mode (issue 4, item
 //! 4): timestamp queries on a device that has them (both Mesa drivers do
-//! through wgpu 30), wall time per stage on one created without them. In
+//! through wgpu 29), wall time per stage on one created without them. In
 //! either way every stage time is non-negative, their sum fits in the
 //! step's wall time, and the narrow phase takes time when an object touches
 //! the field. Speed itself is not asserted.

@@ -91,7 +91,6 @@ impl App {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,
             compatible_surface: Some(&surface),
-            apply_limit_buckets: false,
         }))?;
         let (device, queue) =
             pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -120,7 +119,6 @@ impl App {
                 .copied()
                 .unwrap_or(wgpu::CompositeAlphaMode::Auto),
             view_formats: vec![],
-            color_space: wgpu::SurfaceColorSpace::Auto,
         };
         surface.configure(&device, &config);
         let samples = embed::msaa(&adapter, format, 4);
@@ -186,7 +184,7 @@ impl App {
         }
         g.queue.submit([encoder.finish()]);
         g.window.pre_present_notify();
-        g.queue.present(texture);
+        texture.present();
         self.frames += 1;
         Ok(())
     }

@@ -76,7 +76,6 @@ pub fn create_device_with(optional: wgpu::Features) -> Result<Gpu, RenderError> 
         power_preference: wgpu::PowerPreference::HighPerformance,
         force_fallback_adapter: false,
         compatible_surface: None,
-        apply_limit_buckets: false,
     }))
     .map_err(|e| RenderError::NoAdapter {
         backends: format!("{backends:?}"),

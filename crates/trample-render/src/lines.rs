@@ -155,11 +155,11 @@ impl LinePass {
                 label: "debug lines",
                 module: &module,
                 layouts: &[globals],
-                buffers: &[Some(wgpu::VertexBufferLayout {
+                buffers: &[wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<LineVertex>() as u64,
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &attributes,
-                })],
+                }],
                 topology: wgpu::PrimitiveTopology::LineList,
                 cull: None,
                 // Over everything: a debug view shows the hidden boxes too.

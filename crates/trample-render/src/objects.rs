@@ -93,11 +93,11 @@ impl ObjectPass {
                 label: "objects",
                 module: &module,
                 layouts: &[globals, &layout],
-                buffers: &[Some(wgpu::VertexBufferLayout {
+                buffers: &[wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<GroundVertex>() as u64,
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &attributes,
-                })],
+                }],
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 // Meshes may be open or wound either way: draw both sides.
                 cull: None,

@@ -25,7 +25,7 @@ pub struct Spec<'a> {
     /// Bind group layouts, group 0 first (the globals).
     pub layouts: &'a [&'a wgpu::BindGroupLayout],
     /// Vertex buffers (empty for passes that pull from storage buffers).
-    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    pub buffers: &'a [wgpu::VertexBufferLayout<'a>],
     /// Primitive topology.
     pub topology: wgpu::PrimitiveTopology,
     /// Face culling (`None` = two-sided).

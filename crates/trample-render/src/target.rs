@@ -173,9 +173,7 @@ impl Target {
             .map_err(|e| RenderError::Readback(e.to_string()))?;
         let mut pixels = Vec::with_capacity((self.width * self.height * 4) as usize);
         {
-            let data = slice
-                .get_mapped_range()
-                .map_err(|e| RenderError::Readback(e.to_string()))?;
+            let data = slice.get_mapped_range();
             for row in data.chunks(self.padded_row as usize) {
                 pixels.extend_from_slice(&row[..(self.width * 4) as usize]);
             }

@@ -216,11 +216,11 @@ impl TerrainPass {
                 label: "terrain",
                 module: &module,
                 layouts: &[globals, &layout],
-                buffers: &[Some(wgpu::VertexBufferLayout {
+                buffers: &[wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<GroundVertex>() as u64,
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &attributes,
-                })],
+                }],
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 cull: None,
                 depth: crate::pipeline::DepthUse::Write,

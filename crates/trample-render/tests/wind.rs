@@ -231,7 +231,7 @@ fn the_shaders_wind_is_the_cores_formula() {
             .map_async(wgpu::MapMode::Read, |r| r.unwrap());
         device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
         let got: Vec<[f32; 4]> =
-            bytemuck::cast_slice(&staging.slice(..).get_mapped_range().unwrap()).to_vec();
+            bytemuck::cast_slice(&staging.slice(..).get_mapped_range()).to_vec();
         staging.unmap();
         for (r, g) in roots.iter().zip(&got) {
             let want =

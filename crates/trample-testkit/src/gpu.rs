@@ -78,7 +78,6 @@ pub fn create_device_as(
         power_preference: wgpu::PowerPreference::HighPerformance,
         force_fallback_adapter: false,
         compatible_surface: None,
-        apply_limit_buckets: false,
     }))
     .map_err(|e| DeviceError::NoAdapter {
         backends: format!("{backends:?}"),

@@ -130,7 +130,6 @@ impl Viewer {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,
             compatible_surface: Some(&surface),
-            apply_limit_buckets: false,
         }))
         .map_err(|e| ViewError::Graphics(format!("no adapter for the window: {}", one_line(&e))))?;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -168,7 +167,6 @@ impl Viewer {
                 .copied()
                 .unwrap_or(wgpu::CompositeAlphaMode::Auto),
             view_formats: vec![],
-            color_space: wgpu::SurfaceColorSpace::Auto,
         };
         surface.configure(&device, &config);
         let render_params = RenderParams {
@@ -240,11 +238,9 @@ impl Viewer {
             .handle_platform_output(&g.window, out.platform_output);
         let jobs = g.egui_ctx.tessellate(out.shapes, out.pixels_per_point);
         let mut textures = out.textures_delta;
-        for (id, deltas) in textures.set.drain() {
-            for delta in &deltas {
-                g.egui_renderer
-                    .update_texture(&g.device, &g.queue, id, delta);
-            }
+        for (id, delta) in textures.set.drain(..) {
+            g.egui_renderer
+                .update_texture(&g.device, &g.queue, id, &delta);
         }
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [g.render_params.width, g.render_params.height],
@@ -313,9 +309,9 @@ impl Viewer {
         g.queue.submit(commands);
         if let Some(t) = surface_texture {
             g.window.pre_present_notify();
-            g.queue.present(t);
+            t.present();
         }
-        for id in textures.free.drain() {
+        for id in textures.free.drain(..) {
             g.egui_renderer.free_texture(&id);
         }
         self.frames += 1;

@@ -31,8 +31,8 @@ use bevy::ecs::system::SystemParam;
 use bevy::prelude::*;
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use trample::{Simulation, StepTimings};
-use trample_gpu_wgpu29::draw_lists::GpuDrawParams;
-use trample_gpu_wgpu29::{GpuSimulation, wgpu};
+use trample_gpu::draw_lists::GpuDrawParams;
+use trample_gpu::{GpuSimulation, wgpu};
 
 /// The main world's handles to Bevy's device and queue (absent until the
 /// renderer has made them) and the grass's look (the draw lists' drawn
@@ -276,7 +276,7 @@ impl TrampleField {
             instances: lists.blade_instances.clone(),
             billboards: lists.billboards.clone(),
             args: lists.args.clone(),
-            billboard_args: trample_gpu_wgpu29::draw_lists::DRAW_ARGS_BYTES
+            billboard_args: trample_gpu::draw_lists::DRAW_ARGS_BYTES
                 * path.gpu.field.chunks.len() as u64,
         })
     }

@@ -14,7 +14,7 @@
 use crate::field::TrampleField;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};
-use trample_gpu_wgpu29::wgpu;
+use trample_gpu::wgpu;
 
 /// Cells copied back each step at most, on average (4 bytes each).
 pub const CELLS_A_COPY: u64 = 1 << 20;

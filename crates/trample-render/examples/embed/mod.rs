@@ -108,11 +108,11 @@ impl Cube {
                 module: &module,
                 entry_point: Some("vs_main"),
                 compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
+                buffers: &[wgpu::VertexBufferLayout {
                     array_stride: 12,
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                })],
+                }],
             },
             primitive: wgpu::PrimitiveState::default(),
             depth_stencil: target.depth.map(|format| wgpu::DepthStencilState {
@@ -446,7 +446,7 @@ pub fn render_headless(
     rx.recv()??;
     let mut pixels = Vec::with_capacity((width * height * 4) as usize);
     {
-        let data = slice.get_mapped_range()?;
+        let data = slice.get_mapped_range();
         for r in data.chunks(row as usize) {
             pixels.extend_from_slice(&r[..(width * 4) as usize]);
         }
