@@ -5,8 +5,9 @@
 //! GPU's buffers (one indirect draw a chunk) is the CPU path's frame, and
 //! so is the CPU path's frame drawn in chunks (a device whose binding is
 //! under the field's vertices), without and with the grass's shadows
-//! (`GrassLook::cast_shadows`); and a field the device cannot take stays
-//! on the CPU path and says why.
+//! (`GrassLook::cast_shadows`), whose shadows point and spot lights cast
+//! too; and a field the device cannot take stays on the CPU path and says
+//! why.
 //!
 //! These tests need a Vulkan adapter (Bevy 0.19's wgpu is built without
 //! GL here): lavapipe on CI (`.ci/run` installs it), a GPU elsewhere. No
@@ -324,6 +325,26 @@ fn a_field_the_device_cannot_take_stays_on_the_cpu_path_and_says_why() {
 /// sixteen times the texels); returns the image. The camera draws when
 /// `drawing`, else from [`draw_frames`] on.
 fn add_camera(app: &mut App, drawing: bool) -> Handle<Image> {
+    let handle = add_camera_alone(app, drawing);
+    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 1024 });
+    app.world_mut().spawn((
+        DirectionalLight {
+            shadow_maps_enabled: true,
+            ..default()
+        },
+        bevy::light::CascadeShadowConfigBuilder {
+            num_cascades: 1,
+            maximum_distance: 20.0,
+            ..default()
+        }
+        .build(),
+        Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    handle
+}
+
+/// The camera of [`add_camera`] without its sun.
+fn add_camera_alone(app: &mut App, drawing: bool) -> Handle<Image> {
     let mut image =
         Image::new_target_texture(FRAME[0], FRAME[1], TextureFormat::Rgba8UnormSrgb, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
@@ -340,20 +361,6 @@ fn add_camera(app: &mut App, drawing: bool) -> Handle<Image> {
         },
         Transform::from_xyz(-1.0, 3.0, 5.0).looking_at(Vec3::new(-1.0, 0.0, 0.0), Vec3::Y),
         TrampleCamera,
-    ));
-    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 1024 });
-    app.world_mut().spawn((
-        DirectionalLight {
-            shadow_maps_enabled: true,
-            ..default()
-        },
-        bevy::light::CascadeShadowConfigBuilder {
-            num_cascades: 1,
-            maximum_distance: 20.0,
-            ..default()
-        }
-        .build(),
-        Transform::from_xyz(2.0, 5.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
     handle
 }
@@ -563,22 +570,14 @@ fn the_grass_casts_shadows_and_the_frames_drawn_in_chunks_or_clamped_are_the_cpu
     let names = ["CPU path", "CPU path, in chunks", "no unclipped depth"];
     same_frames(&plain, &names, "without");
     same_frames(&shaded, &names, "with");
-    let luma = |p: &[u8]| u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]);
     // Pixels of `rows` darker and brighter with the grass's shadows than
-    // without (by more than 24 in the sum of R, G and B).
+    // without.
     let row = 4 * FRAME[0] as usize;
     let changed = |rows: std::ops::Range<usize>| {
-        let (off, on) = (
+        darker_and_brighter(
             &plain[0][rows.start * row..rows.end * row],
             &shaded[0][rows.start * row..rows.end * row],
-        );
-        let (mut darker, mut brighter) = (0, 0);
-        for (off, on) in off.chunks(4).zip(on.chunks(4)) {
-            let (a, b) = (luma(off), luma(on));
-            darker += usize::from(b + 24 < a);
-            brighter += usize::from(a + 24 < b);
-        }
-        (darker, brighter)
+        )
     };
     let (darker, brighter) = changed(0..FRAME[1] as usize);
     eprintln!("grass shadows: {darker} of {pixels} pixels darker, {brighter} brighter");
@@ -593,6 +592,107 @@ fn the_grass_casts_shadows_and_the_frames_drawn_in_chunks_or_clamped_are_the_cpu
         let of = rows.len() * FRAME[0] as usize;
         eprintln!("{name}' rows {rows:?}: {darker} of {of} pixels darker");
         assert!(darker * 10 > of, "{name}: {darker} of {of} pixels darker");
+    }
+}
+
+/// Pixels darker and brighter in `on` than in `off` (by more than 24 in
+/// the sum of R, G and B).
+fn darker_and_brighter(off: &[u8], on: &[u8]) -> (usize, usize) {
+    let luma = |p: &[u8]| u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]);
+    let (mut darker, mut brighter) = (0, 0);
+    for (off, on) in off.chunks(4).zip(on.chunks(4)) {
+        let (a, b) = (luma(off), luma(on));
+        darker += usize::from(b + 24 < a);
+        brighter += usize::from(a + 24 < b);
+    }
+    (darker, brighter)
+}
+
+/// A point light (its six cube faces) and a spot light cast the grass's
+/// shadows too, as the sun does: each alone over the field (no sun), the
+/// frame without and with `GrassLook::cast_shadows` — their shadow views
+/// are perspective ones, with no depth clamp. The frame is lit (not black),
+/// the grass's shadows darken a good part of it, and brighten nothing.
+#[test]
+fn point_and_spot_lights_cast_the_grass_shadows() {
+    let mut app = app(frame_field(), Some(None));
+    wait_for_device(&mut app);
+    let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
+    while steps(&app) < FRAMES {
+        app.update();
+    }
+    app.world_mut().resource_mut::<Time<Virtual>>().pause();
+    let image = add_camera_alone(&mut app, true);
+    let pixels = (FRAME[0] * FRAME[1]) as usize;
+    let lights: [(&str, Box<dyn Fn(&mut World) -> Entity>); 2] = [
+        (
+            "point",
+            Box::new(|world: &mut World| {
+                world
+                    .spawn((
+                        PointLight {
+                            intensity: 4.0e6,
+                            range: 20.0,
+                            shadow_maps_enabled: true,
+                            ..default()
+                        },
+                        Transform::from_xyz(0.0, 2.5, 1.0),
+                    ))
+                    .id()
+            }),
+        ),
+        (
+            "spot",
+            Box::new(|world: &mut World| {
+                world
+                    .spawn((
+                        SpotLight {
+                            intensity: 8.0e6,
+                            range: 20.0,
+                            outer_angle: 0.9,
+                            inner_angle: 0.6,
+                            shadow_maps_enabled: true,
+                            ..default()
+                        },
+                        Transform::from_xyz(1.0, 4.0, 2.0)
+                            .looking_at(Vec3::new(-1.0, 0.0, 0.0), Vec3::Y),
+                    ))
+                    .id()
+            }),
+        ),
+    ];
+    for (name, spawn) in &lights {
+        let light = spawn(app.world_mut());
+        app.world_mut().resource_mut::<GrassLook>().cast_shadows = false;
+        let off = capture(&mut app, &image);
+        app.world_mut().resource_mut::<GrassLook>().cast_shadows = true;
+        let on = capture(&mut app, &image);
+        app.world_mut().despawn(light);
+        save_frames(
+            &format!("bevy_trample_{name}_light"),
+            &["without", "with"],
+            &[off.clone(), on.clone()],
+        );
+        let lit = off
+            .chunks(4)
+            .filter(|p| u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]) > 60)
+            .count();
+        let (darker, brighter) = darker_and_brighter(&off, &on);
+        eprintln!(
+            "{name} light: {lit} of {pixels} pixels lit; grass shadows: {darker} darker, {brighter} brighter"
+        );
+        assert!(
+            lit > pixels / 3,
+            "{name} light: {lit} of {pixels} pixels lit"
+        );
+        assert!(
+            darker > pixels / 20,
+            "{name} light: {darker} of {pixels} pixels darker"
+        );
+        assert!(
+            brighter * 100 <= pixels,
+            "{name} light: {brighter} of {pixels} pixels brighter"
+        );
     }
 }
 
