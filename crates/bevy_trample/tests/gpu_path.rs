@@ -608,6 +608,37 @@ fn darker_and_brighter(off: &[u8], on: &[u8]) -> (usize, usize) {
     (darker, brighter)
 }
 
+/// A light that casts shadows over the track: `"point"`, 2.5 m above it,
+/// else a spot light from 4 m, aimed at the camera's target.
+fn spawn_light(world: &mut World, kind: &str) -> Entity {
+    if kind == "point" {
+        return world
+            .spawn((
+                PointLight {
+                    intensity: 4.0e6,
+                    range: 20.0,
+                    shadow_maps_enabled: true,
+                    ..default()
+                },
+                Transform::from_xyz(0.0, 2.5, 1.0),
+            ))
+            .id();
+    }
+    world
+        .spawn((
+            SpotLight {
+                intensity: 8.0e6,
+                range: 20.0,
+                outer_angle: 0.9,
+                inner_angle: 0.6,
+                shadow_maps_enabled: true,
+                ..default()
+            },
+            Transform::from_xyz(1.0, 4.0, 2.0).looking_at(Vec3::new(-1.0, 0.0, 0.0), Vec3::Y),
+        ))
+        .id()
+}
+
 /// A point light (its six cube faces) and a spot light cast the grass's
 /// shadows too, as the sun does: each alone over the field (no sun), the
 /// frame without and with `GrassLook::cast_shadows` — their shadow views
@@ -624,45 +655,8 @@ fn point_and_spot_lights_cast_the_grass_shadows() {
     app.world_mut().resource_mut::<Time<Virtual>>().pause();
     let image = add_camera_alone(&mut app, true);
     let pixels = (FRAME[0] * FRAME[1]) as usize;
-    let lights: [(&str, Box<dyn Fn(&mut World) -> Entity>); 2] = [
-        (
-            "point",
-            Box::new(|world: &mut World| {
-                world
-                    .spawn((
-                        PointLight {
-                            intensity: 4.0e6,
-                            range: 20.0,
-                            shadow_maps_enabled: true,
-                            ..default()
-                        },
-                        Transform::from_xyz(0.0, 2.5, 1.0),
-                    ))
-                    .id()
-            }),
-        ),
-        (
-            "spot",
-            Box::new(|world: &mut World| {
-                world
-                    .spawn((
-                        SpotLight {
-                            intensity: 8.0e6,
-                            range: 20.0,
-                            outer_angle: 0.9,
-                            inner_angle: 0.6,
-                            shadow_maps_enabled: true,
-                            ..default()
-                        },
-                        Transform::from_xyz(1.0, 4.0, 2.0)
-                            .looking_at(Vec3::new(-1.0, 0.0, 0.0), Vec3::Y),
-                    ))
-                    .id()
-            }),
-        ),
-    ];
-    for (name, spawn) in &lights {
-        let light = spawn(app.world_mut());
+    for name in ["point", "spot"] {
+        let light = spawn_light(app.world_mut(), name);
         app.world_mut().resource_mut::<GrassLook>().cast_shadows = false;
         let off = capture(&mut app, &image);
         app.world_mut().resource_mut::<GrassLook>().cast_shadows = true;
