@@ -198,18 +198,22 @@ fn pressed(field: &TrampleField) -> usize {
     (0..bl.count).filter(|&b| bl.tip_lowering(b) > 0.05).count()
 }
 
+/// The steps `app`'s field has taken: its simulated time over `DT`.
+fn steps_taken(app: &App) -> usize {
+    (app.world().resource::<TrampleField>().sim.time / DT).round() as usize
+}
+
 /// Runs `gpu` (on the GPU path) and `cpu` (on the CPU path) to the same
 /// simulated time, at least `FRAMES` steps; returns the steps.
 fn run_both(gpu: &mut App, cpu: &mut App) -> usize {
-    let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
-    while steps(gpu) < FRAMES {
+    while steps_taken(gpu) < FRAMES {
         gpu.update();
     }
-    while steps(cpu) < steps(gpu) {
+    while steps_taken(cpu) < steps_taken(gpu) {
         cpu.update();
     }
-    assert_eq!(steps(cpu), steps(gpu));
-    steps(cpu)
+    assert_eq!(steps_taken(cpu), steps_taken(gpu));
+    steps_taken(cpu)
 }
 
 /// The GPU path against the CPU path on a device with `limits` (None:
@@ -427,17 +431,16 @@ fn frames_without_and_with_shadows(
     names: &[&str],
 ) -> (Vec<Vec<u8>>, Vec<Vec<u8>>) {
     let (mut plain, mut shaded) = (Vec::new(), Vec::new());
-    let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
     for app in apps.iter_mut() {
         wait_for_device(app);
         // The camera for the last few steps (the field's levels of detail
         // and drawn lists are its), drawing only once paused: each frame
         // costs a software rasteriser seconds.
-        while steps(app) < FRAMES - 5 {
+        while steps_taken(app) < FRAMES - 5 {
             app.update();
         }
         let image = add_camera(app, false);
-        while steps(app) < FRAMES {
+        while steps_taken(app) < FRAMES {
             app.update();
         }
         // Paused: the GPU path's ground track, copied back a frame or two
@@ -450,7 +453,7 @@ fn frames_without_and_with_shadows(
         plain.push(capture(app, &image));
         app.world_mut().resource_mut::<GrassLook>().cast_shadows = true;
         shaded.push(capture(app, &image));
-        assert_eq!(steps(app), FRAMES);
+        assert_eq!(steps_taken(app), FRAMES);
     }
     save_frames(prefix, names, &plain);
     save_frames(&format!("{prefix}_shadows"), names, &shaded);
@@ -648,8 +651,7 @@ fn spawn_light(world: &mut World, kind: &str) -> Entity {
 fn point_and_spot_lights_cast_the_grass_shadows() {
     let mut app = app(frame_field(), Some(None));
     wait_for_device(&mut app);
-    let steps = |app: &App| (app.world().resource::<TrampleField>().sim.time / DT).round() as usize;
-    while steps(&app) < FRAMES {
+    while steps_taken(&app) < FRAMES {
         app.update();
     }
     app.world_mut().resource_mut::<Time<Virtual>>().pause();
