@@ -17,6 +17,8 @@ pub struct SimOverrides {
     pub memory_limit_gib: Option<f32>,
     /// `--far-every`.
     pub far_every: Option<u32>,
+    /// `--far-outside-view` (given: `true`).
+    pub far_outside_view: bool,
 }
 
 impl SimOverrides {
@@ -68,6 +70,9 @@ pub fn load_scene(path: Option<&Path>, flags: SimOverrides) -> Result<Scene> {
     }
     if let Some(k) = flags.far_every {
         sim.far_every = k;
+    }
+    if flags.far_outside_view {
+        sim.far_outside_view = true;
     }
     scene.validate()?;
     Ok(scene)

@@ -78,6 +78,11 @@ pub struct Args {
     /// (overrides `[sim] far_every`; 1 = every object every step).
     #[arg(long, value_name = "K")]
     pub far_every: Option<u32>,
+    /// With far objects taking turns (`--far-every` or `[sim] far_every`
+    /// above 1), objects out of the camera's view take turns too, however
+    /// near (sets `[sim] far_outside_view`).
+    #[arg(long)]
+    pub far_outside_view: bool,
     /// Simulation path: auto = the GPU on a hardware adapter, else the CPU;
     /// gpu = the GPU path (also on a software adapter); cpu = the reference.
     /// On the GPU path the state is read back for each rendered frame (the
@@ -245,6 +250,7 @@ pub fn run(a: &Args) -> Result<()> {
         precision: a.precision,
         memory_limit_gib: a.memory_limit_gib,
         far_every: a.far_every,
+        far_outside_view: a.far_outside_view,
         ..SimOverrides::default()
     };
     let mut scene = load_scene(a.scene.as_deref(), flags)?;

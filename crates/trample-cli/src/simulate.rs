@@ -34,6 +34,11 @@ pub struct Args {
     /// (overrides `[sim] far_every`; 1 = every object every step).
     #[arg(long, value_name = "K")]
     pub far_every: Option<u32>,
+    /// With far objects taking turns (`--far-every` or `[sim] far_every`
+    /// above 1), objects out of the camera's view take turns too, however
+    /// near (sets `[sim] far_outside_view`).
+    #[arg(long)]
+    pub far_outside_view: bool,
     /// Output folder for summary.json.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
@@ -64,6 +69,7 @@ pub fn run(a: &Args) -> Result<()> {
         dt: a.dt,
         memory_limit_gib: a.memory_limit_gib,
         far_every: a.far_every,
+        far_outside_view: a.far_outside_view,
     };
     let scene = load_scene(a.scene.as_deref(), flags)?;
     let out = out_dir(&a.out)?;
@@ -184,7 +190,12 @@ pub fn run(a: &Args) -> Result<()> {
         match summary.far_every {
             1 => String::new(),
             k => format!(
-                "; far objects every {k} steps: {:.1} a step",
+                "; far{} objects every {k} steps: {:.1} a step",
+                if summary.far_outside_view {
+                    " and unseen"
+                } else {
+                    ""
+                },
                 summary.far_bodies_mean
             ),
         },

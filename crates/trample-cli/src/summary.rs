@@ -107,6 +107,9 @@ pub struct SimSummary {
     /// `sim.far_every`: far objects touch the grass every this many steps
     /// (1: every object every step).
     pub far_every: u32,
+    /// `sim.far_outside_view`: objects out of the camera's view take turns
+    /// too (with `far_every` above 1).
+    pub far_outside_view: bool,
     /// Bodies stepped in far passes a step, on average over the run (0
     /// with `far_every = 1`).
     pub far_bodies_mean: f64,
@@ -176,6 +179,7 @@ impl SimSummary {
                 ("propagated", count(BladeClass::Propagated)),
             ]),
             far_every: sim.params.far_every,
+            far_outside_view: sim.params.far_outside_view,
             far_bodies_mean: mean(|t| t.far_bodies),
             substeps_mean: mean(|t| t.substeps),
             reused_tiles_mean: mean(|t| t.reused_tiles),

@@ -143,6 +143,51 @@ fn simulate_far_every_steps_far_objects_in_turns_and_says_so() {
     );
 }
 
+/// `--far-outside-view` reaches the simulation and the summary says what
+/// it did: the ball 4 m from the camera, which looks away from it, takes
+/// its turn every fourth step with the flag and every step without it.
+#[test]
+fn simulate_far_outside_view_steps_unseen_objects_in_turns_and_says_so() {
+    let d = dir("unseen");
+    let scene = d.join("unseen.toml");
+    let text = SCENE.replace("at = [0.0, 0.0, 0.0]", "at = [0.0, 0.0, 10.0]");
+    assert_ne!(text, SCENE);
+    std::fs::write(&scene, text).unwrap();
+    for (flag, turns) in [(true, 0.25), (false, 0.0)] {
+        let out = d.join(format!("out_{flag}"));
+        let mut args = vec![
+            "simulate",
+            scene.to_str().unwrap(),
+            "--frames",
+            "40",
+            "--far-every",
+            "4",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if flag {
+            args.push("--far-outside-view");
+        }
+        let o = trample(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let err = String::from_utf8_lossy(&o.stderr);
+        let says = if flag {
+            "far and unseen objects every 4 steps: "
+        } else {
+            "far objects every 4 steps: "
+        };
+        assert!(err.contains(says), "{err}");
+        let s: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+        assert_eq!(s["far_outside_view"], flag);
+        assert_eq!(s["far_bodies_mean"], turns, "{flag}");
+        assert!(
+            s["classes"]["direct"].as_u64().unwrap() > 0,
+            "the ball hit blades"
+        );
+    }
+}
+
 #[test]
 fn frames_zero_dumps_the_rest_state_and_collide_agrees() {
     let d = dir("rest");

@@ -553,8 +553,9 @@ const COUNT_TOLERANCE: u32 = 2;
 /// the object count, that most objects touch grass, and returns the worst
 /// vertex difference (m). `recovery_s`: `[sim]`'s (the scene's is ∞).
 /// Checks too that the step's counts agree ([`COUNT_TOLERANCE`]), far
-/// passes included.
-fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
+/// passes included. `outside_view`: `[sim] far_outside_view` (objects out
+/// of the camera's view take turns too; checked to happen exactly then).
+fn herd_parity(frames: u32, far_every: u32, recovery_s: f32, outside_view: bool) -> f32 {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let mut scene = Scene::load(&dir.join("herd_small.toml")).expect("herd_small.toml");
     assert_eq!(scene.file.objects.len(), 128);
@@ -563,6 +564,7 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     scene.file.field.cell_size_m = 0.4;
     scene.file.sim.far_every = far_every;
     scene.file.sim.recovery_s = recovery_s;
+    scene.file.sim.far_outside_view = outside_view;
     // Every displaced blade every step (see `check_parity`).
     scene.file.sim.recovery_stride_m = 0.0;
     let gpu = common::gpu();
@@ -573,6 +575,8 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     let chunks = g.field.chunks.len() as u32;
     let dt = cpu.params.dt_s;
     let (mut touched, mut substeps, mut far_passes) = (0u64, 0, 0);
+    // Turns taken by bodies near the camera (out of its view).
+    let mut unseen = 0;
     // Blades displaced in far patches while they waited for their turn
     // (`trample::step::recovery_turns`), summed over the steps.
     let mut waited = 0u64;
@@ -583,6 +587,12 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     let mut count_excess = 0u32;
     let per_patch = cpu.field.layout.patch_list[0].blades as usize;
     for _ in 0..frames {
+        let (eye, beyond) = (cpu.eye(), cpu.params.far_beyond_m);
+        unseen += trample::step::passes::far_turns(&cpu)
+            .iter()
+            .zip(&cpu.bodies)
+            .filter(|(t, b)| t.is_some() && !trample::step::passes::is_far(b, eye, beyond))
+            .count();
         far_passes += trample::step::passes::plan_passes(&cpu, dt)
             .iter()
             .filter(|p| !p.near)
@@ -633,13 +643,18 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
     let owners: std::collections::BTreeSet<u8> = cpu.track_owner.iter().copied().collect();
     assert_eq!(far_passes > 0, far_every > 1, "{far_passes} far passes");
     assert_eq!(
+        unseen > 0,
+        outside_view && far_every > 1,
+        "{unseen} turns of near bodies out of view"
+    );
+    assert_eq!(
         waited > 0,
         far_every > 1,
         "{waited} blades waited for their patch's turn to recover"
     );
     eprintln!(
         "herd, far_every = {far_every}, recovery_s = {recovery_s}: {objects} objects, {frames} frames ({substeps} sub-steps), {} blades, \
-         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s), {far_passes} far passes, \
+         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s), {far_passes} far passes ({unseen} body turns out of view), \
          {waited} blade-steps waiting to recover: worst vertex difference {worst:e} m; \
          counts (DBG, PBG, generations, contact, displaced, transitions) differ by at most {count_worst:?}",
         bl.count,
@@ -672,7 +687,7 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32) -> f32 {
 /// before either change.
 #[test]
 fn herd_of_128_objects_60_frames_matches_the_cpu() {
-    let worst = herd_parity(60, 1, f32::INFINITY);
+    let worst = herd_parity(60, 1, f32::INFINITY, false);
     assert!(
         worst <= VERTEX_TOLERANCE_M,
         "worst vertex difference {worst} m"
@@ -686,7 +701,20 @@ fn herd_of_128_objects_60_frames_matches_the_cpu() {
 /// passes with only their bodies listed by the broad phase), 40 frames.
 #[test]
 fn herd_with_far_objects_every_fourth_frame_matches_the_cpu() {
-    let worst = herd_parity(40, 4, f32::INFINITY);
+    let worst = herd_parity(40, 4, f32::INFINITY, false);
+    assert!(
+        worst <= VERTEX_TOLERANCE_M,
+        "worst vertex difference {worst} m"
+    );
+}
+
+/// Objects out of the camera's view taking turns too
+/// (`sim.far_outside_view`; `trample::step::passes::is_out_of_view`): the
+/// herd's objects near the camera but behind or beside it join the far
+/// ones' turns, every fourth frame, 40 frames.
+#[test]
+fn herd_with_objects_out_of_view_in_turns_matches_the_cpu() {
+    let worst = herd_parity(40, 4, f32::INFINITY, true);
     assert!(
         worst <= VERTEX_TOLERANCE_M,
         "worst vertex difference {worst} m"
@@ -700,7 +728,7 @@ fn herd_with_far_objects_every_fourth_frame_matches_the_cpu() {
 /// and catches up as the CPU does, 40 frames.
 #[test]
 fn herd_recovering_far_patches_in_turns_matches_the_cpu() {
-    let worst = herd_parity(40, 4, 1.0);
+    let worst = herd_parity(40, 4, 1.0, false);
     assert!(
         worst <= VERTEX_TOLERANCE_M,
         "worst vertex difference {worst} m"

@@ -872,3 +872,197 @@ fn far_patches_recover_in_turns_and_near_ones_every_step_bit_for_bit() {
         );
     }
 }
+
+/// Two balls rolling across a 12.8 m field within `far_beyond_m` of the
+/// camera, which stands in its middle looking along +z: "ahead" (body 0)
+/// rolls in its view, "behind" (body 1) behind it. `sim`: more `[sim]`
+/// lines.
+fn ahead_and_behind(sim: &str) -> Simulation {
+    sim_from(&format!(
+        r#"
+[field]
+patches = [4, 4]
+cells_per_patch = 32
+[sim]
+precision = 5
+{sim}
+[camera]
+path = {{ kind = "static", position = [0.0, 2.0, 0.0] }}
+look_at = {{ kind = "point", at = [0.0, 0.0, 10.0] }}
+[[objects]]
+name = "ahead"
+shape = {{ kind = "sphere", radius_m = 0.4 }}
+orientation = "rolling"
+path = {{ kind = "line", from = [-3.0, 0.4, 5.0], to = [3.0, 0.4, 5.0], duration_s = 2.5 }}
+[[objects]]
+name = "behind"
+shape = {{ kind = "sphere", radius_m = 0.4 }}
+orientation = "rolling"
+path = {{ kind = "line", from = [-5.0, 0.4, -4.0], to = [5.0, 0.4, -4.0], duration_s = 2.5 }}
+"#
+    ))
+}
+
+/// Bodies out of the camera's view take turns when asked
+/// (`sim.far_outside_view`): with `far_every = 2` the ball behind the
+/// camera, 4 m from it, steps every other frame and the ball in view every
+/// frame; without the flag, or with `far_every = 1`, both every frame. The
+/// ball behind leaves the track of the field stepped at its rate (the
+/// bounds of `a_far_body_leaves_the_track_of_the_field_stepped_at_its_rate`
+/// at k = 2, against the run without the flag; the ball ahead's blades are
+/// the same bits in both).
+#[test]
+fn bodies_out_of_view_take_turns_when_asked() {
+    let frames = 150;
+    let mut runs = Vec::new();
+    for (k, flag) in [(2u32, true), (2, false), (1, true)] {
+        let mut sim = ahead_and_behind(&format!("far_every = {k}\nfar_outside_view = {flag}"));
+        let dt = sim.params.dt_s;
+        let mut turns = [0u32; 2];
+        for step in 0..frames {
+            let far = trample::step::passes::far_turns(&sim);
+            assert_eq!(
+                far[0], None,
+                "k = {k}, {flag}, step {step}: the ball in view"
+            );
+            assert_eq!(
+                far[1].is_some(),
+                flag && k > 1,
+                "k = {k}, {flag}, step {step}: the ball behind"
+            );
+            for pass in plan_passes(&sim, dt) {
+                for (i, t) in turns.iter_mut().enumerate() {
+                    *t += u32::from(pass.has(i));
+                }
+            }
+            sim.step(dt).unwrap();
+        }
+        let want_behind = if flag && k > 1 { frames / 2 } else { frames };
+        assert_eq!(
+            turns,
+            [frames, want_behind],
+            "k = {k}, {flag}: passes taken"
+        );
+        runs.push(sim);
+    }
+    let (ratio, both, either) = track_difference(&runs[1], &runs[0]);
+    println!(
+        "out of view at k = 2: tip difference / displacement {ratio:.4}, bent in both {both} of {either}"
+    );
+    assert!(either > 100, "{either} blades bent");
+    assert!(
+        ratio < 0.15 && both as f32 >= 0.9 * either as f32,
+        "{ratio} {both} {either}"
+    );
+    // The ball ahead's half of the field: the same bits.
+    let ahead = |sim: &Simulation| -> Vec<[u32; 3]> {
+        (0..sim.field.blades.count)
+            .filter(|&b| root_xz(sim, b).1 > 0.0)
+            .map(|b| {
+                sim.field
+                    .blades
+                    .vertex(b, sim.field.blades.segments)
+                    .to_array()
+                    .map(f32::to_bits)
+            })
+            .collect()
+    };
+    assert!(
+        ahead(&runs[0]) == ahead(&runs[1]),
+        "the ball in view steps as before"
+    );
+    assert!(
+        runs[1].field.blades.pos == runs[2].field.blades.pos,
+        "k = 1: the flag changes nothing"
+    );
+}
+
+/// A body out of view that sat out steps catches up in the step the
+/// camera turns onto it (a host view), from where it stopped, and is up to
+/// date after it; the body the camera turned away from takes turns now.
+#[test]
+fn a_body_the_camera_turns_onto_catches_up_in_that_step() {
+    let mut sim = ahead_and_behind("far_every = 4\nfar_outside_view = true");
+    let dt = sim.params.dt_s;
+    for _ in 0..6 {
+        sim.step(dt).unwrap();
+    }
+    while sim.bodies[1].stepped_to() >= sim.time {
+        assert!(sim.frame < 12, "the ball behind waits for its turn");
+        sim.step(dt).unwrap();
+    }
+    let stopped = sim.bodies[1].stepped_to();
+    let back = trample::step::HostView::look_at(
+        Vec3::new(0.0, 2.0, 0.0),
+        Vec3::new(0.0, 0.0, -10.0),
+        0.9,
+        16.0 / 9.0,
+        0.1,
+        300.0,
+    )
+    .unwrap();
+    sim.set_view(back).unwrap();
+    let far = trample::step::passes::far_turns(&sim);
+    assert!(far[0].is_some() && far[1].is_none(), "{far:?}");
+    let passes = plan_passes(&sim, dt);
+    assert!(!passes[0].has(1), "not in the main pass while behind");
+    let own = passes[1..]
+        .iter()
+        .find(|p| p.has(1))
+        .expect("a catch-up pass");
+    assert_eq!(own.start, stopped);
+    sim.step(dt).unwrap();
+    assert_eq!(sim.bodies[1].stepped_to(), sim.time, "up to date");
+}
+
+/// A body counts as out of view only when the grass it can bend is too
+/// (`trample::step::passes::is_out_of_view`): the ball teleported behind
+/// a level camera at its height (the near plane is then the one it clears
+/// first) is out of view exactly when its root box's
+/// bounding sphere, grown by the longest blade and the contact shell,
+/// clears that plane — 5 cm either side of that distance, and not yet
+/// where the sphere alone would clear it.
+#[test]
+fn out_of_view_counts_the_reach_of_the_grass() {
+    use trample::step::passes::is_out_of_view;
+    let mut sim = ahead_and_behind("far_every = 4\nfar_outside_view = true");
+    let level = trample::step::HostView::look_at(
+        Vec3::new(0.0, 0.4, 0.0),
+        Vec3::new(0.0, 0.4, 10.0),
+        0.9,
+        16.0 / 9.0,
+        0.1,
+        300.0,
+    )
+    .unwrap();
+    sim.set_view(level).unwrap();
+    let frustum = sim.frustum();
+    let reach = sim.field.max_blade_length + sim.params.contact_shell_m;
+    assert!(reach > 0.3, "{reach}");
+    let id = sim.bodies[1].id;
+    let radius = sim.bodies[1].collider(0).world_root.half_diagonal();
+    // The near plane is z = 0.1, facing +z: a centre at z lies
+    // 0.1 − z behind it.
+    for (behind, out) in [
+        (radius + reach + 0.05, true),
+        (radius + reach - 0.05, false),
+        (radius + 0.05, false),
+    ] {
+        let at = Vec3::new(0.0, 0.4, 0.1 - behind);
+        sim.teleport_body(id, at, glam::Quat::IDENTITY).unwrap();
+        assert_eq!(
+            is_out_of_view(&sim.bodies[1], &frustum, reach),
+            out,
+            "{behind} m behind the near plane (sphere {radius}, reach {reach})"
+        );
+        assert_eq!(
+            trample::step::passes::far_turns(&sim)[1].is_some(),
+            out,
+            "{behind} m behind: the turns follow"
+        );
+    }
+    assert!(
+        is_out_of_view(&sim.bodies[1], &frustum, 0.0),
+        "the sphere alone clears it"
+    );
+}

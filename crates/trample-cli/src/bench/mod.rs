@@ -108,6 +108,11 @@ pub struct Args {
     /// run of the bench; 1 = every object every step).
     #[arg(long, value_name = "K")]
     pub far_every: Option<u32>,
+    /// With far objects taking turns (`--far-every` or `[sim] far_every`
+    /// above 1), objects out of the camera's view take turns too, however
+    /// near (sets `[sim] far_outside_view`).
+    #[arg(long)]
+    pub far_outside_view: bool,
     /// Worker threads, 1..=1024 (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -139,6 +144,7 @@ pub fn run(a: &Args) -> Result<()> {
     let threads = set_threads(a.threads)?;
     let flags = SimOverrides {
         far_every: a.far_every,
+        far_outside_view: a.far_outside_view,
         ..SimOverrides::default()
     };
     let scene = load_scene(a.scene.as_deref(), flags)?;

@@ -39,6 +39,19 @@ impl Frustum {
     }
 }
 
+impl Frustum {
+    /// Whether the ball of `radius` around `centre` lies wholly outside one
+    /// of the planes (so nothing in it is visible). Conservative the other
+    /// way: a ball outside the frustum only near a corner, between two
+    /// planes, is not found outside.
+    #[must_use]
+    pub fn ball_outside(&self, centre: Vec3, radius: f32) -> bool {
+        self.planes
+            .iter()
+            .any(|p| p.truncate().dot(centre) + p.w < -radius)
+    }
+}
+
 /// Where a box lies against a frustum.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Side {

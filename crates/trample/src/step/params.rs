@@ -108,6 +108,18 @@ pub struct SimParams {
     /// far tracks keep 88 % of the every-frame flattening (`inf`: 73 %, and
     /// cheaper: BENCHMARKS.md, "Session 14"). > 0, or `inf` for no bound.
     pub far_travel_m: f32,
+    /// Bodies out of the camera's view take turns too (ours): with
+    /// `far_every` above 1, a body near the camera whose colliders' root
+    /// boxes, grown by the reach of the grass they can bend (the longest
+    /// blade and the contact shell), lie wholly outside the view frustum
+    /// (behind the camera, beside it, beyond its far plane) steps every
+    /// `far_every`-th step as a far body does ([`SimParams::far_every`];
+    /// [`crate::step::passes::is_out_of_view`]) — what a game does with
+    /// the animation of the characters it does not see. When the camera
+    /// turns onto it, it catches up at once, in the step that first sees
+    /// it. Default `false`: only distance makes a body far. Nothing
+    /// changes with `far_every = 1`.
+    pub far_outside_view: bool,
     /// Colliders at rest reuse their work (ours, `step::at_rest`): while
     /// an object's pose and velocities stay the same bits from one sub-step
     /// to the next, its narrow phase takes the hits it kept for each tile
@@ -156,6 +168,7 @@ impl Default for SimParams {
             far_every: 1,
             far_beyond_m: 30.0,
             far_travel_m: 0.25,
+            far_outside_view: false,
             reuse_at_rest: true,
             recovery_stride_m: 0.0005,
         }

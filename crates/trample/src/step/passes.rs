@@ -5,7 +5,9 @@
 //! With `sim.far_every = k > 1`, a body (any: [`Body::may_step_far`]; an
 //! articulated or animated one's rig runs on from its last turn,
 //! [`Body::pose_for_pass`]) whose colliders' root boxes lie wholly farther
-//! than `sim.far_beyond_m` from the camera (horizontally) touches the grass only
+//! than `sim.far_beyond_m` from the camera (horizontally) — or, with
+//! `sim.far_outside_view`, wholly out of its view, grown by the reach of
+//! the grass it bends ([`is_out_of_view`]) — touches the grass only
 //! on the steps where `(frame + turn) % k == 0` — the far bodies take
 //! turns, so each step carries about `1/k` of them — and then over all the
 //! time since it last did. A body's `turn` ([`far_schedule`]) is given when
@@ -51,8 +53,9 @@
 //!   `F · h` with the pass's `h`) and contact.
 //!
 //! Far bodies not due this step do not touch the grass. A body that sat
-//! out steps and is near now (the camera came, or it did) catches up in a
-//! pass of its own from where it stopped, and steps with the others after.
+//! out steps and is near now (the camera came, or turned onto it, or the
+//! body came) catches up in a pass of its own from where it stopped, and
+//! steps with the others after.
 //! A turn is a coarser step for that body, so its track is no farther from
 //! the every-frame one than that of the whole field stepped at `k · dt`
 //! (the bending is frame-rate independent, DESIGN §6, the closer the finer
@@ -68,6 +71,7 @@ use super::at_rest::is_still;
 use super::body::Body;
 use super::simulation::Simulation;
 use super::stages::{SubstepPlan, body_substeps, plan_of_needs, plan_substeps_of};
+use crate::field::Frustum;
 use glam::Vec3;
 
 /// One pass of a step over some of the bodies (see the module docs).
@@ -163,6 +167,29 @@ pub fn is_far(body: &Body, eye: Vec3, beyond: f32) -> bool {
         let d = (root.center.x - eye.x).hypot(root.center.z - eye.z) - root.half_diagonal();
         d > beyond
     })
+}
+
+/// Whether `body` lies wholly out of the view `frustum`
+/// ([`crate::step::SimParams::far_outside_view`]): for each of its
+/// colliders, the root box's bounding sphere grown by `reach` metres (the
+/// grass it can bend reaches that far past its box: the longest blade and
+/// the contact shell) lies wholly outside one of the frustum's planes.
+#[must_use]
+pub fn is_out_of_view(body: &Body, frustum: &Frustum, reach: f32) -> bool {
+    body.colliders().all(|c| {
+        let root = c.world_root;
+        frustum.ball_outside(root.center, root.half_diagonal() + reach)
+    })
+}
+
+/// Whether `body` takes turns this step ([`far_schedule`]): it may
+/// ([`Body::may_step_far`]) and it is far ([`is_far`]) or, with
+/// `sim.far_outside_view`, out of the view ([`is_out_of_view`]; `view`:
+/// the frustum and the reach, when that is asked).
+fn takes_turns(body: &Body, eye: Vec3, beyond: f32, view: Option<&(Frustum, f32)>) -> bool {
+    body.may_step_far()
+        && (is_far(body, eye, beyond)
+            || view.is_some_and(|(frustum, reach)| is_out_of_view(body, frustum, *reach)))
 }
 
 /// The passes of a step of `dt` seconds (see the module docs): the main
@@ -335,13 +362,17 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
         return turns;
     }
     let eye = sim.eye();
+    let view = sim.params.far_outside_view.then(|| {
+        let reach = sim.field.max_blade_length + sim.params.contact_shell_m;
+        (sim.frustum(), reach)
+    });
     // Per turn: its sub-steps (its fastest body's) and the ground its
     // bodies reach.
     let mut substeps = vec![0.0f64; every as usize];
     let mut ground = vec![0.0f64; every as usize];
     let mut placing = Vec::new();
     for (i, body) in sim.bodies.iter().enumerate() {
-        if !(body.may_step_far() && is_far(body, eye, sim.params.far_beyond_m)) {
+        if !takes_turns(body, eye, sim.params.far_beyond_m, view.as_ref()) {
             continue;
         }
         let work = far_work(sim, body);
