@@ -107,6 +107,29 @@ fn simulate_writes_summary_and_dumps() {
     assert_eq!(s["far_bodies_mean"], 0.0);
 }
 
+/// `trample simulate SCENE --frames 40 --far-every 4 --out OUT` with
+/// `extra` flags; it must succeed.
+fn simulate_40_frames_far_every_4(
+    scene: &Path,
+    out: &Path,
+    extra: &[&str],
+) -> std::process::Output {
+    let mut args = vec![
+        "simulate",
+        scene.to_str().unwrap(),
+        "--frames",
+        "40",
+        "--far-every",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let o = trample(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    o
+}
+
 /// `--far-every K` reaches the simulation and the summary says what it
 /// did: the ball watched from 400 m takes its turn every fourth step.
 #[test]
@@ -117,17 +140,7 @@ fn simulate_far_every_steps_far_objects_in_turns_and_says_so() {
     assert_ne!(text, SCENE);
     std::fs::write(&scene, text).unwrap();
     let out = d.join("out");
-    let o = trample(&[
-        "simulate",
-        scene.to_str().unwrap(),
-        "--frames",
-        "40",
-        "--far-every",
-        "4",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = simulate_40_frames_far_every_4(&scene, &out, &[]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("far objects every 4 steps: "), "{err}");
     let s: serde_json::Value =
@@ -155,21 +168,8 @@ fn simulate_far_outside_view_steps_unseen_objects_in_turns_and_says_so() {
     std::fs::write(&scene, text).unwrap();
     for (flag, turns) in [(true, 0.25), (false, 0.0)] {
         let out = d.join(format!("out_{flag}"));
-        let mut args = vec![
-            "simulate",
-            scene.to_str().unwrap(),
-            "--frames",
-            "40",
-            "--far-every",
-            "4",
-            "--out",
-            out.to_str().unwrap(),
-        ];
-        if flag {
-            args.push("--far-outside-view");
-        }
-        let o = trample(&args);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let extra: &[&str] = if flag { &["--far-outside-view"] } else { &[] };
+        let o = simulate_40_frames_far_every_4(&scene, &out, extra);
         let err = String::from_utf8_lossy(&o.stderr);
         let says = if flag {
             "far and unseen objects every 4 steps: "

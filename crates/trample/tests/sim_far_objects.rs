@@ -878,29 +878,23 @@ fn far_patches_recover_in_turns_and_near_ones_every_step_bit_for_bit() {
 /// rolls in its view, "behind" (body 1) behind it. `sim`: more `[sim]`
 /// lines.
 fn ahead_and_behind(sim: &str) -> Simulation {
-    sim_from(&format!(
+    field_12m_seen_from(
+        [0.0, 2.0, 0.0],
+        [0.0, 0.0, 10.0],
+        sim,
         r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 32
-[sim]
-precision = 5
-{sim}
-[camera]
-path = {{ kind = "static", position = [0.0, 2.0, 0.0] }}
-look_at = {{ kind = "point", at = [0.0, 0.0, 10.0] }}
 [[objects]]
 name = "ahead"
-shape = {{ kind = "sphere", radius_m = 0.4 }}
+shape = { kind = "sphere", radius_m = 0.4 }
 orientation = "rolling"
-path = {{ kind = "line", from = [-3.0, 0.4, 5.0], to = [3.0, 0.4, 5.0], duration_s = 2.5 }}
+path = { kind = "line", from = [-3.0, 0.4, 5.0], to = [3.0, 0.4, 5.0], duration_s = 2.5 }
 [[objects]]
 name = "behind"
-shape = {{ kind = "sphere", radius_m = 0.4 }}
+shape = { kind = "sphere", radius_m = 0.4 }
 orientation = "rolling"
-path = {{ kind = "line", from = [-5.0, 0.4, -4.0], to = [5.0, 0.4, -4.0], duration_s = 2.5 }}
-"#
-    ))
+path = { kind = "line", from = [-5.0, 0.4, -4.0], to = [5.0, 0.4, -4.0], duration_s = 2.5 }
+"#,
+    )
 }
 
 /// Bodies out of the camera's view take turns when asked

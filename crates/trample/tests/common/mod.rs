@@ -46,6 +46,11 @@ pub fn sim_from(toml: &str) -> Simulation {
 /// A 12.8 m field at precision 5 with `sim` (more `[sim]` lines) and
 /// `objects`, the camera `eye_z` metres from its centre.
 pub fn field_12m(eye_z: f32, sim: &str, objects: &str) -> Simulation {
+    field_12m_seen_from([0.0, 3.0, eye_z], [0.0, 0.0, 0.0], sim, objects)
+}
+
+/// [`field_12m`] with the camera at `eye` looking at `at`.
+pub fn field_12m_seen_from(eye: [f32; 3], at: [f32; 3], sim: &str, objects: &str) -> Simulation {
     sim_from(&format!(
         r#"
 [field]
@@ -55,8 +60,8 @@ cells_per_patch = 32
 precision = 5
 {sim}
 [camera]
-path = {{ kind = "static", position = [0.0, 3.0, {eye_z}] }}
-look_at = {{ kind = "point", at = [0.0, 0.0, 0.0] }}
+path = {{ kind = "static", position = {eye:?} }}
+look_at = {{ kind = "point", at = {at:?} }}
 {objects}"#
     ))
 }
