@@ -5,12 +5,14 @@
 //! its tree. And a transform the core cannot pose a body with leaves the
 //! body where it was, says so on the entity, and the game goes on. The
 //! ground shows the track (its texture redrawn from the cells the steps
-//! changed), and another field gets a ground of its own.
+//! changed), and another field gets a ground of its own. A field that
+//! asks for it steps the tramplers out of the camera's view in turns.
 
 use bevy::prelude::*;
 use bevy::time::TimeUpdateStrategy;
 use bevy_trample::{
-    TrampleField, TramplePlugin, TrampleSystems, Trampler, TramplerBody, TramplerPoseRefused,
+    TrampleCamera, TrampleField, TramplePlugin, TrampleSystems, Trampler, TramplerBody,
+    TramplerPoseRefused,
 };
 use std::time::Duration;
 use trample::builder::SimulationBuilder;
@@ -30,6 +32,14 @@ const END_X: f32 = 4.0;
 /// 12.8 × 12.8 m of grass (8 × 8 patches of 16 × 16 cells of 0.1 m, one
 /// blade a cell), the paper's lasting track (`recovery_s = inf`).
 fn field() -> TrampleField {
+    field_with(SimParams {
+        recovery_s: f32::INFINITY,
+        ..SimParams::default()
+    })
+}
+
+/// [`field`] with other `[sim]` values.
+fn field_with(sim: SimParams) -> TrampleField {
     let builder = SimulationBuilder::new()
         .field(FieldParams {
             patches: [8, 8],
@@ -40,10 +50,7 @@ fn field() -> TrampleField {
             geometry_m: 30.0,
             billboard_m: 40.0,
         })
-        .sim(SimParams {
-            recovery_s: f32::INFINITY,
-            ..SimParams::default()
-        });
+        .sim(sim);
     TrampleField::from_builder(&builder).expect("test field")
 }
 
@@ -469,4 +476,53 @@ fn the_ground_shows_the_track_where_the_sphere_went_and_a_new_field_gets_a_new_g
             .is_some_and(|d| d.iter().all(|&v| v == 255)),
         "nothing trampled on the new field"
     );
+}
+
+/// Tramplers out of the `TrampleCamera`'s view take turns when the field
+/// asks (`far_every = 4`, `far_outside_view`): the sphere rolling behind
+/// the camera, within a few metres of it, steps on one frame in four; when
+/// the camera turns onto it, it catches up in that step and steps every
+/// frame after.
+#[test]
+fn a_trampler_behind_the_camera_takes_turns_when_asked() {
+    let mut app = app();
+    app.insert_resource(field_with(SimParams {
+        recovery_s: f32::INFINITY,
+        far_every: 4,
+        far_outside_view: true,
+        ..SimParams::default()
+    }));
+    let (entity, _) = spawn_sphere(&mut app, RADIUS);
+    // The camera 3 m from the sphere's line, looking away from it.
+    let camera = app
+        .world_mut()
+        .spawn((
+            Camera3d::default(),
+            Projection::default(),
+            Transform::from_xyz(0.0, 2.0, 3.0).looking_at(Vec3::new(0.0, 0.0, 10.0), Vec3::Y),
+            TrampleCamera,
+        ))
+        .id();
+    let stepped = |app: &App| {
+        let id = app.world().get::<TramplerBody>(entity).expect("a body").id;
+        let field = app.world().resource::<TrampleField>();
+        let body = field.sim.body(id).expect("in the simulation");
+        body.stepped_to() == field.sim.time
+    };
+    let mut up_to_date = 0;
+    for _ in 0..40 {
+        app.update();
+        up_to_date += usize::from(stepped(&app));
+    }
+    assert!(
+        (9..=11).contains(&up_to_date),
+        "out of view: up to date after {up_to_date} of 40 steps"
+    );
+    app.world_mut()
+        .entity_mut(camera)
+        .insert(Transform::from_xyz(0.0, 2.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y));
+    for step in 0..8 {
+        app.update();
+        assert!(stepped(&app), "in view: up to date after step {step}");
+    }
 }
