@@ -165,4 +165,45 @@ mod tests {
             Vec3::splat(1.0) + Vec3::Y * 2.0
         ));
     }
+
+    /// A ball found outside is outside: for random cameras and balls,
+    /// every point sampled in a ball `ball_outside` reports is outside the
+    /// frustum (the plane-side test of the clip-space cube, `intersects_aabb`
+    /// on the point); balls inside or straddling are not reported, and
+    /// both answers occur.
+    #[test]
+    fn a_ball_found_outside_has_no_point_inside() {
+        let mut rng = crate::test_rng::XorShift(0x243f_6a88_85a3_08d3);
+        let (mut outside, mut not) = (0, 0);
+        for _ in 0..200 {
+            let eye = rng.vec(-20.0, 20.0);
+            let at = eye + rng.vec(-1.0, 1.0).normalize_or(Vec3::X) * 10.0;
+            let view = look_at_mat4(eye, at, Vec3::Y);
+            let proj = perspective(rng.range(0.3, 2.0), rng.range(0.5, 2.5), 0.1, 80.0);
+            let f = Frustum::from_view_proj(proj * view);
+            for _ in 0..50 {
+                let centre = eye + rng.vec(-40.0, 40.0);
+                let radius = rng.range(0.0, 6.0);
+                let out = f.ball_outside(centre, radius);
+                // A centre inside every plane: never reported.
+                assert!(
+                    !(out && f.intersects_aabb(centre, centre)),
+                    "{centre} inside"
+                );
+                if !out {
+                    not += 1;
+                    continue;
+                }
+                outside += 1;
+                for _ in 0..64 {
+                    let p = centre + rng.vec(-1.0, 1.0).clamp_length_max(1.0) * radius;
+                    assert!(
+                        !f.intersects_aabb(p, p),
+                        "{p} of the ball at {centre} (radius {radius}) is inside"
+                    );
+                }
+            }
+        }
+        assert!(outside > 1000 && not > 1000, "{outside} outside, {not} not");
+    }
 }
