@@ -35,6 +35,9 @@ struct Report {
     blades: u64,
     /// `sim.far_every` of every run (1: every object every step).
     far_every: u32,
+    /// `sim.far_outside_view` of every run (objects out of the camera's
+    /// view take turns too).
+    far_outside_view: bool,
     points: Vec<Point>,
     /// Points left out, and why.
     skipped: Vec<String>,
@@ -162,6 +165,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
             .map(trample_render::headless::Gpu::adapter_name),
         blades: scene.file.field.blade_count(),
         far_every: scene.file.sim.far_every,
+        far_outside_view: scene.file.sim.far_outside_view,
         points,
         skipped,
     };
@@ -204,11 +208,7 @@ fn chart(r: &Report, setup: &Setup) -> Result<()> {
             }
         }
     }
-    let far = if r.far_every > 1 {
-        format!(", far objects every {} steps", r.far_every)
-    } else {
-        String::new()
-    };
+    let far = far_words(r);
     let title = format!(
         "Step time vs objects ({} blades, {} frames a point{far})",
         r.blades, r.frames
@@ -228,12 +228,23 @@ fn chart(r: &Report, setup: &Setup) -> Result<()> {
     )
 }
 
-fn print_table(r: &Report) {
-    let far = if r.far_every > 1 {
-        format!(", far objects every {} steps", r.far_every)
+/// What the title and the table say of the far turns: `, far objects every
+/// K steps` (`far and unseen` with `far_outside_view`), or nothing.
+fn far_words(r: &Report) -> String {
+    if r.far_every > 1 {
+        let unseen = if r.far_outside_view {
+            " and unseen"
+        } else {
+            ""
+        };
+        format!(", far{unseen} objects every {} steps", r.far_every)
     } else {
         String::new()
-    };
+    }
+}
+
+fn print_table(r: &Report) {
+    let far = far_words(r);
     println!(
         "Step time against objects ({}, {} blades, {} frames a point, {} thread(s){far})",
         r.scene, r.blades, r.frames, r.threads
