@@ -57,6 +57,20 @@ pub const COLORS: [RGBColor; 5] = [
     RGBColor(86, 180, 233),
 ];
 
+/// The caption's font size: 24 px, or less for a title that would not fit
+/// the picture's width between its margins (a long title was cut at both
+/// ends). Not below 12 px.
+fn caption_size(root: &DrawingArea<BitMapBackend<'_>, Shift>, title: &str) -> u32 {
+    let room = WIDTH.saturating_sub(2 * 16);
+    (12..=24)
+        .rev()
+        .find(|&size| {
+            root.estimate_text_size(title, &(FONT, size).into_text_style(root))
+                .is_ok_and(|(w, _)| w <= room)
+        })
+        .unwrap_or(12)
+}
+
 /// Draws `series` as lines with dots and writes the PNG to `path`
 /// atomically. Axis ranges come from the data (with a margin); log axes
 /// need positive values (others are left out).
@@ -181,7 +195,7 @@ where
 {
     let ctx_x = x_span.clone();
     let mut ctx = ChartBuilder::on(root)
-        .caption(chart.title, (FONT, 24))
+        .caption(chart.title, (FONT, caption_size(root, chart.title)))
         .margin(16)
         .x_label_area_size(56)
         .y_label_area_size(80)
@@ -311,13 +325,14 @@ mod tests {
         assert_eq!(thousands(1_000_000), "1,000,000");
     }
 
-    #[test]
-    fn a_chart_is_a_png_of_the_stated_size_with_text() {
-        let dir = std::env::temp_dir().join(format!("trample-chart-{}", std::process::id()));
+    /// Draws a small chart titled `title` into a temporary folder named
+    /// after `tag`; returns the picture.
+    fn drawn(title: &str, tag: &str) -> image::RgbImage {
+        let dir = std::env::temp_dir().join(format!("trample-chart-{tag}-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("c.png");
         let chart = Chart {
-            title: "test",
+            title,
             x_label: "precision",
             y_label: "fps",
             x_log: false,
@@ -332,6 +347,21 @@ mod tests {
         };
         line_chart(&path, &chart, &[s]).unwrap();
         let img = image::open(&path).unwrap().to_rgb8();
+        std::fs::remove_dir_all(&dir).unwrap();
+        img
+    }
+
+    /// The columns of the caption strip (the top 40 rows) that hold dark
+    /// text pixels.
+    fn caption_columns(img: &image::RgbImage) -> Vec<u32> {
+        (0..WIDTH)
+            .filter(|&x| (0..40).any(|y| img.get_pixel(x, y).0.iter().all(|&c| c < 100)))
+            .collect()
+    }
+
+    #[test]
+    fn a_chart_is_a_png_of_the_stated_size_with_text() {
+        let img = drawn("test", "short");
         assert_eq!(img.dimensions(), (WIDTH, HEIGHT));
         // The caption strip holds dark text pixels (the font rendered).
         let dark = (0..40)
@@ -339,6 +369,19 @@ mod tests {
             .filter(|&(x, y)| img.get_pixel(x, y).0.iter().all(|&c| c < 100))
             .count();
         assert!(dark > 20, "caption text missing: {dark} dark pixels");
-        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A title too long for the picture at the caption's size is drawn
+    /// smaller, whole: no text in the margins (at 24 px this one ran off
+    /// both edges, `bench --objects` with far and unseen objects).
+    #[test]
+    fn a_long_title_fits_between_the_margins() {
+        let title = "Step time vs objects (1048576 blades, 300 frames a point, far and unseen objects every 16 steps)";
+        let columns = caption_columns(&drawn(title, "long"));
+        let (first, last) = (columns[0], columns[columns.len() - 1]);
+        assert!(
+            first >= 8 && last < WIDTH - 8,
+            "the caption spans columns {first}..={last} of {WIDTH}"
+        );
     }
 }
