@@ -575,8 +575,9 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32, outside_view: bool)
     let chunks = g.field.chunks.len() as u32;
     let dt = cpu.params.dt_s;
     let (mut touched, mut substeps, mut far_passes) = (0u64, 0, 0);
-    // Turns taken by bodies near the camera (out of its view).
-    let mut unseen = 0;
+    // Turns taken by bodies near the camera (out of its view), and steps
+    // patches near it waited to recover (out of its view).
+    let (mut unseen, mut unseen_patches) = (0, 0);
     // Blades displaced in far patches while they waited for their turn
     // (`trample::step::recovery_turns`), summed over the steps.
     let mut waited = 0u64;
@@ -602,6 +603,19 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32, outside_view: bool)
             waited += (0..cpu.field.blades.count)
                 .filter(|&b| scale[b / per_patch] == 0.0 && !cpu.field.blades.is_at_rest(b))
                 .count() as u64;
+            unseen_patches += cpu
+                .field
+                .layout
+                .patch_list
+                .iter()
+                .zip(scale)
+                .filter(|(p, s)| {
+                    **s == 0.0
+                        && !trample::step::recovery_turns::patch_is_far(
+                            p.aabb_min, p.aabb_max, eye, beyond,
+                        )
+                })
+                .count();
         }
         substeps += g.step(device, queue, dt).unwrap();
         let c = g.read_counters(device, queue).unwrap();
@@ -648,13 +662,18 @@ fn herd_parity(frames: u32, far_every: u32, recovery_s: f32, outside_view: bool)
         "{unseen} turns of near bodies out of view"
     );
     assert_eq!(
+        unseen_patches > 0,
+        outside_view && far_every > 1,
+        "{unseen_patches} waits of near patches out of view"
+    );
+    assert_eq!(
         waited > 0,
         far_every > 1,
         "{waited} blades waited for their patch's turn to recover"
     );
     eprintln!(
         "herd, far_every = {far_every}, recovery_s = {recovery_s}: {objects} objects, {frames} frames ({substeps} sub-steps), {} blades, \
-         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s), {far_passes} far passes ({unseen} body turns out of view), \
+         {touched} DBG blade-frames, {} track owners, {chunks} chunk(s), {far_passes} far passes ({unseen} body turns out of view, {unseen_patches} patch waits), \
          {waited} blade-steps waiting to recover: worst vertex difference {worst:e} m; \
          counts (DBG, PBG, generations, contact, displaced, transitions) differ by at most {count_worst:?}",
         bl.count,
@@ -708,13 +727,14 @@ fn herd_with_far_objects_every_fourth_frame_matches_the_cpu() {
     );
 }
 
-/// Objects out of the camera's view taking turns too
-/// (`sim.far_outside_view`; `trample::step::passes::is_out_of_view`): the
+/// Objects and patches out of the camera's view taking turns too
+/// (`sim.far_outside_view`; `trample::step::far_rule::FarRule`): the
 /// herd's objects near the camera but behind or beside it join the far
-/// ones' turns, every fourth frame, 40 frames.
+/// ones' turns, and the trails (`recovery_s` = 1 s) of the patches out of
+/// view recover in turns, every fourth frame, 40 frames.
 #[test]
 fn herd_with_objects_out_of_view_in_turns_matches_the_cpu() {
-    let worst = herd_parity(40, 4, f32::INFINITY, true);
+    let worst = herd_parity(40, 4, 1.0, true);
     assert!(
         worst <= VERTEX_TOLERANCE_M,
         "worst vertex difference {worst} m"

@@ -9,6 +9,7 @@ mod collide;
 mod contact_hints;
 mod deform;
 pub mod drive;
+pub mod far_rule;
 mod host_mesh;
 pub mod params;
 pub mod passes;

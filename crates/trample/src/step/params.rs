@@ -115,10 +115,13 @@ pub struct SimParams {
     /// (behind the camera, beside it, beyond its far plane) steps every
     /// `far_every`-th step as a far body does ([`SimParams::far_every`];
     /// [`crate::step::passes::is_out_of_view`]) — what a game does with
-    /// the animation of the characters it does not see. When the camera
-    /// turns onto it, it catches up at once, in the step that first sees
-    /// it. Default `false`: only distance makes a body far. Nothing
-    /// changes with `far_every = 1`.
+    /// the animation of the characters it does not see; likewise the
+    /// blades of a patch whose box lies outside the frustum recover in
+    /// turns ([`crate::step::recovery_turns`]; the rule:
+    /// [`crate::step::far_rule::FarRule`]). When the camera turns onto a
+    /// body or a patch, it catches up at once, in the step that first sees
+    /// it. Default `false`: only distance makes a body or a patch far.
+    /// Nothing changes with `far_every = 1`.
     pub far_outside_view: bool,
     /// Colliders at rest reuse their work (ours, `step::at_rest`): while
     /// an object's pose and velocities stay the same bits from one sub-step

@@ -69,6 +69,7 @@
 
 use super::at_rest::is_still;
 use super::body::Body;
+use super::far_rule::FarRule;
 use super::simulation::Simulation;
 use super::stages::{SubstepPlan, body_substeps, plan_of_needs, plan_substeps_of};
 use crate::field::Frustum;
@@ -180,16 +181,6 @@ pub fn is_out_of_view(body: &Body, frustum: &Frustum, reach: f32) -> bool {
         let root = c.world_root;
         frustum.ball_outside(root.center, root.half_diagonal() + reach)
     })
-}
-
-/// Whether `body` takes turns this step ([`far_schedule`]): it may
-/// ([`Body::may_step_far`]) and it is far ([`is_far`]) or, with
-/// `sim.far_outside_view`, out of the view ([`is_out_of_view`]; `view`:
-/// the frustum and the reach, when that is asked).
-fn takes_turns(body: &Body, eye: Vec3, beyond: f32, view: Option<&(Frustum, f32)>) -> bool {
-    body.may_step_far()
-        && (is_far(body, eye, beyond)
-            || view.is_some_and(|(frustum, reach)| is_out_of_view(body, frustum, *reach)))
 }
 
 /// The passes of a step of `dt` seconds (see the module docs): the main
@@ -361,18 +352,14 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
     if every == 1 {
         return turns;
     }
-    let eye = sim.eye();
-    let view = sim.params.far_outside_view.then(|| {
-        let reach = sim.field.max_blade_length + sim.params.contact_shell_m;
-        (sim.frustum(), reach)
-    });
+    let rule = FarRule::of(sim);
     // Per turn: its sub-steps (its fastest body's) and the ground its
     // bodies reach.
     let mut substeps = vec![0.0f64; every as usize];
     let mut ground = vec![0.0f64; every as usize];
     let mut placing = Vec::new();
     for (i, body) in sim.bodies.iter().enumerate() {
-        if !takes_turns(body, eye, sim.params.far_beyond_m, view.as_ref()) {
+        if !(body.may_step_far() && rule.body(body)) {
             continue;
         }
         let work = far_work(sim, body);

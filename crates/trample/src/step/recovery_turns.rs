@@ -1,7 +1,8 @@
 //! Far blades recover in turns (ours, issue 16; DESIGN §6 and §7): with
 //! `sim.far_every = k > 1`, the blades of a patch lying wholly farther
-//! than `sim.far_beyond_m` from the camera (horizontally, its box) recover
-//! only every k-th step, and then over all the time since the patch last
+//! than `sim.far_beyond_m` from the camera (horizontally, its box) — or,
+//! with `sim.far_outside_view`, whose box lies outside the view frustum
+//! ([`super::far_rule::FarRule`]) — recover only every k-th step, and then over all the time since the patch last
 //! recovered — as far bodies take turns ([`super::passes`]). A crowd
 //! leaving finite trails over a meadow keeps tens of thousands of blades
 //! recovering, each relaxed, its cell recomputed and its vertices listed
@@ -12,8 +13,9 @@
 //! CPU path and the GPU path (which uploads [`RecoveryTurns::scale`])
 //! recover the same blades by the same time. Patch `p` takes its turn on
 //! the steps where `(frame + p) % k == 0`, so neighbouring patches share
-//! the work out over the k steps. A patch that comes near recovers at once
-//! all the time it owes; one that goes far waits for its turn. The
+//! the work out over the k steps. A patch that comes near (or into view)
+//! recovers at once all the time it owes; one that goes far waits for its
+//! turn. The
 //! recovery is frame-rate independent (`exp(−dt/τ)`, and its tail to first
 //! order), so a far patch's blades are where they would be had they
 //! recovered every step, at each of its turns; between turns they lag by
@@ -23,6 +25,7 @@
 //! the paper's mode the bent billboards' slopes still recover every step:
 //! one vector a cell.)
 
+use super::far_rule::FarRule;
 use crate::field::FieldLayout;
 use glam::Vec3;
 
@@ -43,15 +46,14 @@ pub struct RecoveryTurns {
 impl RecoveryTurns {
     /// Plans the step of `dt` seconds from `time` (its start), frame
     /// `frame`: which patches of `layout` recover, and over how long, with
-    /// `far_every = k` and the camera at `eye`. With `k ≤ 1`, or no patch
-    /// far, every patch recovers every step ([`RecoveryTurns::scale`] is
+    /// `far_every = k` and the patches `rule` finds far. With `k ≤ 1`, or
+    /// no patch far, every patch recovers every step ([`RecoveryTurns::scale`] is
     /// `None`).
     pub fn plan(
         &mut self,
         layout: &FieldLayout,
-        eye: Vec3,
+        rule: &FarRule,
         far_every: u32,
-        far_beyond_m: f32,
         frame: u64,
         time: f64,
         dt: f32,
@@ -69,7 +71,7 @@ impl RecoveryTurns {
         let k = u64::from(far_every);
         self.scale.reserve(patches.len());
         for (p, (patch, recovered_to)) in patches.iter().zip(&mut self.recovered_to).enumerate() {
-            let far = patch_is_far(patch.aabb_min, patch.aabb_max, eye, far_beyond_m);
+            let far = rule.patch(patch.aabb_min, patch.aabb_max);
             let s = if far && !(frame + p as u64).is_multiple_of(k) {
                 0.0
             } else if *recovered_to == time {
@@ -152,7 +154,14 @@ mod tests {
             } else {
                 far_eye
             };
-            turns.plan(&layout, eye, k, 30.0, frame, time, dt);
+            turns.plan(
+                &layout,
+                &FarRule::by_distance(eye, 30.0),
+                k,
+                frame,
+                time,
+                dt,
+            );
             let scale = turns.scale();
             // Every patch near: none takes turns, once the near ones have
             // caught up (frame 20).
@@ -189,7 +198,88 @@ mod tests {
             time += f64::from(dt);
         }
         // With far_every = 1 nothing takes turns.
-        turns.plan(&layout, far_eye, 1, 30.0, 40, time, dt);
+        turns.plan(
+            &layout,
+            &FarRule::by_distance(far_eye, 30.0),
+            1,
+            40,
+            time,
+            dt,
+        );
+        assert!(turns.scale().is_none());
+    }
+
+    /// With `sim.far_outside_view` the patches out of the camera's view
+    /// take turns however near (their boxes, which hold their blades,
+    /// outside the frustum), those in view recover every step, and a patch
+    /// the camera turns onto catches up at once.
+    #[test]
+    fn patches_out_of_view_take_turns_when_asked() {
+        use crate::step::HostView;
+        let layout = layout();
+        let n = layout.patch_list.len();
+        let (dt, k) = (1.0 / 60.0, 4u32);
+        // In the middle of the field, 1 m up, looking along +x or −x.
+        let eye = Vec3::new(0.0, 1.0, 0.0);
+        let rule = |towards: f32| {
+            let view = HostView::look_at(
+                eye,
+                eye + Vec3::new(towards, -0.5, 0.0),
+                0.9,
+                1.5,
+                0.1,
+                100.0,
+            )
+            .expect("view");
+            FarRule {
+                view: Some(view.frustum()),
+                ..FarRule::by_distance(eye, 30.0)
+            }
+        };
+        let seen = |rule: &FarRule, p: usize| {
+            let patch = &layout.patch_list[p];
+            rule.view
+                .expect("a view")
+                .intersects_aabb(patch.aabb_min, patch.aabb_max)
+        };
+        let (ahead, behind) = (rule(1.0), rule(-1.0));
+        let out = (0..n).filter(|&p| !seen(&ahead, p)).count();
+        assert!(out > 2 && out < n - 2, "{out} of {n} out of view");
+        let mut turns = RecoveryTurns::default();
+        let mut time = 0.0f64;
+        for frame in 0..12u64 {
+            // Frames 8..: the camera turned round.
+            let rule = if frame < 8 { &ahead } else { &behind };
+            turns.plan(&layout, rule, k, frame, time, dt);
+            let scale = turns.scale().expect("some patches take turns");
+            for (p, &s) in scale.iter().enumerate() {
+                if seen(rule, p) {
+                    // Every step; at the turn, a patch that waited
+                    // catches up on the time it owes.
+                    assert!(s >= 1.0 - 1e-6, "{frame}: patch {p} in view, {s}");
+                } else {
+                    assert_eq!(
+                        s != 0.0,
+                        (frame + p as u64).is_multiple_of(u64::from(k)),
+                        "{frame}: patch {p} out of view takes its turn"
+                    );
+                }
+            }
+            if frame == 8 {
+                assert!(scale.iter().any(|&s| s > 1.5), "catching up");
+            }
+            time += f64::from(dt);
+        }
+        // Without the view, every patch is near: none takes turns.
+        turns.plan(&layout, &FarRule::by_distance(eye, 30.0), k, 12, time, dt);
+        turns.plan(
+            &layout,
+            &FarRule::by_distance(eye, 30.0),
+            k,
+            13,
+            time + f64::from(dt),
+            dt,
+        );
         assert!(turns.scale().is_none());
     }
 }

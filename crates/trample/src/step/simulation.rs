@@ -324,11 +324,11 @@ impl Simulation {
         for (body, s) in self.bodies.iter_mut().zip(schedule) {
             body.far_turn = s;
         }
+        let rule = super::far_rule::FarRule::of(self);
         self.recovery_turns.plan(
             &self.field.layout,
-            self.eye(),
+            &rule,
             self.params.far_every,
-            self.params.far_beyond_m,
             self.frame,
             self.time,
             dt,
