@@ -2,8 +2,9 @@
 //! `sim.far_every = k > 1`, the blades of a patch lying wholly farther
 //! than `sim.far_beyond_m` from the camera (horizontally, its box) — or,
 //! with `sim.far_outside_view`, whose box lies outside the view frustum
-//! ([`super::far_rule::FarRule`]) — recover only every k-th step, and then over all the time since the patch last
-//! recovered — as far bodies take turns ([`super::passes`]). A crowd
+//! ([`super::far_rule::FarRule`]) — recover only every k-th step, and
+//! then over all the time since the patch last recovered — as far bodies
+//! take turns ([`super::passes`]). A crowd
 //! leaving finite trails over a meadow keeps tens of thousands of blades
 //! recovering, each relaxed, its cell recomputed and its vertices listed
 //! for upload every step; far from the camera a turn of k steps is not
