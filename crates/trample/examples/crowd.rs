@@ -17,12 +17,17 @@
 //! cargo run --release -p trample --example crowd                # 64 characters, 600 frames
 //! cargo run --release -p trample --example crowd -- 200 600 8   # 200 characters, far_every = 8
 //! cargo run --release -p trample --example crowd -- 64 600 1 0  # every trail blade every step
+//! cargo run --release -p trample --example crowd -- 64 600 4 0.5 follow-unseen
 //! ```
 //!
 //! Arguments: characters (1..=1000, default 64), frames (default 600),
 //! `far_every` (1..=64, default 1: every character every step), the
 //! recovery stride in millimetres (0..=50, default 0.5; 0: every displaced
-//! blade relaxed every step).
+//! blade relaxed every step), the camera: `overview` (the default: above
+//! the field's edge, looking across it), `follow` (a game's third-person
+//! camera, 6 m behind the first character and 3 m up, set every frame) or
+//! `follow-unseen` (that camera, and the characters and trails out of its
+//! view take turns too: `SimParams::far_outside_view`).
 
 use std::time::Instant;
 
@@ -40,6 +45,32 @@ const WALK_M_S: f32 = 1.4;
 /// (1.7 m tall in all).
 const RADIUS_M: f32 = 0.3;
 const LENGTH_M: f32 = 1.1;
+
+/// The host's camera.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Camera {
+    /// Above the field's edge, looking across it (fixed).
+    Overview,
+    /// Behind the first character, following it (set every frame).
+    Follow,
+    /// [`Camera::Follow`], and what it does not see takes turns
+    /// (`SimParams::far_outside_view`).
+    FollowUnseen,
+}
+
+/// The third-person view of character `c`: 6 m behind it and 3 m up,
+/// looking 4 m ahead of it.
+fn behind(c: &Character) -> Result<HostView, trample::step::ViewError> {
+    let forward = Vec3::new(c.heading.sin(), 0.0, c.heading.cos());
+    HostView::look_at(
+        c.at - forward * 6.0 + Vec3::Y * 3.0,
+        c.at + forward * 4.0,
+        0.9,
+        16.0 / 9.0,
+        0.1,
+        300.0,
+    )
+}
 
 /// One character of the crowd, as a game would keep it.
 struct Character {
@@ -94,7 +125,7 @@ fn arg(
     match text.parse::<u32>() {
         Ok(v) if (range.0..=range.1).contains(&v) => Ok(v),
         _ => Err(format!(
-            "{name} = {text:?}: must be a whole number in {}..={} (usage: crowd [CHARACTERS] [FRAMES] [FAR_EVERY] [STRIDE_MM])",
+            "{name} = {text:?}: must be a whole number in {}..={} (usage: crowd [CHARACTERS] [FRAMES] [FAR_EVERY] [STRIDE_MM] [CAMERA])",
             range.0, range.1
         )),
     }
@@ -105,13 +136,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let count = arg(&args, 0, "characters", 64, (1, 1000))?;
     let frames = arg(&args, 1, "frames", 600, (1, 1_000_000))?;
     let far_every = arg(&args, 2, "far_every", 1, (1, 64))?;
+    let camera = match args.get(4).map(String::as_str) {
+        None | Some("overview") => Camera::Overview,
+        Some("follow") => Camera::Follow,
+        Some("follow-unseen") => Camera::FollowUnseen,
+        Some(text) => {
+            return Err(format!(
+                "camera = {text:?}: must be overview, follow or follow-unseen (usage: crowd [CHARACTERS] [FRAMES] [FAR_EVERY] [STRIDE_MM] [CAMERA])"
+            )
+            .into());
+        }
+    };
     let stride_mm = match args.get(3) {
         None => 0.5,
         Some(text) => match text.parse::<f32>() {
             Ok(v) if (0.0..=50.0).contains(&v) => v,
             _ => {
                 return Err(format!(
-                    "stride = {text:?}: must be a number of millimetres in 0..=50 (usage: crowd [CHARACTERS] [FRAMES] [FAR_EVERY] [STRIDE_MM])"
+                    "stride = {text:?}: must be a number of millimetres in 0..=50 (usage: crowd [CHARACTERS] [FRAMES] [FAR_EVERY] [STRIDE_MM] [CAMERA])"
                 )
                 .into());
             }
@@ -128,6 +170,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .sim(SimParams {
             recovery_s: 6.0,
             far_every,
+            far_outside_view: camera == Camera::FollowUnseen,
             recovery_stride_m: stride_mm * 1e-3,
             ..SimParams::default()
         })
@@ -156,7 +199,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         });
     }
     println!(
-        "{count} characters over {} blades, far_every = {far_every}, recovery stride {stride_mm} mm",
+        "{count} characters over {} blades, far_every = {far_every}, recovery stride {stride_mm} mm, camera {camera:?}",
         sim.field.blades.count
     );
 
@@ -196,6 +239,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             let position = c.at + Vec3::Y * centre_height;
             sim.move_body(c.id, position, Quat::from_rotation_y(c.heading), dt)?;
+        }
+        if camera != Camera::Overview {
+            sim.set_view(behind(&crowd[0])?)?;
         }
         let start = Instant::now();
         let t = sim.step(dt)?.clone();
