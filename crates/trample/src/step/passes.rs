@@ -14,15 +14,16 @@
 //! it becomes far, and again after a turn at which its speed asks for more
 //! or fewer sub-steps than when it was given it (it sped up, slowed down,
 //! stopped or started), and kept otherwise: the one whose far pass has the
-//! least work with it ([`far_work`]: the pass's sub-steps, its fastest
-//! body's, times the ground its bodies reach, a body standing still
-//! counting [`AT_REST_SHARE`] of its ground), so that each step carries
+//! least work with it ([`far_work`]: each body's ground times its own
+//! sub-steps, a body standing still counting [`AT_REST_SHARE`] of its
+//! ground), so that each step carries
 //! about `1/k` of the far bodies' work and not only of their number (the
 //! herd at `k = 16`, two cores, 240 steps: by body id, a turn's steps took
 //! 10.9 to 22.5 ms on average and 31–36 steps took over 20 ms; by each
 //! body's ground times its own sub-steps, 12.3 to 18.5 ms and 2–4 steps:
-//! BENCHMARKS.md, session 27; counting a pass's shared sub-steps, session
-//! 29). A step runs:
+//! BENCHMARKS.md, session 27; since session 68 each body runs its own
+//! sub-steps, where before the bodies of a turn shared its fastest's and
+//! the load counted that, session 29). A step runs:
 //!
 //! - its **main pass**: the step's `dt` from `time`, over the bodies that
 //!   are not far (every body when `k = 1`: the step as it always was) and
@@ -45,10 +46,13 @@
 //!   bend a step, put back by the body's contact before the step ends;
 //! - one **far pass** per distinct start among the far bodies due this step
 //!   (usually one, `k` steps back; a body that just became far starts
-//!   later): those bodies alone, from the end of the last step they took
-//!   part in to the end of this one, sub-stepped for their own travel
-//!   (DESIGN §9, and no farther than `sim.far_travel_m` a sub-step, so that
-//!   the patch a body presses flat is not left dotted): collision, forces
+//!   later) and per number of sub-steps they need, fewest first: those
+//!   bodies alone, from the end of the last step they took part in to the
+//!   end of this one, sub-stepped for their own travel (DESIGN §9, and no
+//!   farther than `sim.far_travel_m` a sub-step, so that the patch a body
+//!   presses flat is not left dotted; a slow body is not carried through a
+//!   fast one's sub-steps: on the herd at `k = 16` that was 15 % of the
+//!   far passes' work, BENCHMARKS.md, session 68): collision, forces
 //!   (Eq. 2), propagation (Eq. 4), bending (Eq. 5–7, the displacement
 //!   `F · h` with the pass's `h`) and contact.
 //!
@@ -218,13 +222,28 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
     }
     let mut passes = near_passes(sim, main, dt);
     due.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let max = sim.params.max_substeps.max(1);
     for group in due.chunk_by(|a, b| a.0 == b.0) {
         let start = group[0].0;
-        let mut active = vec![false; n];
-        for &(_, i) in group {
-            active[i] = true;
+        let dt = (end - start) as f32;
+        // Each body sub-stepped for its own travel: one pass per number of
+        // sub-steps, fewest first (a slow body is not carried through a
+        // fast one's sub-steps).
+        let mut needs: Vec<(u32, usize)> = group
+            .iter()
+            .map(|&(_, i)| {
+                let k = body_substeps(sim, &sim.bodies[i], start, dt, sim.params.far_travel_m);
+                (k.clamp(1, max), i)
+            })
+            .collect();
+        needs.sort_unstable();
+        for same in needs.chunk_by(|a, b| a.0 == b.0) {
+            let mut active = vec![false; n];
+            for &(_, i) in same {
+                active[i] = true;
+            }
+            passes.push(Pass::far(sim, active, start, dt));
         }
-        passes.push(Pass::far(sim, active, start, (end - start) as f32));
     }
     passes
 }
@@ -337,10 +356,9 @@ impl FarTurn {
 /// that took their turn on the last step, are given theirs largest first
 /// (by [`far_cost`]), each the turn whose load is least once it joins
 /// (ties: the turn it had, then the first). A turn's load is what its far
-/// pass does: its sub-steps — those of its fastest body, since the bodies
-/// of a pass share them — times the ground its bodies reach
-/// ([`far_work`]), so bodies of like speeds tend to share a turn and a
-/// slow one is not carried through a fast one's sub-steps. A body whose
+/// passes do: each body's ground times its own sub-steps
+/// ([`FarWork::cost`]; each body runs its own sub-steps, in a pass with
+/// the bodies of its turn that need as many: [`plan_passes`]). A body whose
 /// speed changed waits for its turn before it moves, so no body waits
 /// more than `far_every` steps between two turns. A function of the
 /// simulation's state alone, so that [`plan_passes`] and
@@ -353,10 +371,8 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
         return turns;
     }
     let rule = FarRule::of(sim);
-    // Per turn: its sub-steps (its fastest body's) and the ground its
-    // bodies reach.
-    let mut substeps = vec![0.0f64; every as usize];
-    let mut ground = vec![0.0f64; every as usize];
+    // Per turn: the ground its bodies' narrow phases test over a turn.
+    let mut load = vec![0.0f64; every as usize];
     let mut placing = Vec::new();
     for (i, body) in sim.bodies.iter().enumerate() {
         if !(body.may_step_far() && rule.body(body)) {
@@ -367,27 +383,23 @@ pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
         match kept {
             Some(t) if t.holds(&work) || body.stepped_to < sim.time => {
                 turns[i] = Some(t);
-                let t = t.turn;
-                substeps[t as usize] = substeps[t as usize].max(work.substeps());
-                ground[t as usize] += work.ground();
+                load[t.turn as usize] += work.cost();
             }
             _ => placing.push((work, i, kept)),
         }
     }
     placing.sort_by(|a, b| b.0.cost().total_cmp(&a.0.cost()).then(a.1.cmp(&b.1)));
     for (work, i, had) in placing {
-        let load = |t: usize| substeps[t].max(work.substeps()) * (ground[t] + work.ground());
         let moved = |t: usize| had.is_none_or(|h| h.turn != t as u32);
         let t = (0..every as usize)
             .min_by(|&a, &b| {
-                load(a)
-                    .total_cmp(&load(b))
+                load[a]
+                    .total_cmp(&load[b])
                     .then(moved(a).cmp(&moved(b)))
                     .then(a.cmp(&b))
             })
             .expect("far_every > 1 turns");
-        substeps[t] = substeps[t].max(work.substeps());
-        ground[t] += work.ground();
+        load[t] += work.cost();
         turns[i] = Some(FarTurn {
             turn: t as u32,
             travel: work.travel,
@@ -479,10 +491,10 @@ const FAR_HEADINGS: [(f32, f32); 8] = [
 ];
 
 /// What a far body does in a far pass (see [`FarWork`]): the turns of
-/// [`far_schedule`] balance these, a pass's sub-steps being its fastest
-/// body's. Measured on the herd at `far_every = 16` (BENCHMARKS.md,
-/// session 29): a turn's sub-steps times its bodies' ground follows the
-/// blades its narrow phase tests (correlation 0.99 over the 16 turns).
+/// [`far_schedule`] balance these. Measured on the herd at `far_every =
+/// 16` (BENCHMARKS.md, session 29, when a turn's bodies shared its fastest
+/// body's sub-steps): a turn's sub-steps times its bodies' ground follows
+/// the blades its narrow phase tests (correlation 0.99 over the 16 turns).
 #[must_use]
 pub fn far_work(sim: &Simulation, body: &Body) -> FarWork {
     let reach = sim.field.max_blade_length + sim.params.contact_shell_m;
