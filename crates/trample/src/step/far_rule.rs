@@ -6,10 +6,10 @@
 //! out of the camera's view with the grass it can bend (a body:
 //! [`is_out_of_view`]; a patch: its box, which holds its blades however
 //! they bend, outside the view frustum — the patches culling leaves out).
+//! The rule's parts live here; `passes` and `recovery_turns` re-export
+//! the ones they were born in.
 
 use super::body::Body;
-use super::passes::{is_far, is_out_of_view};
-use super::recovery_turns::patch_is_far;
 use super::simulation::Simulation;
 use crate::field::Frustum;
 use glam::Vec3;
@@ -68,5 +68,55 @@ impl FarRule {
     pub fn patch(&self, min: Vec3, max: Vec3) -> bool {
         patch_is_far(min, max, self.eye, self.beyond)
             || self.view.is_some_and(|f| !f.intersects_aabb(min, max))
+    }
+}
+
+/// Whether `body` lies wholly farther than `beyond` metres from `eye`,
+/// horizontally: for each of its colliders (its own mesh and its parts),
+/// the root box's centre, less the box's half diagonal (its bounding
+/// sphere), is farther than that.
+#[must_use]
+pub fn is_far(body: &Body, eye: Vec3, beyond: f32) -> bool {
+    body.colliders().all(|c| {
+        let root = c.world_root;
+        let d = (root.center.x - eye.x).hypot(root.center.z - eye.z) - root.half_diagonal();
+        d > beyond
+    })
+}
+
+/// Whether `body` lies wholly out of the view `frustum`
+/// ([`crate::step::SimParams::far_outside_view`]): for each of its
+/// colliders, the root box's bounding sphere grown by `reach` metres (the
+/// grass it can bend reaches that far past its box: the longest blade and
+/// the contact shell) lies wholly outside one of the frustum's planes.
+#[must_use]
+pub fn is_out_of_view(body: &Body, frustum: &Frustum, reach: f32) -> bool {
+    body.colliders().all(|c| {
+        let root = c.world_root;
+        frustum.ball_outside(root.center, root.half_diagonal() + reach)
+    })
+}
+
+/// Whether a patch's box lies wholly farther than `beyond` metres from
+/// `eye`, horizontally (the distance from `eye` to the nearest point of its
+/// x–z rectangle) — the rule far bodies follow ([`is_far`]).
+#[must_use]
+pub fn patch_is_far(aabb_min: Vec3, aabb_max: Vec3, eye: Vec3, beyond: f32) -> bool {
+    let dx = (aabb_min.x - eye.x).max(eye.x - aabb_max.x).max(0.0);
+    let dz = (aabb_min.z - eye.z).max(eye.z - aabb_max.z).max(0.0);
+    dx.hypot(dz) > beyond
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_patch_is_far_by_the_nearest_point_of_its_square() {
+        let (lo, hi) = (Vec3::new(10.0, 0.0, -1.0), Vec3::new(12.0, 1.0, 1.0));
+        assert!(!patch_is_far(lo, hi, Vec3::ZERO, 10.0));
+        assert!(patch_is_far(lo, hi, Vec3::ZERO, 9.99));
+        assert!(!patch_is_far(lo, hi, Vec3::new(11.0, 50.0, 0.0), 0.0));
+        assert!(patch_is_far(lo, hi, Vec3::new(15.0, 0.0, 5.0), 4.99));
     }
 }

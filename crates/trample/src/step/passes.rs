@@ -76,8 +76,6 @@ use super::body::Body;
 use super::far_rule::FarRule;
 use super::simulation::Simulation;
 use super::stages::{SubstepPlan, body_substeps, plan_of_needs, plan_substeps_of};
-use crate::field::Frustum;
-use glam::Vec3;
 
 /// One pass of a step over some of the bodies (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -161,31 +159,7 @@ impl Pass {
     }
 }
 
-/// Whether `body` lies wholly farther than `beyond` metres from `eye`,
-/// horizontally: for each of its colliders (its own mesh and its parts),
-/// the root box's centre, less the box's half diagonal (its bounding
-/// sphere), is farther than that.
-#[must_use]
-pub fn is_far(body: &Body, eye: Vec3, beyond: f32) -> bool {
-    body.colliders().all(|c| {
-        let root = c.world_root;
-        let d = (root.center.x - eye.x).hypot(root.center.z - eye.z) - root.half_diagonal();
-        d > beyond
-    })
-}
-
-/// Whether `body` lies wholly out of the view `frustum`
-/// ([`crate::step::SimParams::far_outside_view`]): for each of its
-/// colliders, the root box's bounding sphere grown by `reach` metres (the
-/// grass it can bend reaches that far past its box: the longest blade and
-/// the contact shell) lies wholly outside one of the frustum's planes.
-#[must_use]
-pub fn is_out_of_view(body: &Body, frustum: &Frustum, reach: f32) -> bool {
-    body.colliders().all(|c| {
-        let root = c.world_root;
-        frustum.ball_outside(root.center, root.half_diagonal() + reach)
-    })
-}
+pub use super::far_rule::{is_far, is_out_of_view};
 
 /// The passes of a step of `dt` seconds (see the module docs): the main
 /// pass first, then the far passes by start time.
@@ -365,12 +339,17 @@ impl FarTurn {
 /// [`Simulation::begin_step`] (which keeps the turns in the bodies) agree.
 #[must_use]
 pub fn far_schedule(sim: &Simulation) -> Vec<Option<FarTurn>> {
+    far_schedule_with(sim, &FarRule::of(sim))
+}
+
+/// [`far_schedule`] by the far rule `rule` ([`FarRule::of`] of `sim`: what
+/// [`Simulation::begin_step`] finds once for the bodies and the patches).
+pub(crate) fn far_schedule_with(sim: &Simulation, rule: &FarRule) -> Vec<Option<FarTurn>> {
     let every = sim.params.far_every.max(1);
     let mut turns = vec![None; sim.bodies.len()];
     if every == 1 {
         return turns;
     }
-    let rule = FarRule::of(sim);
     // Per turn: the ground its bodies' narrow phases test over a turn.
     let mut load = vec![0.0f64; every as usize];
     let mut placing = Vec::new();

@@ -28,7 +28,6 @@
 
 use super::far_rule::FarRule;
 use crate::field::FieldLayout;
-use glam::Vec3;
 
 /// This step's recovery time of every patch, as a multiple of the step.
 #[derive(Clone, Debug, Default)]
@@ -101,20 +100,13 @@ impl RecoveryTurns {
     }
 }
 
-/// Whether a patch's box lies wholly farther than `beyond` metres from
-/// `eye`, horizontally (the distance from `eye` to the nearest point of its
-/// x–z rectangle) — the rule far bodies follow ([`super::passes::is_far`]).
-#[must_use]
-pub fn patch_is_far(aabb_min: Vec3, aabb_max: Vec3, eye: Vec3, beyond: f32) -> bool {
-    let dx = (aabb_min.x - eye.x).max(eye.x - aabb_max.x).max(0.0);
-    let dz = (aabb_min.z - eye.z).max(eye.z - aabb_max.z).max(0.0);
-    dx.hypot(dz) > beyond
-}
+pub use super::far_rule::patch_is_far;
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::field::{Field, FieldParams, Terrain};
+    use glam::Vec3;
 
     fn layout() -> FieldLayout {
         let params = FieldParams {
@@ -124,15 +116,6 @@ mod tests {
         };
         let field = Field::generate(&params, Terrain::Flat(0.0)).expect("field");
         field.layout
-    }
-
-    #[test]
-    fn a_patch_is_far_by_the_nearest_point_of_its_square() {
-        let (lo, hi) = (Vec3::new(10.0, 0.0, -1.0), Vec3::new(12.0, 1.0, 1.0));
-        assert!(!patch_is_far(lo, hi, Vec3::ZERO, 10.0));
-        assert!(patch_is_far(lo, hi, Vec3::ZERO, 9.99));
-        assert!(!patch_is_far(lo, hi, Vec3::new(11.0, 50.0, 0.0), 0.0));
-        assert!(patch_is_far(lo, hi, Vec3::new(15.0, 0.0, 5.0), 4.99));
     }
 
     /// Near patches recover every step by exactly the step; far ones on

@@ -318,13 +318,14 @@ impl Simulation {
     pub fn begin_step(&mut self, dt: f32) -> Result<Vec<Pass>, SimError> {
         check_dt(dt)?;
         self.field.clear_changes();
-        let schedule = super::passes::far_schedule(self);
+        // One far rule for the bodies' turns and the patches'.
+        let rule = super::far_rule::FarRule::of(self);
+        let schedule = super::passes::far_schedule_with(self, &rule);
         let turns: Vec<Option<u32>> = schedule.iter().map(|s| s.map(|s| s.turn)).collect();
         let passes = plan_passes_with(self, dt, &turns);
         for (body, s) in self.bodies.iter_mut().zip(schedule) {
             body.far_turn = s;
         }
-        let rule = super::far_rule::FarRule::of(self);
         self.recovery_turns.plan(
             &self.field.layout,
             &rule,
