@@ -75,7 +75,7 @@ use super::at_rest::is_still;
 use super::body::Body;
 use super::far_rule::FarRule;
 use super::simulation::Simulation;
-use super::stages::{SubstepPlan, body_substeps, plan_of_needs, plan_substeps_of};
+use super::stages::{SubstepPlan, body_substeps, plan_of_needs};
 
 /// One pass of a step over some of the bodies (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -100,37 +100,28 @@ pub struct Pass {
 }
 
 impl Pass {
-    /// A far pass over the bodies `active` marks, `dt` seconds from
-    /// `start` (their last turn), no position moving farther than
-    /// `sim.params.far_travel_m` a sub-step.
-    fn far(sim: &Simulation, active: Vec<bool>, start: f64, dt: f32) -> Self {
-        let plan = plan_substeps_of(sim, Some(&active), start, dt, sim.params.far_travel_m);
+    /// A pass over the bodies of `group` (`(body index, sub-steps it
+    /// needs before max_substeps)`, [`by_need`]), `dt` seconds from
+    /// `start`: the plan [`super::stages::plan_substeps_of`] would make for
+    /// them.
+    fn of_group(
+        sim: &Simulation,
+        group: &[(usize, u32)],
+        start: f64,
+        dt: f32,
+        (main, near): (bool, bool),
+    ) -> Self {
+        let mut active = vec![false; sim.bodies.len()];
+        for &(i, _) in group {
+            active[i] = true;
+        }
         Self {
             active,
             start,
             dt,
-            main: false,
-            near: false,
-            plan,
-        }
-    }
-
-    /// A near pass (no travel bound, from the step's start) over the
-    /// bodies `active` marks, whose sub-steps `need` holds (each body's
-    /// [`body_substeps`], found once for all the near passes): the plan
-    /// [`plan_substeps_of`] would make for them with no travel bound.
-    fn of_near(sim: &Simulation, active: Vec<bool>, dt: f32, main: bool, need: &[u32]) -> Self {
-        let needs = (0..active.len())
-            .filter(|&i| active[i])
-            .map(|i| (i, need.get(i).copied().unwrap_or(1)));
-        let plan = plan_of_needs(needs, sim.params.max_substeps);
-        Self {
-            active,
-            start: sim.time,
-            dt,
             main,
-            near: true,
-            plan,
+            near,
+            plan: plan_of_needs(group.iter().copied(), sim.params.max_substeps),
         }
     }
 
@@ -194,29 +185,20 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
             due.push((body.stepped_to, i));
         }
     }
-    let mut passes = near_passes(sim, main, dt);
+    let mut passes = near_passes(sim, &main, dt);
     due.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let max = sim.params.max_substeps.max(1);
     for group in due.chunk_by(|a, b| a.0 == b.0) {
         let start = group[0].0;
         let dt = (end - start) as f32;
         // Each body sub-stepped for its own travel: one pass per number of
         // sub-steps, fewest first (a slow body is not carried through a
         // fast one's sub-steps).
-        let mut needs: Vec<(u32, usize)> = group
-            .iter()
-            .map(|&(_, i)| {
-                let k = body_substeps(sim, &sim.bodies[i], start, dt, sim.params.far_travel_m);
-                (k.clamp(1, max), i)
-            })
-            .collect();
-        needs.sort_unstable();
-        for same in needs.chunk_by(|a, b| a.0 == b.0) {
-            let mut active = vec![false; n];
-            for &(_, i) in same {
-                active[i] = true;
-            }
-            passes.push(Pass::far(sim, active, start, dt));
+        let needs = group.iter().map(|&(_, i)| {
+            let k = body_substeps(sim, &sim.bodies[i], start, dt, sim.params.far_travel_m);
+            (i, k)
+        });
+        for same in by_need(sim, needs) {
+            passes.push(Pass::of_group(sim, &same, start, dt, (false, false)));
         }
     }
     passes
@@ -226,44 +208,37 @@ pub(crate) fn plan_passes_with(sim: &Simulation, dt: f32, turns: &[Option<u32>])
 /// main pass over those that need the fewest sub-steps, then, when others
 /// need more, a pass over each group that needs the same number, fewest
 /// first.
-fn near_passes(sim: &Simulation, near: Vec<bool>, dt: f32) -> Vec<Pass> {
+fn near_passes(sim: &Simulation, near: &[bool], dt: f32) -> Vec<Pass> {
+    let needs = (0..near.len()).filter(|&i| near[i]).map(|i| {
+        let k = body_substeps(sim, &sim.bodies[i], sim.time, dt, f32::INFINITY);
+        (i, k)
+    });
+    let mut groups = by_need(sim, needs).into_iter();
+    // The main pass runs even with no body (the levels of detail, the
+    // view, the transitions and the recovery).
+    let first = groups.next().unwrap_or_default();
+    let mut passes = vec![Pass::of_group(sim, &first, sim.time, dt, (true, true))];
+    passes.extend(groups.map(|g| Pass::of_group(sim, &g, sim.time, dt, (false, true))));
+    passes
+}
+
+/// The bodies of `needs` (`(body index, sub-steps it needs)`, as
+/// [`body_substeps`] gives them) in groups that run the same number of
+/// sub-steps (at most `max_substeps`), fewest first, each in body order.
+fn by_need(
+    sim: &Simulation,
+    needs: impl IntoIterator<Item = (usize, u32)>,
+) -> Vec<Vec<(usize, u32)>> {
     let max = sim.params.max_substeps.max(1);
-    // Each near body's sub-steps, found once (the passes' plans are made
-    // of them).
-    let need: Vec<u32> = (0..near.len())
-        .map(|i| {
-            if near[i] {
-                body_substeps(sim, &sim.bodies[i], sim.time, dt, f32::INFINITY)
-            } else {
-                0
-            }
-        })
-        .collect();
-    let mut needs: Vec<(u32, usize)> = (0..near.len())
-        .filter(|&i| near[i])
-        .map(|i| (need[i].clamp(1, max), i))
+    let mut needs: Vec<(u32, usize, u32)> = needs
+        .into_iter()
+        .map(|(i, k)| (k.clamp(1, max), i, k))
         .collect();
     needs.sort_unstable();
-    let fewest = needs.first().map_or(1, |&(k, _)| k);
-    let mut main = near;
-    for &(k, i) in &needs {
-        if k > fewest {
-            main[i] = false;
-        }
-    }
-    let n = main.len();
-    let mut passes = vec![Pass::of_near(sim, main, dt, true, &need)];
-    for group in needs
+    needs
         .chunk_by(|a, b| a.0 == b.0)
-        .filter(|g| g[0].0 > fewest)
-    {
-        let mut active = vec![false; n];
-        for &(_, i) in group {
-            active[i] = true;
-        }
-        passes.push(Pass::of_near(sim, active, dt, false, &need));
-    }
-    passes
+        .map(|g| g.iter().map(|&(_, i, k)| (i, k)).collect())
+        .collect()
 }
 
 /// The sub-steps a step's near passes took ([`Pass::near`]: the main pass
