@@ -106,7 +106,12 @@ pub struct SimParams {
     /// about 0.2 m across under a 1 m ball), so longer sub-steps leave a
     /// dotted, less flattened track. Default 0.25: at `far_every = 8` the
     /// far tracks keep 88 % of the every-frame flattening (`inf`: 73 %, and
-    /// cheaper: BENCHMARKS.md, "Session 14"). > 0, or `inf` for no bound.
+    /// cheaper: BENCHMARKS.md, "Session 14"). Each body is sub-stepped for
+    /// its own travel, whatever the bodies sharing its turn need
+    /// ([`crate::step::passes::plan_passes`]): on `scenes/herd_small.toml`
+    /// at `far_every = 4` the far tracks lie flat for 81 % of the blades
+    /// the every-step run lays flat, 88 % at 0.2 (BENCHMARKS.md, "Session
+    /// 68"). > 0, or `inf` for no bound.
     pub far_travel_m: f32,
     /// Bodies out of the camera's view take turns too (ours): with
     /// `far_every` above 1, a body near the camera whose colliders' root

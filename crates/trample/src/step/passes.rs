@@ -52,7 +52,9 @@
 //!   farther than `sim.far_travel_m` a sub-step, so that the patch a body
 //!   presses flat is not left dotted; a slow body is not carried through a
 //!   fast one's sub-steps: on the herd at `k = 16` that was 15 % of the
-//!   far passes' work, BENCHMARKS.md, session 68): collision, forces
+//!   far passes' work, and pressed those bodies' tracks flatter — 65 % of
+//!   the every-step run's flat blades then, 60 % now; BENCHMARKS.md,
+//!   session 68): collision, forces
 //!   (Eq. 2), propagation (Eq. 4), bending (Eq. 5–7, the displacement
 //!   `F · h` with the pass's `h`) and contact.
 //!
