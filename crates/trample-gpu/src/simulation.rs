@@ -4,7 +4,8 @@
 //! read-back. The blade buffers stay on the GPU across steps.
 //!
 //! The wrapped [`Simulation`] supplies what is still computed on the CPU:
-//! the sub-step plan (`plan_substeps`, shared with the core) and the poses
+//! the passes and their sub-steps (`Simulation::begin_step`, shared with
+//! the core) and the poses
 //! (`Motion::pose_at`, a pure function of time, a few floats per object).
 //! Its own blade arrays are **not** updated by [`GpuSimulation::step`]:
 //! read the field back with [`GpuField::read_positions`].

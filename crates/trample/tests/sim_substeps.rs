@@ -220,6 +220,8 @@ fn slow_and_fast(slow: bool, bullet: bool, recovery: &str) -> trample::Simulatio
 /// its sub-steps in a pass of its own. Each leaves, bit for bit, the track
 /// it leaves alone on the field (their tracks are apart). Before, the slow
 /// ball was sub-stepped with the fast one, and its track's bits changed.
+/// `stages::plan_substeps`, the plan of the step as one pass, is the
+/// fastest pass's.
 #[test]
 fn a_slow_object_is_not_sub_stepped_for_a_fast_one() {
     let dt = 1.0 / 30.0;
@@ -240,6 +242,14 @@ fn a_slow_object_is_not_sub_stepped_for_a_fast_one() {
                 (passes[1].start, passes[1].dt),
                 (passes[0].start, passes[0].dt)
             );
+        }
+        // The whole step's plan, as if every body ran in one pass: the
+        // fastest body's, which its own pass runs.
+        let whole = trample::step::stages::plan_substeps(&both, dt);
+        let fastest = passes.iter().map(|p| p.plan).max_by_key(|p| p.needed);
+        assert_eq!(Some(whole), fastest, "step {step}");
+        if passes.len() == 2 {
+            assert_eq!(whole.fastest, Some(1), "the bullet is the fastest");
         }
         let t = both.step(dt).unwrap();
         assert_eq!(t.far_bodies, 0, "near bodies are not far");

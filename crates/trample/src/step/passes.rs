@@ -97,15 +97,16 @@ pub struct Pass {
     /// main pass, or a pass of near bodies that need more sub-steps than
     /// the main pass's ([`plan_passes`]); `false` for a far pass.
     pub near: bool,
-    /// Its sub-steps ([`super::stages::plan_substeps`] for its bodies).
+    /// Its sub-steps: the most its bodies need
+    /// (`stages::body_substeps`, `stages::plan_of_needs`).
     pub plan: SubstepPlan,
 }
 
 impl Pass {
     /// A pass over the bodies of `group` (`(body index, sub-steps it
     /// needs before max_substeps)`, [`by_need`]), `dt` seconds from
-    /// `start`: the plan [`super::stages::plan_substeps_of`] would make for
-    /// them.
+    /// `start`, running the most sub-steps any of them needs
+    /// (`stages::plan_of_needs`).
     fn of_group(
         sim: &Simulation,
         group: &[(usize, u32)],

@@ -306,7 +306,8 @@ impl Simulation {
     /// each far body keeping its turn until its speed changes,
     /// [`super::passes::far_schedule`]; and, likewise, which far patches'
     /// blades recover this step, [`super::recovery_turns`])
-    /// and each pass's sub-steps ([`stages::plan_substeps`]), forgets the
+    /// and each pass's sub-steps (the most its bodies need, each body's
+    /// found once: `stages::body_substeps`), forgets the
     /// blades and cells the last step changed, and, when a pass's plan is
     /// clamped, counts it ([`Simulation::substep_clamps`]) and keeps the
     /// first ([`Simulation::first_substep_clamp`]). Run each pass's

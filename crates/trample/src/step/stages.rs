@@ -58,30 +58,19 @@ pub struct SubstepPlan {
     pub fastest: Option<usize>,
 }
 
-/// Plans the sub-steps of a step of `dt` from each body's travel (and spin,
-/// at its root box's farthest corner from the rotation axis through its
-/// origin: [`crate::object::Pose::spin_speed`]) between the step's ends.
+/// Plans the sub-steps of a step of `dt` from now over every body, as if
+/// all ran in one pass: each body's travel (and spin, at its root box's
+/// farthest corner from the rotation axis through its origin:
+/// [`crate::object::Pose::spin_speed`]) between the step's ends
+/// (`body_substeps` with no travel bound). The step itself plans a pass
+/// per group of bodies that need like sub-steps ([`super::passes`]); this
+/// is the plan of the most any body needs.
 pub fn plan_substeps(sim: &Simulation, dt: f32) -> SubstepPlan {
-    plan_substeps_of(sim, None, sim.time, dt, f32::INFINITY)
-}
-
-/// [`plan_substeps`] for the bodies `active` marks (every body with `None`)
-/// over `dt` seconds from `start` (a pass of [`super::passes`]), no body's
-/// position moving farther than `max_travel` metres a sub-step either (its
-/// spin aside: the patch it presses flat moves with its position).
-pub fn plan_substeps_of(
-    sim: &Simulation,
-    active: Option<&[bool]>,
-    start: f64,
-    dt: f32,
-    max_travel: f32,
-) -> SubstepPlan {
     let needs = sim
         .bodies
         .iter()
         .enumerate()
-        .filter(|&(i, _)| active.is_none_or(|a| a.get(i).copied().unwrap_or(false)))
-        .map(|(i, body)| (i, body_substeps(sim, body, start, dt, max_travel)));
+        .map(|(i, body)| (i, body_substeps(sim, body, sim.time, dt, f32::INFINITY)));
     plan_of_needs(needs, sim.params.max_substeps)
 }
 
@@ -107,7 +96,8 @@ pub(crate) fn plan_of_needs(
 }
 
 /// The sub-steps `body` alone needs over `dt` seconds from `start`
-/// ([`plan_substeps_of`]'s rule, before `max_substeps`): its own mesh's
+/// (before `max_substeps`; a pass plans its bodies' most with
+/// [`plan_of_needs`]): its own mesh's
 /// and each part's travel (and spin) over its thickness, and its
 /// position's travel over `max_travel`; a mesh whose vertices the host
 /// sets ([`Simulation::set_body_vertices`]) also its vertices' farthest
