@@ -110,8 +110,12 @@ pub struct SimParams {
     /// its own travel, whatever the bodies sharing its turn need
     /// ([`crate::step::passes::plan_passes`]): on `scenes/herd_small.toml`
     /// at `far_every = 4` the far tracks lie flat for 81 % of the blades
-    /// the every-step run lays flat, 88 % at 0.2 (BENCHMARKS.md, "Session
-    /// 68"). > 0, or `inf` for no bound.
+    /// the every-step run lays flat, 88 % at 0.2; on `scenes/herd.toml` at
+    /// `far_every = 16`, 60 % at 0.25 and 68 % at 0.2, which costs the
+    /// step ~23 % more there (BENCHMARKS.md, "Session 68" and "Session
+    /// 69"): the default keeps the herd's step near its 16 ms budget, a
+    /// host that wants flatter far tracks sets 0.2. > 0, or `inf` for no
+    /// bound.
     pub far_travel_m: f32,
     /// Bodies out of the camera's view take turns too (ours): with
     /// `far_every` above 1, a body near the camera whose colliders' root
