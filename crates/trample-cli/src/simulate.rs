@@ -190,13 +190,14 @@ pub fn run(a: &Args) -> Result<()> {
         match summary.far_every {
             1 => String::new(),
             k => format!(
-                "; far{} objects every {k} steps: {:.1} a step",
+                "; far{} objects every {k} steps: {:.1} a step{}",
                 if summary.far_outside_view {
                     " and unseen"
                 } else {
                     ""
                 },
-                summary.far_bodies_mean
+                summary.far_bodies_mean,
+                turn_spread(&summary.far_turns)
             ),
         },
         if summary.reused_tiles_mean > 0.0 {
@@ -214,4 +215,16 @@ pub fn run(a: &Args) -> Result<()> {
         summary_path.display()
     );
     Ok(())
+}
+
+/// The range of the far turns' median step times, in words (", turns'
+/// median steps 17.1–23.9 ms"); empty when a phase has no step.
+fn turn_spread(turns: &[crate::summary::FarPhase]) -> String {
+    if turns.is_empty() || turns.iter().any(|t| t.steps == 0) {
+        return String::new();
+    }
+    let medians = turns.iter().map(|t| t.step_ms.median);
+    let lo = medians.clone().fold(f64::INFINITY, f64::min);
+    let hi = medians.fold(f64::NEG_INFINITY, f64::max);
+    format!(", turns' median steps {lo:.1}–{hi:.1} ms")
 }

@@ -71,6 +71,57 @@ impl Recorder {
     }
 }
 
+/// The steps of one phase of the far objects' turns (`far_every` above 1):
+/// those whose frame modulo `far_every` is `phase`, so the far objects of
+/// one turn (`trample::step::passes::far_schedule`). Turns that carry
+/// unlike work show here as phases whose step times differ: the hitches a
+/// frame budget sees in `step_ms.p90`.
+#[derive(Serialize, Debug, Clone)]
+pub struct FarPhase {
+    /// `frame % far_every` of its steps.
+    pub phase: u32,
+    /// How many steps of the run it holds.
+    pub steps: usize,
+    /// Their step times, milliseconds.
+    pub step_ms: Stats,
+    /// Bodies its steps stepped in far passes, on average.
+    pub far_bodies_mean: f64,
+    /// Blades its steps' narrow phases tested, on average (the CPU path;
+    /// 0 on the GPU path).
+    pub narrow_candidates_mean: f64,
+    /// Blades its steps' contact responses moved, on average (the CPU
+    /// path; 0 on the GPU path).
+    pub contact_blades_mean: f64,
+}
+
+/// The phases of the far turns of the steps `steps` (the run's, from frame
+/// 0) with `far_every`: one per phase, in order; none with `far_every` ≤ 1.
+pub fn far_phases(steps: &[StepTimings], far_every: u32) -> Vec<FarPhase> {
+    if far_every <= 1 {
+        return Vec::new();
+    }
+    (0..far_every)
+        .map(|phase| {
+            let of: Vec<&StepTimings> = steps
+                .iter()
+                .skip(phase as usize)
+                .step_by(far_every as usize)
+                .collect();
+            let mean = |count: fn(&StepTimings) -> u32| {
+                of.iter().map(|t| f64::from(count(t))).sum::<f64>() / of.len().max(1) as f64
+            };
+            FarPhase {
+                phase,
+                steps: of.len(),
+                step_ms: Stats::of(&of.iter().map(|t| t.total_ms).collect::<Vec<_>>()),
+                far_bodies_mean: mean(|t| t.far_bodies),
+                narrow_candidates_mean: mean(|t| t.narrow_candidates),
+                contact_blades_mean: mean(|t| t.contact_blades),
+            }
+        })
+        .collect()
+}
+
 /// What `simulate` writes to `summary.json` (and `run` writes with its render
 /// times added): the run's size, step times and what the objects touched.
 #[derive(Serialize)]
@@ -113,6 +164,10 @@ pub struct SimSummary {
     /// Bodies stepped in far passes a step, on average over the run (0
     /// with `far_every = 1`).
     pub far_bodies_mean: f64,
+    /// With `far_every` above 1, the steps of each phase of the far
+    /// objects' turns ([`FarPhase`]: whether the turns carry like work);
+    /// empty otherwise.
+    pub far_turns: Vec<FarPhase>,
     /// Sub-steps a step was split into near the camera, on average over
     /// the run: the most its main pass or a near pass of faster objects
     /// took (DESIGN §9; each object near the camera is sub-stepped for its
@@ -181,6 +236,7 @@ impl SimSummary {
             far_every: sim.params.far_every,
             far_outside_view: sim.params.far_outside_view,
             far_bodies_mean: mean(|t| t.far_bodies),
+            far_turns: far_phases(&rec.steps, sim.params.far_every),
             substeps_mean: mean(|t| t.substeps),
             reused_tiles_mean: mean(|t| t.reused_tiles),
             reused_blades_mean: mean(|t| t.reused_blades),
@@ -232,6 +288,47 @@ mod tests {
         assert_eq!((s.min, s.p90, s.p99, s.max), (1.0, 180.0, 198.0, 200.0));
         let s = Stats::of(&[5.0]);
         assert_eq!((s.p90, s.p99), (5.0, 5.0));
+    }
+
+    /// Ten steps at `far_every = 4`: phases 0 and 1 hold three steps each
+    /// (frames 0, 4, 8 and 1, 5, 9), 2 and 3 two; each phase's figures are
+    /// those of its own steps alone.
+    #[test]
+    fn far_phases_split_the_steps_by_frame_modulo_far_every() {
+        let steps: Vec<StepTimings> = (0..10u32)
+            .map(|f| StepTimings {
+                total_ms: f64::from(f),
+                far_bodies: f % 4,
+                narrow_candidates: 100 * (f % 4),
+                contact_blades: f,
+                ..StepTimings::default()
+            })
+            .collect();
+        assert!(far_phases(&steps, 1).is_empty(), "no turns");
+        let phases = far_phases(&steps, 4);
+        assert_eq!(phases.len(), 4);
+        assert_eq!(
+            phases
+                .iter()
+                .map(|p| (p.phase, p.steps))
+                .collect::<Vec<_>>(),
+            [(0, 3), (1, 3), (2, 2), (3, 2)]
+        );
+        assert_eq!(phases[0].step_ms.median, 4.0, "frames 0, 4, 8");
+        assert_eq!((phases[1].step_ms.min, phases[1].step_ms.max), (1.0, 9.0));
+        assert_eq!(phases[3].step_ms.mean, 5.0, "frames 3 and 7");
+        for p in &phases {
+            assert_eq!(p.far_bodies_mean, f64::from(p.phase));
+            assert_eq!(p.narrow_candidates_mean, 100.0 * f64::from(p.phase));
+        }
+        assert_eq!(phases[2].contact_blades_mean, 4.0, "frames 2 and 6");
+        // Fewer steps than phases: the last phases hold none.
+        let few = far_phases(&steps[..2], 4);
+        assert_eq!(
+            few.iter().map(|p| p.steps).collect::<Vec<_>>(),
+            [1, 1, 0, 0]
+        );
+        assert_eq!(few[3].far_bodies_mean, 0.0);
     }
 
     #[test]

@@ -105,6 +105,11 @@ fn simulate_writes_summary_and_dumps() {
     assert!(c.data.contains(&1), "the ball must hit blades");
     assert_eq!(s["far_every"], 1);
     assert_eq!(s["far_bodies_mean"], 0.0);
+    assert_eq!(
+        s["far_turns"],
+        serde_json::json!([]),
+        "no turns at far_every 1"
+    );
 }
 
 /// `trample simulate SCENE --frames 40 --far-every 4 --out OUT` with
@@ -150,6 +155,23 @@ fn simulate_far_every_steps_far_objects_in_turns_and_says_so() {
         s["far_bodies_mean"], 0.25,
         "one body, every fourth of 40 steps"
     );
+    // Its turns, phase by phase: ten steps each, the ball in one of them.
+    let turns = s["far_turns"].as_array().unwrap();
+    assert_eq!(turns.len(), 4, "{turns:?}");
+    let mut with_ball = 0;
+    for (k, t) in turns.iter().enumerate() {
+        assert_eq!(
+            (t["phase"].as_u64(), t["steps"].as_u64()),
+            (Some(k as u64), Some(10))
+        );
+        assert!(t["step_ms"]["median"].as_f64().unwrap() > 0.0, "{t}");
+        match t["far_bodies_mean"].as_f64().unwrap() {
+            1.0 => with_ball += 1,
+            m => assert_eq!(m, 0.0, "{t}"),
+        }
+    }
+    assert_eq!(with_ball, 1, "{turns:?}");
+    assert!(err.contains("turns' median steps "), "{err}");
     assert!(
         s["classes"]["direct"].as_u64().unwrap() > 0,
         "the ball hit blades"
