@@ -94,6 +94,15 @@ pub struct FarPhase {
     pub contact_blades_mean: f64,
 }
 
+/// The mean over `steps` of a count each step keeps (0 with no step).
+fn mean_count<'a>(
+    steps: impl ExactSizeIterator<Item = &'a StepTimings>,
+    count: fn(&StepTimings) -> u32,
+) -> f64 {
+    let n = steps.len().max(1);
+    steps.map(|t| f64::from(count(t))).sum::<f64>() / n as f64
+}
+
 /// The phases of the far turns of the steps `steps` (the run's, from frame
 /// 0) with `far_every`: one per phase, in order; none with `far_every` ≤ 1.
 pub fn far_phases(steps: &[StepTimings], far_every: u32) -> Vec<FarPhase> {
@@ -107,9 +116,7 @@ pub fn far_phases(steps: &[StepTimings], far_every: u32) -> Vec<FarPhase> {
                 .skip(phase as usize)
                 .step_by(far_every as usize)
                 .collect();
-            let mean = |count: fn(&StepTimings) -> u32| {
-                of.iter().map(|t| f64::from(count(t))).sum::<f64>() / of.len().max(1) as f64
-            };
+            let mean = |count| mean_count(of.iter().copied(), count);
             FarPhase {
                 phase,
                 steps: of.len(),
@@ -202,10 +209,7 @@ impl SimSummary {
     ) -> Self {
         let count = |c: BladeClass| sim.class.iter().filter(|&&x| x == c).count();
         let last = rec.steps.last().cloned().unwrap_or_default();
-        let mean = |count: fn(&trample::step::StepTimings) -> u32| {
-            rec.steps.iter().map(|t| f64::from(count(t))).sum::<f64>()
-                / rec.steps.len().max(1) as f64
-        };
+        let mean = |count| mean_count(rec.steps.iter(), count);
         Self {
             scene: scene.source.clone(),
             blades: sim.field.blades.count,
