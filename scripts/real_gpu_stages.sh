@@ -76,7 +76,12 @@ for round in $(seq 1 "${ROUNDS:-1}"); do
             --out "$work/herd_$name"
         run 60 "parked_$name" "$t" simulate "$PARKED" --backend gpu --frames "$(frames 100 2)" \
             --out "$work/parked_$name"
-        for s in default herd parked; do
+        # FAR=K: the herd with far objects taking turns (`--far-every K`).
+        if [ -n "${FAR:-}" ]; then
+            run 60 "herdfar_$name" "$t" simulate "$HERD" --backend gpu --far-every "$FAR" \
+                --frames "$(frames 100 2)" --out "$work/herdfar_$name"
+        fi
+        for s in default herd parked herdfar; do
             f=$work/${s}_$name/summary.json
             [ -f "$f" ] && cp "$f" "$json/${s}_$name.json"
         done

@@ -61,6 +61,25 @@ pub fn choose(backend: Backend) -> Result<Option<Gpu>> {
     }
 }
 
+/// What far objects taking turns (`far_every` above 1) do on the GPU
+/// path, for stderr when a GPU run has them; `None` at 1. Turns are the
+/// CPU path's saving: they cut the blades' work, but split the step into
+/// more sub-steps (each far pass sub-stepped for its own travel; the herd at
+/// 16 runs about 12 a step instead of 1), and a GPU's step costs about a
+/// chain of dispatches a sub-step however little each one does: on an
+/// NVIDIA H200 the herd stepped in 22 ms at 16 against 4.8 ms every step
+/// (BENCHMARKS.md, session 70).
+#[must_use]
+pub fn far_turns_note(far_every: u32) -> Option<String> {
+    (far_every > 1).then(|| {
+        format!(
+            "trample: note: far objects take turns (far_every {far_every}), which splits a step into more \
+             sub-steps; on the GPU path each sub-step costs a chain of dispatches however few blades it moves \
+             (NVIDIA H200, the herd: 22 ms a step at 16 against 4.8 ms at 1): far_every 1 is usually faster there"
+        )
+    })
+}
+
 fn wgpu_device_type_cpu() -> trample_gpu::wgpu::DeviceType {
     trample_gpu::wgpu::DeviceType::Cpu
 }

@@ -306,11 +306,16 @@ pub fn run(a: &Args) -> Result<()> {
     };
     let mut on_gpu = if crate::backend::simulate_on(a.backend, &gpu) {
         match trample_gpu::GpuSimulation::supports(&gpu.device, &sim) {
-            Ok(()) => Some(trample_gpu::GpuSimulation::new(
-                &gpu.device,
-                &gpu.queue,
-                sim.clone(),
-            )?),
+            Ok(()) => {
+                if let Some(note) = crate::backend::far_turns_note(sim.params.far_every) {
+                    eprintln!("{note}");
+                }
+                Some(trample_gpu::GpuSimulation::new(
+                    &gpu.device,
+                    &gpu.queue,
+                    sim.clone(),
+                )?)
+            }
             Err(e) if a.backend == crate::backend::Backend::Auto => {
                 eprintln!("trample: GPU path: {e}; simulating on the CPU path");
                 None

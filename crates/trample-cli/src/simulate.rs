@@ -116,6 +116,12 @@ pub fn run(a: &Args) -> Result<()> {
         // `gpu` stops, `auto` takes the CPU path. A failure during the run
         // (device lost, out of memory) falls back to the CPU path either way.
         let supported = trample_gpu::GpuSimulation::supports(&gpu.device, &sim);
+        if let (Ok(()), Some(note)) = (
+            &supported,
+            crate::backend::far_turns_note(sim.params.far_every),
+        ) {
+            bar.suspend(|| eprintln!("{note}"));
+        }
         match supported {
             Err(e) if a.backend != Backend::Auto => {
                 return Err(anyhow::anyhow!("--backend gpu: GPU path: {e}"));

@@ -227,3 +227,33 @@ fn a_lost_gpu_device_falls_back_to_the_cpu_path_with_a_message() {
         "the fallback must give the CPU path's blades"
     );
 }
+
+/// Far objects taking turns on the GPU path get a note (they split the
+/// step into more sub-steps, each a chain of dispatches: slower on a real
+/// GPU, BENCHMARKS.md session 70); every object every step gets none.
+#[test]
+fn far_turns_on_the_gpu_path_come_with_a_note() {
+    let d = dir("far-note");
+    let scene = d.join("scene.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    for far_every in ["1", "4"] {
+        let out = d.join(far_every);
+        let o = trample(&[
+            "simulate",
+            scene.to_str().unwrap(),
+            "--frames",
+            "2",
+            "--backend",
+            "gpu",
+            "--far-every",
+            far_every,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        ok(&o);
+        let err = String::from_utf8_lossy(&o.stderr);
+        let noted = err.contains("note: far objects take turns (far_every 4)")
+            && err.contains("far_every 1 is usually faster there");
+        assert_eq!(noted, far_every == "4", "far_every {far_every}: {err}");
+    }
+}
