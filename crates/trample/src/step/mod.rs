@@ -10,6 +10,7 @@ mod contact_hints;
 mod deform;
 pub mod drive;
 pub mod far_rule;
+pub mod far_shape;
 mod host_mesh;
 pub mod params;
 pub mod passes;

@@ -16,7 +16,8 @@
 //! stopped or started), and kept otherwise: the one whose far pass has the
 //! least work with it ([`far_work`]: each body's ground times its own
 //! sub-steps, a body standing still counting [`AT_REST_SHARE`] of its
-//! ground), so that each step carries
+//! ground, weighed by how much of its shape reaches down into the grass:
+//! [`far_shape_weight`], [`super::far_shape`]), so that each step carries
 //! about `1/k` of the far bodies' work and not only of their number (the
 //! herd at `k = 16`, two cores, 240 steps: by body id, a turn's steps took
 //! 10.9 to 22.5 ms on average and 31–36 steps took over 20 ms; by each
@@ -281,6 +282,11 @@ pub struct FarTurn {
     /// Whether it stood still when it was given `turn` ([`FarWork::still`]):
     /// it keeps `turn` while that stays so.
     pub still: bool,
+    /// Its shape's weight when it was given `turn`
+    /// ([`super::far_shape::shape_weight`] of its grass-reaching share):
+    /// what its ground counts for in its turn's load until it is given one
+    /// again (a walk of its trees, so asked only then).
+    pub weight: f64,
 }
 
 /// How far, in sub-steps, a far body's travel a turn may drift from what
@@ -310,7 +316,8 @@ impl FarTurn {
 /// (ties: the turn it had, then the first). A turn's load is what its far
 /// passes do: each body's ground times its own sub-steps
 /// ([`FarWork::cost`]; each body runs its own sub-steps, in a pass with
-/// the bodies of its turn that need as many: [`plan_passes`]). A body whose
+/// the bodies of its turn that need as many: [`plan_passes`]), weighed by
+/// its shape ([`FarTurn::weight`], found when it is given its turn). A body whose
 /// speed changed waits for its turn before it moves, so no body waits
 /// more than `far_every` steps between two turns. A function of the
 /// simulation's state alone, so that [`plan_passes`] and
@@ -340,13 +347,14 @@ pub(crate) fn far_schedule_with(sim: &Simulation, rule: &FarRule) -> Vec<Option<
         match kept {
             Some(t) if t.holds(&work) || body.stepped_to < sim.time => {
                 turns[i] = Some(t);
-                load[t.turn as usize] += work.cost();
+                load[t.turn as usize] += work.cost() * t.weight;
             }
-            _ => placing.push((work, i, kept)),
+            _ => placing.push((work, far_shape_weight(sim, body, &work), i, kept)),
         }
     }
-    placing.sort_by(|a, b| b.0.cost().total_cmp(&a.0.cost()).then(a.1.cmp(&b.1)));
-    for (work, i, had) in placing {
+    let cost = |(work, weight, ..): &(FarWork, f64, usize, Option<FarTurn>)| work.cost() * weight;
+    placing.sort_by(|a, b| cost(b).total_cmp(&cost(a)).then(a.2.cmp(&b.2)));
+    for (work, weight, i, had) in placing {
         let moved = |t: usize| had.is_none_or(|h| h.turn != t as u32);
         let t = (0..every as usize)
             .min_by(|&a, &b| {
@@ -356,11 +364,12 @@ pub(crate) fn far_schedule_with(sim: &Simulation, rule: &FarRule) -> Vec<Option<
                     .then(a.cmp(&b))
             })
             .expect("far_every > 1 turns");
-        load[t] += work.cost();
+        load[t] += work.cost() * weight;
         turns[i] = Some(FarTurn {
             turn: t as u32,
             travel: work.travel,
             still: work.still,
+            weight,
         });
     }
     turns
@@ -371,9 +380,21 @@ pub(crate) fn far_schedule_with(sim: &Simulation, rule: &FarRule) -> Vec<Option<
 /// standing still), times the sub-steps of a turn at its speed.
 /// An estimate from the pose alone, so the same on every machine and
 /// thread count.
+/// Weighed by its shape ([`far_shape_weight`]).
 #[must_use]
 pub fn far_cost(sim: &Simulation, body: &Body) -> f64 {
-    far_work(sim, body).cost()
+    let work = far_work(sim, body);
+    work.cost() * far_shape_weight(sim, body, &work)
+}
+
+/// The weight of a far body's ground in its turn's load: its shape's
+/// ([`super::far_shape::shape_weight`] of the share of its reach ground,
+/// `work.area`, under the final nodes of its trees that reach into the
+/// grass, [`super::far_shape::grass_reach_share`]); a solid box weighs
+/// about twice a cow on four legs.
+#[must_use]
+pub fn far_shape_weight(sim: &Simulation, body: &Body, work: &FarWork) -> f64 {
+    super::far_shape::shape_weight(super::far_shape::grass_reach_share(sim, body, work.area))
 }
 
 /// A far body's share of a far pass ([`far_work`]).
@@ -532,6 +553,7 @@ mod tests {
             turn: 0,
             travel,
             still: false,
+            weight: 1.0,
         };
         assert!(given(3.0).holds(&work(3.0)));
         assert!(given(3.0).holds(&work(3.0 + 1e-12)), "noise across 3");
