@@ -1140,24 +1140,8 @@ fn table_mesh() -> trample::object::mesh::TriMesh {
 /// outweighs both tables together and takes a turn alone.
 #[test]
 fn far_turns_weigh_what_of_a_shape_reaches_the_grass() {
-    use trample::builder::{BodyBuilder, SimulationBuilder};
+    use trample::builder::BodyBuilder;
     use trample::object::path::PathParams;
-    let scene = trample::scene::Scene::parse_unvalidated(
-        r#"
-[field]
-patches = [4, 4]
-cells_per_patch = 32
-[sim]
-precision = 5
-far_every = 2
-[camera]
-path = { kind = "static", position = [0.0, 3.0, 400.0] }
-look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
-"#,
-        "test.toml",
-        std::path::Path::new("."),
-    )
-    .unwrap();
     let line = |z: f32| PathParams::Line {
         from: [-5.0, 0.0, z],
         to: [5.0, 0.0, z],
@@ -1169,12 +1153,14 @@ look_at = { kind = "point", at = [0.0, 0.0, 0.0] }
         indices: solid.indices,
     };
     let table = table_mesh();
-    let mut sim = SimulationBuilder::from_scene_file(&scene.file, &scene.base_dir)
-        .body(BodyBuilder::mesh("box", &solid).path(line(-3.0)))
-        .body(BodyBuilder::mesh("table1", &table).path(line(0.0)))
-        .body(BodyBuilder::mesh("table2", &table).path(line(3.0)))
-        .build()
-        .unwrap();
+    let mut sim = field_12m(400.0, "far_every = 2", "");
+    for (name, mesh, z) in [
+        ("box", &solid, -3.0),
+        ("table1", &table, 0.0),
+        ("table2", &table, 3.0),
+    ] {
+        sim.add_body(BodyBuilder::mesh(name, mesh).path(line(z)).build().unwrap());
+    }
     let works: Vec<_> = sim
         .bodies
         .iter()
