@@ -69,8 +69,8 @@ pub fn choose(backend: Backend) -> Result<Option<Gpu>> {
 /// chain of dispatches a sub-step however little each one does: on an
 /// NVIDIA H200 the herd stepped in 22 ms at 16 against 4.8 ms every step
 /// (BENCHMARKS.md, session 70).
-#[must_use]
-pub fn far_turns_note(far_every: u32) -> Option<String> {
+/// Printed on stderr by [`note_far_turns`].
+fn far_turns_note(far_every: u32) -> Option<String> {
     (far_every > 1).then(|| {
         format!(
             "trample: note: far objects take turns (far_every {far_every}), which splits a step into more \
@@ -78,6 +78,14 @@ pub fn far_turns_note(far_every: u32) -> Option<String> {
              (NVIDIA H200, the herd: 22 ms a step at 16 against 4.8 ms at 1): far_every 1 is usually faster there"
         )
     })
+}
+
+/// Prints the note of [`far_turns_note`] on stderr when a GPU run has far
+/// turns (`far_every` above 1); nothing otherwise.
+pub fn note_far_turns(far_every: u32) {
+    if let Some(note) = far_turns_note(far_every) {
+        eprintln!("{note}");
+    }
 }
 
 fn wgpu_device_type_cpu() -> trample_gpu::wgpu::DeviceType {

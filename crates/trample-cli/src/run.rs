@@ -307,9 +307,7 @@ pub fn run(a: &Args) -> Result<()> {
     let mut on_gpu = if crate::backend::simulate_on(a.backend, &gpu) {
         match trample_gpu::GpuSimulation::supports(&gpu.device, &sim) {
             Ok(()) => {
-                if let Some(note) = crate::backend::far_turns_note(sim.params.far_every) {
-                    eprintln!("{note}");
-                }
+                crate::backend::note_far_turns(sim.params.far_every);
                 Some(trample_gpu::GpuSimulation::new(
                     &gpu.device,
                     &gpu.queue,

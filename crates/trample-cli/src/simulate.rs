@@ -116,11 +116,8 @@ pub fn run(a: &Args) -> Result<()> {
         // `gpu` stops, `auto` takes the CPU path. A failure during the run
         // (device lost, out of memory) falls back to the CPU path either way.
         let supported = trample_gpu::GpuSimulation::supports(&gpu.device, &sim);
-        if let (Ok(()), Some(note)) = (
-            &supported,
-            crate::backend::far_turns_note(sim.params.far_every),
-        ) {
-            bar.suspend(|| eprintln!("{note}"));
+        if supported.is_ok() {
+            bar.suspend(|| crate::backend::note_far_turns(sim.params.far_every));
         }
         match supported {
             Err(e) if a.backend != Backend::Auto => {

@@ -82,9 +82,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
     let gpu = if backends.contains(&"gpu") {
         let g = trample_render::headless::create_device()?;
         eprintln!("trample bench --objects: GPU path on {}", g.adapter_name());
-        if let Some(note) = crate::backend::far_turns_note(scene.file.sim.far_every) {
-            eprintln!("{note}");
-        }
+        crate::backend::note_far_turns(scene.file.sim.far_every);
         Some(g)
     } else {
         None

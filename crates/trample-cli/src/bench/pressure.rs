@@ -143,9 +143,7 @@ pub fn run(scene: &Scene, setup: &Setup) -> Result<()> {
     };
     if let (Some(g), true) = (&gpu, setup.backend != Backend::Cpu) {
         eprintln!("trample bench: GPU path on {}", g.adapter_name());
-        if let Some(note) = crate::backend::far_turns_note(scene.file.sim.far_every) {
-            eprintln!("{note}");
-        }
+        crate::backend::note_far_turns(scene.file.sim.far_every);
     }
     if let (Some(g), Some((w, h))) = (&gpu, setup.render) {
         eprintln!(

@@ -390,8 +390,8 @@ pub fn far_cost(sim: &Simulation, body: &Body) -> f64 {
 /// The weight of a far body's ground in its turn's load: its shape's
 /// ([`super::far_shape::shape_weight`] of the share of its reach ground,
 /// `work.area`, under the final nodes of its trees that reach into the
-/// grass, [`super::far_shape::grass_reach_share`]); a solid box weighs
-/// about twice a cow on four legs.
+/// grass, [`super::far_shape::grass_reach_share`]); on the herd a solid
+/// box weighs 1.5 times a cow on four legs.
 #[must_use]
 pub fn far_shape_weight(sim: &Simulation, body: &Body, work: &FarWork) -> f64 {
     super::far_shape::shape_weight(super::far_shape::grass_reach_share(sim, body, work.area))
